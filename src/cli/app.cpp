@@ -1,0 +1,40 @@
+#include "cli/app.h"
+
+#include <cstdio>
+#include <iostream>
+
+#include "core/error.h"
+
+namespace gyrosid::cli {
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "gyrosid - gyroscope calibration as system identification.\n"
+      "Simulate a gyro along rate-table/chamber trajectories, analyse its noise, fit calibration models,\n"
+      "score them by strapdown-INS position error and find the physics a simulation left out.\n"
+      "Every subcommand has --help. Configs may be files or built-in copies (builtin:sensors/...)."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "gyrosid 0.1.0");
+  Action action;
+  register_run(app, action);
+  register_simulate(app, action);
+  register_allan(app, action);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    action();
+  } catch (const Error& e) {
+    const auto subs = app.get_subcommands();
+    std::fprintf(stderr, "gyrosid %s: error: %s\n", subs.empty() ? "" : subs.front()->get_name().c_str(), e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "gyrosid: internal error: %s\n", e.what());
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace gyrosid::cli

@@ -1,0 +1,21 @@
+// The `gyrosid` command: subcommands parse their options, build the library's options structs, call the
+// library and report. Each subcommand lives in its own cmd_*.cpp and registers itself here.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace gyrosid::cli {
+
+int main(int argc, char** argv);
+
+// A subcommand's action runs after parsing; Errors thrown from it are reported as "gyrosid <cmd>: error: ..."
+// with exit status 2.
+using Action = std::function<void()>;
+
+void register_simulate(CLI::App& app, Action& action);
+void register_allan(CLI::App& app, Action& action);
+void register_run(CLI::App& app, Action& action);
+
+}  // namespace gyrosid::cli

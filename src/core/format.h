@@ -1,0 +1,15 @@
+// Number formatting for files and reports.
+#pragma once
+
+#include <string>
+
+namespace gyrosid {
+
+// Shortest text that reads back to the same double ("0.1", "-15", "1e-07"); "nan", "inf", "-inf".
+// Used for every number written to a data file, so files round-trip bit for bit.
+std::string format_number(double value);
+
+// For humans (reports, console): `digits` significant digits, no trailing zeros ("0.1666", "1.2e-05").
+std::string format_significant(double value, int digits = 4);
+
+}  // namespace gyrosid

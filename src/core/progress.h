@@ -1,0 +1,32 @@
+// Progress on stderr for anything that may run longer than a few seconds. Silent for the first second
+// (short jobs print nothing), then at most twice a second: label, percentage, elapsed and remaining time.
+// On a terminal the line is redrawn in place; otherwise a line is printed every 10 %.
+// GYROSID_QUIET=1 in the environment silences it (tests set it).
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <string>
+
+namespace gyrosid {
+
+class Progress {
+ public:
+  Progress(std::string label, std::size_t total);
+  ~Progress();
+  void update(std::size_t done);
+  void finish();
+
+ private:
+  std::string label_;
+  std::size_t total_;
+  std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point last_print_;
+  int last_decile_ = -1;
+  bool printed_ = false;
+  bool finished_ = false;
+  bool tty_ = false;
+  bool quiet_ = false;
+};
+
+}  // namespace gyrosid

@@ -1,0 +1,82 @@
+// Recordings in the gyrosid recording format, version 1 (RECORDING_FORMAT.md): what a rate table, a thermal
+// chamber and a gyro (or triad) produced together, or what the simulator produces in their place.
+//
+// Columns are held by name in file units (the unit is the name's suffix: _s, _dps, _dph, _c, _mps2, ...);
+// conversion to SI happens in the layer that interprets a column. Unknown columns are auxiliary channels
+// and are kept; unknown metadata keys are kept.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "core/enum_names.h"
+
+namespace gyrosid {
+
+enum class RecordingKind { single, triad };
+
+template <>
+struct EnumNames<RecordingKind> {
+  static constexpr std::string_view kNoun = "recording kind";
+  static constexpr std::array<std::pair<RecordingKind, std::string_view>, 2> kTable{
+      {{RecordingKind::single, "single"}, {RecordingKind::triad, "triad"}}};
+};
+
+inline constexpr std::string_view kRecordingFormat = "gyrosid-recording/1";
+
+class Recording {
+ public:
+  Recording() = default;
+  explicit Recording(std::string source) : source_(std::move(source)) {}
+
+  // Where the data came from ("rec.csv" or "<simulation>"), used in every error message.
+  const std::string& source() const { return source_; }
+  std::size_t rows() const { return columns_.empty() ? 0 : columns_.front().size(); }
+
+  const std::vector<std::string>& names() const { return names_; }
+  bool has(std::string_view name) const;
+  const std::vector<double>& column(std::string_view name) const;  // Error naming the file if absent
+  // Adds a column or replaces one of the same name; its length must equal rows() (unless empty).
+  void set_column(const std::string& name, std::vector<double> values);
+
+  const std::vector<std::pair<std::string, std::string>>& metadata() const { return metadata_; }
+  std::optional<std::string> meta(std::string_view key) const;
+  void set_meta(const std::string& key, const std::string& value);
+
+  RecordingKind kind() const;
+  // "rec.csv:17" for data row `row` (0-based) of a file that was read; "<simulation> row 17" otherwise.
+  std::string row_location(std::size_t row) const;
+
+ private:
+  friend Recording parse_recording(std::string_view text, const std::string& source);
+  std::string source_ = "<memory>";
+  std::vector<std::pair<std::string, std::string>> metadata_;
+  std::vector<std::string> names_;
+  std::vector<std::vector<double>> columns_;
+  std::vector<std::size_t> line_numbers_;  // source line of each data row, when read from a file
+};
+
+// Reads and validates a recording. Every violation of RECORDING_FORMAT.md is an Error naming the file,
+// the line and the column.
+Recording read_recording(const std::filesystem::path& path);
+Recording parse_recording(std::string_view text, const std::string& source);
+
+// Writes `# format: gyrosid-recording/1`, the other metadata, the header and the rows (shortest round-trip
+// numbers), atomically.
+void write_recording(const Recording& recording, const std::filesystem::path& path);
+std::string format_recording(const Recording& recording);
+
+// Columns a recording of this kind must have.
+std::vector<std::string> required_columns(RecordingKind kind, const Recording& recording);
+
+// The sample interval of a uniformly sampled recording, in seconds. Commands that need uniform sampling
+// call this; a non-uniform recording is an Error (naming `purpose` and the first offending row), never
+// resampled silently. Relative tolerance on each step: 1e-4.
+double uniform_sample_interval(const Recording& recording, std::string_view purpose);
+
+}  // namespace gyrosid

@@ -1,0 +1,90 @@
+#include "report/plots.h"
+
+#include <cmath>
+#include <numbers>
+
+#include "core/error.h"
+#include "core/gnuplot.h"
+
+namespace gyrosid {
+
+void plot_surface(const std::filesystem::path& png, const std::function<double(double, double)>& error,
+                  const SurfaceGrid& g, const std::string& title, const std::string& z_label) {
+  std::vector<std::vector<double>> rows;
+  for (int i = 0; i < g.temp_points; ++i) {
+    const double t = g.temp_min_c + (g.temp_max_c - g.temp_min_c) * i / (g.temp_points - 1);
+    for (int j = 0; j < g.rate_points; ++j) {
+      const double w = g.rate_min_dps + (g.rate_max_dps - g.rate_min_dps) * j / (g.rate_points - 1);
+      rows.push_back({w, t, error(t, w)});
+    }
+    rows.push_back({});  // blank line between grid rows (pm3d scan)
+  }
+  std::string script = datablock("surface", rows);
+  script += str_cat("set title ", gnuplot_quote(title), "\n",
+                    "set xlabel 'omega (deg/s)'\nset ylabel 'temperature (C)'\nset zlabel ", gnuplot_quote(z_label),
+                    " rotate parallel\n",
+                    "set pm3d at s\nset palette rgb 33,13,10\nset view 55,35\nset ticslevel 0\n"
+                    "set contour base\nset cntrparam levels 12\nunset key\nset grid\n"
+                    "splot $surface using 1:2:3 with pm3d\n");
+  render_png(png, script);
+}
+
+void plot_coverage(const std::filesystem::path& png, const std::vector<double>& temp_c,
+                   const std::vector<double>& rate_dps, const std::string& title, std::size_t highlight) {
+  if (temp_c.size() != rate_dps.size()) fail("plot_coverage: ", temp_c.size(), " temperatures for ", rate_dps.size(), " rates");
+  std::vector<std::vector<double>> all, first, last;
+  const std::size_t n = temp_c.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    all.push_back({rate_dps[i], temp_c[i]});
+    if (i < highlight) first.push_back({rate_dps[i], temp_c[i]});
+    if (i + highlight >= n) last.push_back({rate_dps[i], temp_c[i]});
+  }
+  std::string script = datablock("all", all) + datablock("first", first) + datablock("last", last);
+  script += str_cat("set title ", gnuplot_quote(title), "\n",
+                    "set xlabel 'omega (deg/s)'\nset ylabel 'temperature at the sensor (C)'\nset grid\nset key outside right\n",
+                    "plot $all using 1:2 with points pt 7 ps 0.25 lc rgb '#3060a0' title 'samples (", n, ")', \\\n",
+                    "     $first using 1:2 with points pt 6 ps 0.8 lc rgb 'red' title 'first ", first.size(), "', \\\n",
+                    "     $last using 1:2 with points pt 6 ps 0.8 lc rgb '#00a000' title 'last ", last.size(), "'\n");
+  render_png(png, script);
+}
+
+void plot_allan(const std::filesystem::path& png, const std::vector<AllanPoint>& curve, const AllanCoefficients& c,
+                const std::string& title, const std::string& unit) {
+  std::vector<std::vector<double>> data;
+  for (const auto& p : curve) {
+    if (p.adev > 0) data.push_back({p.tau_s, p.adev, p.ci_low, p.ci_high, std::sqrt(allan_model_variance(c, p.tau_s))});
+  }
+  if (data.empty()) fail(png.string(), ": no positive Allan deviation to plot");
+  double lo = INFINITY, hi = 0.0;
+  for (const auto& row : data) {
+    lo = std::min(lo, row[2] > 0 ? row[2] : row[1]);
+    hi = std::max(hi, row[3]);
+  }
+  const double flicker = std::sqrt(2.0 * std::numbers::ln2 / std::numbers::pi);
+  std::string script = datablock("allan", data);
+  script += str_cat("set title ", gnuplot_quote(title), "\n",
+                    "set logscale xy\nset grid xtics ytics mxtics mytics\nset format x '%g'\nset format y '%g'\n",
+                    "set yrange [", lo / 2.0, ":", hi * 2.0, "]\n",
+                    "set xlabel 'averaging time tau (s)'\nset ylabel ", gnuplot_quote("Allan deviation (" + unit + ")"), "\n",
+                    "set key bottom left\n",
+                    "Q = ", c.quantization, "; N = ", c.angle_random_walk, "; B = ", c.bias_instability, "; K = ",
+                    c.rate_random_walk, "; R = ", c.rate_ramp, "\n",
+                    "plot $allan using 1:3:4 with filledcurves fc rgb '#d0e0f0' title 'confidence interval', \\\n",
+                    "     $allan using 1:2 with linespoints pt 7 ps 0.5 lc rgb '#1050a0' title 'overlapping ADEV', \\\n",
+                    "     $allan using 1:5 with lines lw 2 lc rgb 'black' title 'fitted total'");
+  auto term = [&](double coeff, const std::string& expr, const std::string& label, const char* color) {
+    if (coeff > 0) {
+      script += str_cat(", \\\n     $allan using 1:(", expr, ") with lines dt 2 lc rgb '", color, "' title ",
+                        gnuplot_quote(label));
+    }
+  };
+  term(c.quantization, "sqrt(3.0)*Q/$1", "quantization Q", "#a000a0");
+  term(c.angle_random_walk, "N/sqrt($1)", "angle random walk N", "#d04000");
+  term(c.bias_instability, str_cat(flicker, "*B"), "bias instability B", "#008000");
+  term(c.rate_random_walk, "K*sqrt($1/3.0)", "rate random walk K", "#a06000");
+  term(c.rate_ramp, "R*$1/sqrt(2.0)", "rate ramp R", "#606060");
+  script += "\n";
+  render_png(png, script);
+}
+
+}  // namespace gyrosid

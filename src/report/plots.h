@@ -1,0 +1,35 @@
+// The plots a person would rather look at than read: error surfaces over (T, omega) (thesis figs 3.6,
+// 3.12), trajectory coverage of the (T, omega) domain (figs 4.6, 4.9) and Allan deviation with fitted noise
+// lines. PNG via gnuplot.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "sensor/allan.h"
+
+namespace gyrosid {
+
+struct SurfaceGrid {
+  double temp_min_c = -20, temp_max_c = 60;
+  double rate_min_dps = -100, rate_max_dps = 100;
+  int temp_points = 41, rate_points = 81;
+};
+
+// 3-D surface with a contour map underneath of error(T, omega) in the unit named by `z_label`.
+void plot_surface(const std::filesystem::path& png, const std::function<double(double temp_c, double rate_dps)>& error,
+                  const SurfaceGrid& grid, const std::string& title, const std::string& z_label);
+
+// Samples over the (T, omega) plane; the first and last `highlight` samples in red and green as in the
+// thesis's figures.
+void plot_coverage(const std::filesystem::path& png, const std::vector<double>& temp_c,
+                   const std::vector<double>& rate_dps, const std::string& title, std::size_t highlight = 100);
+
+// Allan deviation with its confidence band, the fitted total and each fitted noise term.
+// `unit` names the rate unit of the curve (e.g. "deg/h"); coefficients are in that unit (see AllanCoefficients).
+void plot_allan(const std::filesystem::path& png, const std::vector<AllanPoint>& curve,
+                const AllanCoefficients& fit, const std::string& title, const std::string& unit);
+
+}  // namespace gyrosid

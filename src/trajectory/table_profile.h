@@ -1,0 +1,89 @@
+// Calibration trajectories: what a single-axis rate table inside a thermal chamber does over time
+// (thesis s4.4 and Table 2.1). A profile is a sequence of segments; in each the chamber temperature moves
+// linearly from start to end and the table turns at a constant or triangle-wave rate about its vertical
+// axis, with the sensor mounted in one of the six positions of Table 2.1.
+//
+// Geometry: the table frame coincides with local NED when the table angle is zero; the table turns about
+// Up at rate Omega_r (positive counter-clockwise seen from above), so body rate and specific force are
+//   omega_ib_b = C_b_n omega_ie_n + C_b_t (0, 0, -Omega_r),   f_b = C_b_n (0, 0, -gamma(L)),
+// with omega_ie_n = Omega_ie (cos L, 0, -sin L), C_n_b = R_D(-alpha) C_t_b and alpha = integral of Omega_r.
+// (Table 2.1 turns the table about Down; turning about Up flips the sign of Omega_r only.)
+//
+// Mount positions (body axes in table axes at alpha = 0), Table 2.1:
+//   1: x=N y=E z=D     2: x=N y=W z=U     3: x=N y=D z=W
+//   4: x=N y=U z=E     5: x=D y=E z=S     6: x=U y=E z=N
+// A single gyro's input axis is body z, so position 2 (z up) makes the table rate the input rate.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "core/excitation.h"
+#include "core/thermal_lag.h"
+
+namespace gyrosid {
+
+struct RateProfile {
+  enum class Shape { constant, triangle } shape = Shape::constant;
+  double value_radps = 0.0;  // constant
+  double low_radps = 0.0;    // triangle: low -> high -> low per cycle
+  double high_radps = 0.0;
+  double cycles = 0.0;       // full cycles over the segment
+  double phase = 0.0;        // cycle fraction at the segment start, [0, 1)
+
+  double at(double tau, double duration) const;        // rate at time tau into the segment
+  double integral(double tau, double duration) const;  // integral of the rate from 0 to tau
+  static RateProfile constant(double radps);
+  static RateProfile triangle(double low, double high, double cycles, double phase);
+};
+
+struct ProfileSegment {
+  std::string label;
+  double duration_s = 0.0;
+  double chamber_start_c = 25.0;
+  double chamber_end_c = 25.0;
+  RateProfile rate;
+  int position = 2;  // Table 2.1 mount position, 1..6
+};
+
+struct ChamberLimits {
+  double rate_limit_c_per_min = 5.0;  // thesis s4.4: 5 C/min is "quite a high" chamber rate
+  double min_c = -70.0;
+  double max_c = 180.0;
+};
+
+struct TableProfile {
+  std::string name;
+  std::string kind;
+  std::vector<ProfileSegment> segments;
+  double latitude_rad = 0.0;
+  ChamberLimits limits;
+
+  double duration_s() const;
+  double duration_min() const { return duration_s() / 60.0; }
+  PiecewiseLinear chamber_temperature() const;  // knots at segment boundaries
+  // Empty when every segment respects the chamber limits; otherwise names the first offending segment.
+  std::string check_limits() const;
+};
+
+// Body axes in table axes for mount position 1..6 (columns: body x, y, z).
+Eigen::Matrix3d mount_orientation(int position);
+
+// Sample times t_k = k dt over [0, duration): `samples` points (dt = duration / samples) or every
+// 1/rate_hz seconds.
+struct Sampling {
+  std::size_t samples = 0;  // samples over the duration
+  double rate_hz = 0.0;
+  std::string validate() const;
+};
+std::vector<double> sample_times(double duration_s, const Sampling& sampling);
+
+// Table rate, attitude, body rate, specific force and chamber temperature at `times`, plus probe and coil
+// temperature through `thermal` (stage 0 = probe, last stage = coil; exact for the piecewise-linear
+// chamber profile).
+Excitation excite(const TableProfile& profile, const std::vector<double>& times, const ThermalLagOptions& thermal);
+
+}  // namespace gyrosid

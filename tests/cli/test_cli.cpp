@@ -1,0 +1,134 @@
+// The gyrosid command end to end: run the executable, read what it wrote, check its errors.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/recording.h"
+
+namespace gyrosid {
+namespace {
+
+using ::testing::HasSubstr;
+namespace fs = std::filesystem;
+
+struct Result {
+  int status;
+  std::string output;  // stdout and stderr
+};
+
+Result run(const std::string& args) {
+  const std::string command = std::string(GYROSID_EXE) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string out;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) out += buffer;
+  const int status = pclose(pipe);
+  return {WEXITSTATUS(status), out};
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("gyrosid_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(Cli, SimulateWritesTheDefaultRecordingDeterministically) {
+  const std::string src = GYROSID_SOURCE_DIR;
+  const Result r = run("simulate --sensor " + src + "/configs/sensors/open_loop_fog.yaml --trajectory " + src +
+                       "/configs/trajectories/dual_scan.yaml --seed 1 --out " + path("a.csv"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("11110 samples over 62 min"));
+  const Recording rec = read_recording(path("a.csv"));
+  EXPECT_EQ(rec.rows(), 11110u);
+  EXPECT_EQ(rec.kind(), RecordingKind::single);
+  EXPECT_EQ(rec.meta("seed").value(), "1");
+  for (const char* c : {"t_s", "ref_rate_dps", "temp_c", "gyro_dps", "chamber_temp_c", "accel_z_mps2"}) EXPECT_TRUE(rec.has(c)) << c;
+  ASSERT_EQ(run("simulate --seed 1 --out " + path("b.csv")).status, 0);  // built-in defaults, same configs
+  EXPECT_EQ(read_text(path("a.csv")), read_text(path("b.csv")));
+  ASSERT_EQ(run("simulate --seed 2 --out " + path("c.csv")).status, 0);
+  EXPECT_NE(read_text(path("a.csv")), read_text(path("c.csv")));
+}
+
+TEST_F(Cli, SamplesOverrideAndTriadColumns) {
+  ASSERT_EQ(run("simulate --samples 1111 --out " + path("s.csv")).status, 0);
+  EXPECT_EQ(read_recording(path("s.csv")).rows(), 1111u);
+  const Result r = run("simulate --sensor builtin:sensors/fog_triad.yaml --trajectory builtin:trajectories/classical_soak.yaml --samples 5000 --out " + path("t.csv"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const Recording t = read_recording(path("t.csv"));
+  EXPECT_EQ(t.kind(), RecordingKind::triad);
+  EXPECT_TRUE(t.has("position_id"));
+  EXPECT_TRUE(t.has("gyro_y_dps"));
+}
+
+TEST_F(Cli, AllanRecoversTheReferenceSensorsWhiteNoise) {
+  ASSERT_EQ(run("simulate --trajectory builtin:trajectories/static_2h.yaml --seed 3 --out " + path("static.csv")).status, 0);
+  const Result r = run("allan --recording " + path("static.csv") + " --column gyro_dps --subtract ref_rate_dps --out " + path("allan"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto j = nlohmann::json::parse(read_text(dir_ / "allan" / "allan.json"));
+  // Reference sensor: white noise sigma 10 deg/h at 1 Hz, i.e. N = 10/60 deg/sqrt(h).
+  EXPECT_NEAR(j["coefficients"]["arw_deg_rt_h"].get<double>(), 10.0 / 60.0, 0.1 * 10.0 / 60.0);
+  EXPECT_TRUE(fs::exists(dir_ / "allan" / "allan.png"));
+  EXPECT_THAT(read_text(dir_ / "allan" / "allan.csv"), HasSubstr("tau_s,adev_dph,ci_low_dph,ci_high_dph"));
+}
+
+TEST_F(Cli, BadInputsAreClearErrorsAndLeaveNothingBehind) {
+  std::ofstream(path("bad.csv")) << "t_s,ref_rate_dps,temp_c,gyro_dps\n0,1,25,1\n1,x,25,1\n";
+  Result r = run("allan --recording " + path("bad.csv") + " --out " + path("o"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("bad.csv:3: column 'ref_rate_dps'"));
+  EXPECT_FALSE(fs::exists(path("o")));
+
+  std::ofstream(path("gappy.csv")) << "t_s,ref_rate_dps,temp_c,gyro_dps\n0,1,25,1\n1,1,25,1\n2,1,25,1\n4,1,25,1\n5,1,25,1\n";
+  r = run("allan --recording " + path("gappy.csv") + " --out " + path("o"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("gappy.csv:5: the Allan deviation needs uniform sampling"));
+
+  std::ofstream(path("sensor.yaml")) << "kind: gyro\nbias:\n  constnt_dph: 3\n";
+  r = run("simulate --sensor " + path("sensor.yaml") + " --out " + path("x.csv"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("sensor.yaml:3"));
+  EXPECT_THAT(r.output, HasSubstr("unknown key 'constnt_dph'"));
+  EXPECT_FALSE(fs::exists(path("x.csv")));
+
+  r = run("simulate --trajectory " + path("missing.yaml") + " --out " + path("x.csv"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("missing.yaml: cannot open config file"));
+
+  r = run("allan --recording " + path("bad.csv") + " --column temp_c --out " + path("o"));
+  EXPECT_EQ(r.status, 2);
+
+  r = run("simulate");
+  EXPECT_NE(r.status, 0);
+  EXPECT_THAT(r.output, HasSubstr("--out is required"));
+}
+
+TEST_F(Cli, HelpTeaches) {
+  for (const char* sub : {"simulate", "allan", "run"}) {
+    const Result r = run(std::string(sub) + " --help");
+    EXPECT_EQ(r.status, 0) << sub;
+    EXPECT_THAT(r.output, HasSubstr("--out")) << sub;
+  }
+  EXPECT_THAT(run("allan --help").output, HasSubstr("IEEE Std 952"));
+  EXPECT_THAT(run("--help").output, HasSubstr("simulate"));
+}
+
+}  // namespace
+}  // namespace gyrosid

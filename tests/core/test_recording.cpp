@@ -1,0 +1,142 @@
+// The recording format, rule by rule (RECORDING_FORMAT.md).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/recording.h"
+
+namespace gyrosid {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string error_of(const std::string& text, const std::string& source = "rec.csv") {
+  try {
+    parse_recording(text, source);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// The example of RECORDING_FORMAT.md, verbatim.
+const char* kSpecExample =
+    "# format: gyrosid-recording/1\n"
+    "# sensor: open-loop FOG, simulated\n"
+    "# sample_rate_hz: 1\n"
+    "t_s,ref_rate_dps,temp_c,gyro_dps,chamber_temp_c\n"
+    "0,-100,-20.000,-99.9512,-20.000\n"
+    "1,-99.5,-20.000,-99.4603,-19.917\n";
+
+TEST(Recording, ReadsTheSpecExample) {
+  const Recording r = parse_recording(kSpecExample, "example.csv");
+  EXPECT_EQ(r.kind(), RecordingKind::single);
+  ASSERT_EQ(r.rows(), 2u);
+  EXPECT_EQ(r.column("gyro_dps")[0], -99.9512);
+  EXPECT_EQ(r.column("chamber_temp_c")[1], -19.917);
+  EXPECT_EQ(r.meta("sensor").value(), "open-loop FOG, simulated");
+  EXPECT_EQ(r.meta("sample_rate_hz").value(), "1");
+}
+
+TEST(Recording, ColumnsByNameInAnyOrderWithAuxiliaryChannelsAndCrLf) {
+  const Recording r = parse_recording(
+      "# seed: 3\r\n# my_key: kept\r\n# a free comment line\r\n"
+      "supply_v,gyro_dps,temp_c,t_s,ref_rate_dps\r\n"
+      "5.01, 1.5e0 ,25,0x1p-1,1\r\n"
+      "nan,2.5,25,1,2\r\n",
+      "aux.csv");
+  EXPECT_EQ(r.column("t_s")[0], 0.5);                  // hexadecimal float: strtod-readable
+  EXPECT_EQ(r.column("gyro_dps")[0], 1.5);
+  EXPECT_TRUE(std::isnan(r.column("supply_v")[1]));     // nan allowed in an optional column
+  EXPECT_EQ(r.meta("my_key").value(), "kept");          // unknown metadata kept
+  EXPECT_FALSE(r.meta("a").has_value());                 // a comment is not metadata
+}
+
+TEST(Recording, ErrorsNameFileLineAndColumn) {
+  const std::string header = "t_s,ref_rate_dps,temp_c,gyro_dps\n";
+  EXPECT_THAT(error_of(header + "0,1,25,1\n1,abc,25,1\n"), HasSubstr("rec.csv:3: column 'ref_rate_dps'"));
+  EXPECT_THAT(error_of(header + "0,1,25,1\n1,1,25\n"), HasSubstr("rec.csv:3: row has 3 cells"));
+  EXPECT_THAT(error_of(header + "0,1,25,1\n1,1,nan,1\n"), HasSubstr("rec.csv:3: column 'temp_c'"));
+  EXPECT_THAT(error_of(header + "0,1,25,1\n0,1,25,1\n"), HasSubstr("rec.csv:3: column 't_s'"));
+  EXPECT_THAT(error_of(header + "0,1,25,1\n2,1,25,1\n1,1,25,1\n"), HasSubstr("strictly increasing"));
+  EXPECT_THAT(error_of("# x: 1\nt_s,ref_rate_dps,temp_c\n0,1,25\n"), HasSubstr("missing required column 'gyro_dps'"));
+  EXPECT_THAT(error_of("# x: 1\nt_s,ref_rate_dps,temp_c\n0,1,25\n"), HasSubstr("rec.csv:2"));
+  EXPECT_THAT(error_of("t_s,t_s,ref_rate_dps,temp_c,gyro_dps\n"), HasSubstr("appears twice"));
+  EXPECT_THAT(error_of("# only: metadata\n"), HasSubstr("no header row"));
+  EXPECT_THAT(error_of(header + "0,1,25,1.5.2\n"), HasSubstr("'1.5.2' is not a number"));
+}
+
+TEST(Recording, TriadColumnsAndPerAxisTemperatures) {
+  const std::string header = "t_s,ref_rate_x_dps,ref_rate_y_dps,ref_rate_z_dps,gyro_x_dps,gyro_y_dps,gyro_z_dps";
+  const Recording r = parse_recording(header + ",temp_x_c,temp_y_c,temp_z_c,position_id\n0,1,2,3,1,2,3,20,21,22,4\n", "t.csv");
+  EXPECT_EQ(r.kind(), RecordingKind::triad);
+  EXPECT_EQ(required_columns(RecordingKind::triad, r).back(), "temp_z_c");
+  EXPECT_THAT(error_of(header + "\n0,1,2,3,1,2,3\n"), HasSubstr("missing required column 'temp_c'"));
+  EXPECT_THAT(error_of(header + ",temp_c,position_id\n0,1,2,3,1,2,3,20,1.5\n"), HasSubstr("not an integer"));
+}
+
+TEST(Recording, WriteThenReadIsBitExact) {
+  Recording r("<memory>");
+  r.set_meta("sensor", "test");
+  r.set_meta("seed", "9");
+  r.set_column("t_s", {0.0, 0.1, 0.2});
+  r.set_column("ref_rate_dps", {1.0 / 3.0, -2.5e-300, 1e300});
+  r.set_column("temp_c", {25, 25.000000000000004, -60});
+  r.set_column("gyro_dps", {std::nextafter(1.0, 2.0), -0.0, 123456789.123456789});
+  r.set_column("supply_v", {5.0, std::nan(""), 5.0});
+  const Recording back = parse_recording(format_recording(r), "back.csv");
+  ASSERT_EQ(back.names(), r.names());
+  for (const auto& name : r.names()) {
+    for (std::size_t i = 0; i < r.rows(); ++i) {
+      const double a = r.column(name)[i], b = back.column(name)[i];
+      if (std::isnan(a)) {
+        EXPECT_TRUE(std::isnan(b));
+      } else {
+        EXPECT_EQ(a, b) << name << "[" << i << "]";
+        EXPECT_EQ(std::signbit(a), std::signbit(b));
+      }
+    }
+  }
+  EXPECT_EQ(back.meta("format").value(), "gyrosid-recording/1");
+  EXPECT_EQ(back.meta("seed").value(), "9");
+}
+
+TEST(Recording, UniformSamplingIsCheckedNotAssumed) {
+  const Recording ok = parse_recording("t_s,ref_rate_dps,temp_c,gyro_dps\n0,0,0,0\n0.5,0,0,0\n1,0,0,0\n", "u.csv");
+  EXPECT_DOUBLE_EQ(uniform_sample_interval(ok, "test"), 0.5);
+  const Recording bad = parse_recording("t_s,ref_rate_dps,temp_c,gyro_dps\n0,0,0,0\n1,0,0,0\n3,0,0,0\n4,0,0,0\n", "n.csv");
+  try {
+    uniform_sample_interval(bad, "the Allan deviation");
+    FAIL() << "non-uniform sampling accepted";
+  } catch (const Error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("n.csv:4"));
+    EXPECT_THAT(e.what(), HasSubstr("the Allan deviation needs uniform sampling"));
+  }
+}
+
+TEST(AtomicFile, FailedWriteLeavesNothingBehind) {
+  const auto dir = std::filesystem::temp_directory_path() / "gyrosid_atomic_test";
+  std::filesystem::remove_all(dir);
+  const auto target = dir / "sub" / "result.csv";
+  EXPECT_THROW(write_file_atomic(target, [](std::ostream& out) {
+                 out << "half";
+                 throw Error("writer failed");
+               }),
+               Error);
+  EXPECT_FALSE(std::filesystem::exists(target));
+  EXPECT_TRUE(std::filesystem::is_empty(dir / "sub"));  // no temporary left either
+  write_file_atomic(target, "complete\n");
+  std::ifstream in(target);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "complete");
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace gyrosid
