@@ -2,6 +2,7 @@
 # a missing one stops the configure step with the name of the package to install.
 
 find_package(PkgConfig QUIET)
+find_package(Threads REQUIRED)
 
 function(gyrosid_missing what debian_package)
   message(FATAL_ERROR

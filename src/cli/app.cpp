@@ -19,6 +19,10 @@ int main(int argc, char** argv) {
   register_run(app, action);
   register_simulate(app, action);
   register_allan(app, action);
+  register_calibrate(app, action);
+  register_compensate(app, action);
+  register_surface(app, action);
+  register_export(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

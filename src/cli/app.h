@@ -17,5 +17,9 @@ using Action = std::function<void()>;
 void register_simulate(CLI::App& app, Action& action);
 void register_allan(CLI::App& app, Action& action);
 void register_run(CLI::App& app, Action& action);
+void register_calibrate(CLI::App& app, Action& action);
+void register_compensate(CLI::App& app, Action& action);
+void register_export(CLI::App& app, Action& action);
+void register_surface(CLI::App& app, Action& action);
 
 }  // namespace gyrosid::cli

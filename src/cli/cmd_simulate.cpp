@@ -19,11 +19,15 @@ struct SimulateOptions {
   std::string out;
   std::size_t samples = 0;
   std::string plots;
+  bool noise_free = false;
 };
 
 void run_simulate(const SimulateOptions& o) {
-  const Simulation sim = simulate_files(o.sensor, o.trajectory, o.seed,
-                                        o.samples > 0 ? std::optional<std::size_t>(o.samples) : std::nullopt);
+  SensorSpec sensor = load_sensor_file(o.sensor);
+  if (o.noise_free) sensor = without_noise(std::move(sensor));
+  TrajectorySpec trajectory = load_trajectory_file(o.trajectory);
+  if (o.samples > 0) trajectory.sampling = Sampling{o.samples, 0.0};
+  const Simulation sim = simulate(sensor, trajectory, o.seed);
   write_recording(sim.recording, o.out);
   std::cout << "wrote " << o.out << ": " << describe(sim) << "\n";
   if (!o.plots.empty()) {
@@ -50,6 +54,7 @@ void register_simulate(CLI::App& app, Action& action) {
   cmd->add_option("--seed", o->seed, "Seed of every random stream (same seed, same output, bit for bit)")
       ->capture_default_str();
   cmd->add_option("--samples", o->samples, "Override the trajectory's sampling with N evenly spaced samples");
+  cmd->add_flag("--noise-free", o->noise_free, "Deterministic errors only: no random drift, no quantization");
   cmd->add_option("--plots", o->plots, "Also write error_surface.png and coverage.png into this directory");
   cmd->add_option("--out", o->out, "Recording to write (gyrosid-recording/1 CSV)")->required();
   cmd->footer(

@@ -8,14 +8,12 @@
 
 namespace gyrosid {
 
-void plot_surface(const std::filesystem::path& png, const std::function<double(double, double)>& error,
-                  const SurfaceGrid& g, const std::string& title, const std::string& z_label) {
+void plot_grid_surface(const std::filesystem::path& png, const std::vector<double>& temps, const std::vector<double>& rates,
+                       const Eigen::MatrixXd& z, const std::string& title, const std::string& z_label) {
   std::vector<std::vector<double>> rows;
-  for (int i = 0; i < g.temp_points; ++i) {
-    const double t = g.temp_min_c + (g.temp_max_c - g.temp_min_c) * i / (g.temp_points - 1);
-    for (int j = 0; j < g.rate_points; ++j) {
-      const double w = g.rate_min_dps + (g.rate_max_dps - g.rate_min_dps) * j / (g.rate_points - 1);
-      rows.push_back({w, t, error(t, w)});
+  for (std::size_t i = 0; i < temps.size(); ++i) {
+    for (std::size_t j = 0; j < rates.size(); ++j) {
+      rows.push_back({rates[j], temps[i], z(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j))});
     }
     rows.push_back({});  // blank line between grid rows (pm3d scan)
   }
@@ -26,6 +24,38 @@ void plot_surface(const std::filesystem::path& png, const std::function<double(d
                     "set pm3d at s\nset palette rgb 33,13,10\nset view 55,35\nset ticslevel 0\n"
                     "set contour base\nset cntrparam levels 12\nunset key\nset grid\n"
                     "splot $surface using 1:2:3 with pm3d\n");
+  render_png(png, script);
+}
+
+void plot_surface(const std::filesystem::path& png, const std::function<double(double, double)>& error,
+                  const SurfaceGrid& g, const std::string& title, const std::string& z_label) {
+  std::vector<double> temps, rates;
+  for (int i = 0; i < g.temp_points; ++i) temps.push_back(g.temp_min_c + (g.temp_max_c - g.temp_min_c) * i / (g.temp_points - 1));
+  for (int j = 0; j < g.rate_points; ++j) rates.push_back(g.rate_min_dps + (g.rate_max_dps - g.rate_min_dps) * j / (g.rate_points - 1));
+  Eigen::MatrixXd z(g.temp_points, g.rate_points);
+  for (int i = 0; i < g.temp_points; ++i)
+    for (int j = 0; j < g.rate_points; ++j) z(i, j) = error(temps[static_cast<std::size_t>(i)], rates[static_cast<std::size_t>(j)]);
+  plot_grid_surface(png, temps, rates, z, title, z_label);
+}
+
+void plot_nodes(const std::filesystem::path& png, const std::vector<double>& temps, const std::vector<double>& rates,
+                const Eigen::MatrixXd& z, const std::vector<std::array<double, 2>>& nodes, const std::string& title) {
+  std::vector<std::vector<double>> grid, points;
+  for (std::size_t i = 0; i < temps.size(); ++i) {
+    for (std::size_t j = 0; j < rates.size(); ++j) {
+      grid.push_back({rates[j], temps[i], z(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j))});
+    }
+    grid.push_back({});
+  }
+  for (const auto& n : nodes) points.push_back({n[0], n[1]});
+  std::string script = datablock("grid", grid) + datablock("nodes", points);
+  script += str_cat("set title ", gnuplot_quote(title), "\n",
+                    "set xlabel 'omega (deg/s)'\nset ylabel 'temperature (C)'\nset view map\nset pm3d map\n"
+                    "set palette rgb 33,13,10\nset contour base\nset cntrparam levels 15\nunset clabel\n"
+                    "set xrange [", rates.front(), ":", rates.back(), "]\nset yrange [", temps.front(), ":", temps.back(), "]\n",
+                    "set key outside bottom\n",
+                    "splot $grid using 1:2:3 with pm3d notitle, \\\n",
+                    "      $nodes using 1:2:(0) with points pt 7 ps 0.7 lc rgb 'black' title '", nodes.size(), " nodes'\n");
   render_png(png, script);
 }
 

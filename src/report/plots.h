@@ -8,6 +8,9 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+#include <array>
+
 #include "sensor/allan.h"
 
 namespace gyrosid {
@@ -21,6 +24,15 @@ struct SurfaceGrid {
 // 3-D surface with a contour map underneath of error(T, omega) in the unit named by `z_label`.
 void plot_surface(const std::filesystem::path& png, const std::function<double(double temp_c, double rate_dps)>& error,
                   const SurfaceGrid& grid, const std::string& title, const std::string& z_label);
+
+// The same from values on a grid: z(i, j) at (temps[i], rates[j]).
+void plot_grid_surface(const std::filesystem::path& png, const std::vector<double>& temps_c,
+                       const std::vector<double>& rates_dps, const Eigen::MatrixXd& z, const std::string& title,
+                       const std::string& z_label);
+
+// Node placement over a contour map of a surface (thesis fig 5.7): nodes given as (rate_dps, temp_c).
+void plot_nodes(const std::filesystem::path& png, const std::vector<double>& temps_c, const std::vector<double>& rates_dps,
+                const Eigen::MatrixXd& z, const std::vector<std::array<double, 2>>& nodes, const std::string& title);
 
 // Samples over the (T, omega) plane; the first and last `highlight` samples in red and green as in the
 // thesis's figures.

@@ -53,6 +53,10 @@ class SplineSurface {
   const std::vector<double>& x() const { return x_; }
   const std::vector<double>& y() const { return y_; }
   const Eigen::MatrixXd& values() const { return f_; }
+  // Hermite corner data: slopes along x and y and the cross derivative at every grid point.
+  const Eigen::MatrixXd& d_dx() const { return fx_; }
+  const Eigen::MatrixXd& d_dy() const { return fy_; }
+  const Eigen::MatrixXd& d2_dxdy() const { return fxy_; }
   OutsideGridPolicy outside() const { return outside_; }
 
  private:

@@ -14,6 +14,17 @@ Simulation simulate(const SensorSpec& sensor, const TrajectorySpec& trajectory, 
   return s;
 }
 
+SensorSpec without_noise(SensorSpec sensor) {
+  auto strip = [](GyroSensor& g) {
+    g.noise = NoiseOptions{};
+    g.quantization_rad = 0.0;
+  };
+  if (auto* g = std::get_if<GyroSensor>(&sensor)) strip(*g);
+  else
+    for (auto& g : std::get<TriadSensor>(sensor).gyros) strip(g);
+  return sensor;
+}
+
 Simulation simulate_files(const std::string& sensor_path, const std::string& trajectory_path, std::uint64_t seed,
                           std::optional<std::size_t> samples_override) {
   const SensorSpec sensor = load_sensor_file(sensor_path);

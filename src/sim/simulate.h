@@ -23,6 +23,9 @@ struct Simulation {
 };
 
 Simulation simulate(const SensorSpec& sensor, const TrajectorySpec& trajectory, std::uint64_t seed);
+
+// The sensor without its random drift and quantization: deterministic errors only (noise-free studies).
+SensorSpec without_noise(SensorSpec sensor);
 Simulation simulate_files(const std::string& sensor_path, const std::string& trajectory_path, std::uint64_t seed,
                           std::optional<std::size_t> samples_override = std::nullopt);
 

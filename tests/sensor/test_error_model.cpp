@@ -165,7 +165,8 @@ TEST(GyroSensor, ReferenceSensorConfigLoadsWithTheThesisFigures) {
   EXPECT_NEAR(g.noise.arw_rad_rt_s, dph_to_radps(10.0), 1e-15);  // sigma 10 deg/h at 1 Hz
   EXPECT_DOUBLE_EQ(g.thermal.tau_s, 300.0);
   ASSERT_TRUE(g.errors.scale_factor_surface.has_value());
-  EXPECT_EQ(g.errors.scale_factor_surface->x(), (std::vector<double>{-20, 0, 20, 25, 40, 60}));
+  // The thesis grid, extended by synthetic rows at the ends of its calibration scans (-60 and 80 C).
+  EXPECT_EQ(g.errors.scale_factor_surface->x(), (std::vector<double>{-60, -20, 0, 20, 25, 40, 60, 80}));
   EXPECT_EQ(g.errors.scale_factor_surface->y().size(), 12u);
   // Peak rate error of the surface about 0.1 deg/s.
   double peak = 0;

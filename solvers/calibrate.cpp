@@ -1,0 +1,117 @@
+#include "solvers/calibrate.h"
+
+#include "core/error.h"
+#include "model/classical_model.h"
+#include "model/greybox_model.h"
+#include "solvers/common/candidates.h"
+#include "solvers/solver.h"
+
+namespace gyrosid {
+namespace {
+
+OptionTable classical_table(ClassicalOptions& o) {
+  OptionTable t("classical");
+  t.integer("bias_order", &o.bias_order, 0, 8, "bias polynomial order in temperature (thesis: 3)")
+      .integer("sf_temperature_order", &o.sf_temperature_order, 0, 6, "scale-factor polynomial order in temperature (thesis: 2)")
+      .integer("sf_rate_order", &o.sf_rate_order, 0, 10, "scale-factor polynomial order in rate (thesis: 6)");
+  return t;
+}
+
+struct GreyboxText {
+  std::string scale_factor = "surface", temperatures, rates;
+};
+
+OptionTable greybox_table(GreyboxOptions& o, GreyboxText& text) {
+  OptionTable t("greybox");
+  t.integer("bias_order", &o.bias_order, 0, 8, "bias polynomial order in coil temperature")
+      .choice("scale_factor", &text.scale_factor, {"surface", "polynomial"}, "scale-factor form")
+      .text("surface_temperatures_c", &text.temperatures, "surface grid temperatures, comma-separated (default: thesis grid)")
+      .text("surface_rates_dps", &text.rates, "surface grid rates, comma-separated (default: thesis grid)")
+      .integer("sf_temperature_order", &o.sf_temperature_order, 0, 6, "polynomial form: order in temperature")
+      .integer("sf_rate_order", &o.sf_rate_order, 0, 10, "polynomial form: order in rate")
+      .flag("shupe", &o.shupe, "bias proportional to the coil temperature rate")
+      .flag("asymmetry", &o.asymmetry, "scale-factor asymmetry between positive and negative rates")
+      .flag("g_sensitivity", &o.g_sensitivity, "bias from specific force (needs accel_* columns)")
+      .flag("thermal_lag", &o.thermal_lag, "coil temperature lags the probe (first order, tau estimated)")
+      .real("lag_max_s", &o.lag_max_s, 1.0, 1e6, "upper bound of the lag search", true)
+      .real("ridge", &o.ridge, 0.0, 1.0, "relative ridge on the scaled coefficients");
+  return t;
+}
+
+GreyboxOptions greybox_options(const OptionMap& map) {
+  GreyboxOptions o;
+  GreyboxText text;
+  greybox_table(o, text).apply(map);
+  o.scale_factor = parse_enum<ScaleFactorForm>(text.scale_factor);
+  if (!text.temperatures.empty()) o.surface_temperatures_c = parse_list(text.temperatures, "greybox surface_temperatures_c");
+  if (!text.rates.empty()) o.surface_rates_dps = parse_list(text.rates, "greybox surface_rates_dps");
+  if (auto p = o.validate(); !p.empty()) fail("greybox: ", p);
+  return o;
+}
+
+nlohmann::json request_json(const CalibrationRequest& r, const std::vector<std::string>& features) {
+  return {{"model", r.model}, {"solver", r.model == "rbf" ? r.solver : r.model}, {"options", r.options},
+          {"features", features}, {"target", to_string(r.target)}, {"normalization", to_string(r.normalization)}};
+}
+
+}  // namespace
+
+std::string model_help(const std::string& model) {
+  if (model == "classical") {
+    ClassicalOptions o;
+    return "classical - bias and scale-factor polynomials (thesis s5.3.2):\n" + classical_table(o).help();
+  }
+  if (model == "greybox") {
+    GreyboxOptions o;
+    GreyboxText t;
+    return "greybox - the unified sensor model, coefficients estimated:\n" + greybox_table(o, t).help();
+  }
+  fail("unknown model '", model, "'; known: rbf, classical, greybox");
+}
+
+CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& r) {
+  CalibrationResult result;
+  if (r.model == "classical") {
+    ClassicalOptions o;
+    classical_table(o).apply(r.options);
+    const auto features = r.features.empty() ? default_features() : r.features;
+    const Dataset data = make_dataset(recording, features, ModelTarget::error);
+    ClassicalFitSummary s;
+    result.model = fit_classical(data, o, &s);
+    result.summary = s.to_json();
+    result.training = request_json(r, features);
+  } else if (r.model == "greybox") {
+    const GreyboxOptions o = greybox_options(r.options);
+    const auto features = r.features.empty() ? greybox_features(o) : r.features;
+    const Dataset data = make_dataset(recording, features, ModelTarget::error);
+    GreyboxFitSummary s;
+    result.model = fit_greybox(data, o, &s);
+    result.summary = s.to_json();
+    result.training = request_json(r, features);
+  } else if (r.model == "rbf") {
+    const auto features = r.features.empty() ? default_features() : r.features;
+    const Dataset data = make_dataset(recording, features, r.target);
+    auto solver = make_solver(r.solver, r.options);
+    const RbfProblem problem = make_rbf_problem(data, r.normalization);
+    auto net = std::make_unique<RbfNetwork>(problem.empty_network());
+    SolverSummary s = solver->train(problem, *net);
+    problem.unscale(*net);
+    result.model = std::move(net);
+    result.summary = s.to_json();
+    result.training = request_json(r, features);
+  } else {
+    fail("unknown model '", r.model, "'; known: rbf, classical, greybox");
+  }
+  // The domain the model was trained on, per input (surface comparisons default to it).
+  {
+    const Dataset d = make_dataset(recording, result.model->features(), result.model->target());
+    nlohmann::json domain = nlohmann::json::object();
+    for (Eigen::Index k = 0; k < d.x.cols(); ++k) domain[d.features[static_cast<std::size_t>(k)]] = {d.x.col(k).minCoeff(), d.x.col(k).maxCoeff()};
+    result.training["domain"] = domain;
+  }
+  result.training["recording"] = recording.source();
+  result.training["samples"] = recording.rows();
+  return result;
+}
+
+}  // namespace gyrosid

@@ -1,0 +1,63 @@
+// Ceres cost function for a chunk of samples of a Gaussian sum
+//
+//   r_i = b(x_i; beta) + sum_{j in nodes} w_j exp(-sum_k ((x_ik - c_jk) / exp(rho_jk))^2) - y_i
+//
+// with one parameter block per node, [c_1..c_d, rho_1..rho_d, w] (rho = log width, so widths stay
+// positive), and an optional parametric baseline b with its own block (e.g. a constant, or the exponential
+// decay of NIST StRD Gauss1/2). Jacobians are analytic:
+//   dr/dw = phi,   dr/dc_k = w phi 2 u_k / r_k,   dr/drho_k = w phi 2 u_k^2,   u_k = (x_k - c_k) / r_k.
+// A chunk lists only the nodes it depends on, so truncated Gaussians give a sparse Jacobian.
+#pragma once
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <vector>
+
+namespace gyrosid {
+
+// A baseline b(x; beta): returns b and fills db/dbeta (size = parameters) when gradient is non-null.
+struct Baseline {
+  int parameters = 0;
+  std::function<double(const double* x, const double* beta, double* gradient)> evaluate;
+};
+
+class GaussianSumCost : public ceres::CostFunction {
+ public:
+  // x: rows of the chunk (n x d), y: targets; the cost's parameter blocks are the `node_count` node blocks
+  // followed by the baseline block when `baseline` is set.
+  GaussianSumCost(Eigen::MatrixXd x, Eigen::VectorXd y, int node_count, const Baseline* baseline);
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
+
+ private:
+  Eigen::MatrixXd x_;
+  Eigen::VectorXd y_;
+  int nodes_;
+  int dim_;
+  const Baseline* baseline_;
+};
+
+// sqrt(lambda) w_j: ridge on one node's weight.
+class WeightPrior : public ceres::CostFunction {
+ public:
+  WeightPrior(int block_size, double sqrt_lambda) : block_size_(block_size), sqrt_lambda_(sqrt_lambda) {
+    set_num_residuals(1);
+    mutable_parameter_block_sizes()->assign(1, block_size);
+  }
+  bool Evaluate(double const* const* p, double* r, double** j) const override {
+    r[0] = sqrt_lambda_ * p[0][block_size_ - 1];
+    if (j && j[0]) {
+      for (int k = 0; k < block_size_; ++k) j[0][k] = 0.0;
+      j[0][block_size_ - 1] = sqrt_lambda_;
+    }
+    return true;
+  }
+
+ private:
+  int block_size_;
+  double sqrt_lambda_;
+};
+
+}  // namespace gyrosid

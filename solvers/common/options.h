@@ -1,0 +1,44 @@
+// key=value options for solvers (`gyrosid calibrate --set key=value`). Each solver's options struct binds
+// its fields in a table with ranges and a one-line description; unknown keys and out-of-range values are
+// errors that name the option and its allowed values or range.
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace gyrosid {
+
+using OptionMap = std::map<std::string, std::string>;
+
+class OptionTable {
+ public:
+  explicit OptionTable(std::string owner) : owner_(std::move(owner)) {}
+
+  OptionTable& real(const std::string& key, double* field, double min, double max, std::string help,
+                    bool min_open = false);
+  OptionTable& integer(const std::string& key, int* field, int min, int max, std::string help);
+  OptionTable& flag(const std::string& key, bool* field, std::string help);
+  OptionTable& choice(const std::string& key, std::string* field, std::vector<std::string> allowed, std::string help);
+  OptionTable& text(const std::string& key, std::string* field, std::string help);
+
+  // Applies every entry; keys starting with `pass_prefix` (e.g. "init.") are returned untouched.
+  OptionMap apply(const OptionMap& options, const std::string& pass_prefix = "") const;
+  std::string help() const;  // one line per option: key, default/range, description
+
+ private:
+  struct Entry {
+    std::string key, help, range;
+    std::function<void(const std::string&)> set;
+    std::function<std::string()> current;
+  };
+  std::string owner_;
+  std::vector<Entry> entries_;
+};
+
+// "key=value" -> {key, value}; Error naming the text when there is no '='.
+std::pair<std::string, std::string> split_option(const std::string& text);
+
+}  // namespace gyrosid

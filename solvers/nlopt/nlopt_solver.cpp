@@ -1,0 +1,131 @@
+#include "solvers/nlopt/nlopt_solver.h"
+
+#include <nlopt.hpp>
+
+#include <chrono>
+#include <cmath>
+
+#include "core/error.h"
+#include "solvers/ols/forward_selection.h"
+#include "solvers/ols/ols_solver.h"
+
+namespace gyrosid {
+
+OptionTable NloptOptions::table() {
+  OptionTable t("nlopt");
+  t.text("algorithm", &algorithm, "NLopt algorithm name, derivative-free: LN_BOBYQA, LN_NELDERMEAD, GN_DIRECT_L, GN_CRS2_LM, ...")
+      .choice("criterion", &criterion, {"loo", "gcv"}, "error of the inner OLS fit to minimise")
+      .integer("evaluations", &evaluations, 2, 100000, "inner fits allowed")
+      .real("width", &width, 0.0, 1e6, "starting width (normalised units)", true)
+      .real("min_width", &min_width, 0.0, 1e6, "lower bound of the widths", true)
+      .real("max_width", &max_width, 0.0, 1e6, "upper bound of the widths", true)
+      .real("lambda", &lambda, 0.0, 1e6, "starting ridge parameter", true)
+      .real("min_lambda", &min_lambda, 0.0, 1e6, "lower bound of lambda", true)
+      .real("max_lambda", &max_lambda, 0.0, 1e6, "upper bound of lambda", true)
+      .flag("per_input_widths", &per_input_widths, "one width per input (else one width for all)")
+      .integer("candidates", &candidates, 0, 1000000, "candidate centres of the inner OLS")
+      .integer("max_nodes", &max_nodes, 1, 100000, "node bound of the inner OLS")
+      .integer("seed", &seed, 0, 1 << 30, "seed of NLopt's generator (global algorithms)");
+  return t;
+}
+
+NloptRbfSolver::NloptRbfSolver(const OptionMap& options) {
+  options_.table().apply(options);
+  const auto& o = options_;
+  const nlopt_algorithm a = nlopt_algorithm_from_string(o.algorithm.c_str());
+  if (static_cast<int>(a) < 0 || a >= NLOPT_NUM_ALGORITHMS) {
+    fail("nlopt option 'algorithm' = '", o.algorithm, "' is not an NLopt algorithm (e.g. LN_BOBYQA, GN_DIRECT_L)");
+  }
+  if (o.algorithm.size() < 2 || o.algorithm[1] != 'N') {
+    fail("nlopt option 'algorithm' = '", o.algorithm, "' needs gradients; the inner selection has none - use an LN_* or GN_* algorithm");
+  }
+  if (!(o.min_width < o.max_width) || o.width < o.min_width || o.width > o.max_width) fail("nlopt: need min_width <= width <= max_width");
+  if (!(o.min_lambda < o.max_lambda) || o.lambda < o.min_lambda || o.lambda > o.max_lambda) fail("nlopt: need min_lambda <= lambda <= max_lambda");
+}
+
+std::string NloptRbfSolver::help() {
+  NloptOptions o;
+  return "nlopt - widths and ridge parameter tuned by NLopt on the LOO/GCV error of the inner OLS fit:\n" + o.table().help();
+}
+
+SolverSummary NloptRbfSolver::train(const RbfProblem& problem, RbfNetwork& net) {
+  const auto start = std::chrono::steady_clock::now();
+  const NloptOptions& o = options_;
+  const Eigen::Index d = problem.dimension();
+  const Eigen::Index nw = o.per_input_widths ? d : 1;
+  const unsigned nv = static_cast<unsigned>(nw + 1);
+
+  ForwardSelectionOptions fs;
+  fs.criterion = o.criterion == "loo" ? SelectionCriterion::loo : SelectionCriterion::gcv;
+  fs.candidates = o.candidates;
+  fs.max_nodes = o.max_nodes;
+  fs.reestimate_lambda = false;
+  auto configure = [&](const std::vector<double>& v) {
+    fs.widths.resize(d);
+    for (Eigen::Index k = 0; k < d; ++k) fs.widths(k) = std::exp(v[static_cast<std::size_t>(o.per_input_widths ? k : 0)]);
+    fs.lambda = std::exp(v[static_cast<std::size_t>(nw)]);
+  };
+  std::vector<double> history;
+  struct Best {
+    double value = INFINITY;
+    std::vector<double> v;
+  } best;
+  std::function<double(const std::vector<double>&)> objective = [&](const std::vector<double>& v) {
+    configure(v);
+    double value = INFINITY;
+    try {
+      value = forward_select(problem.x, problem.y, fs).criterion;
+    } catch (const Error&) {
+      // e.g. widths so small that every candidate is collinear: an infeasible point, not a failure
+    }
+    history.push_back(value);
+    if (value < best.value) best = {value, v};
+    return value;
+  };
+
+  nlopt::opt opt(o.algorithm.c_str(), nv);
+  std::vector<double> lb(nv), ub(nv), v(nv);
+  for (Eigen::Index k = 0; k < nw; ++k) {
+    lb[static_cast<std::size_t>(k)] = std::log(o.min_width);
+    ub[static_cast<std::size_t>(k)] = std::log(o.max_width);
+    v[static_cast<std::size_t>(k)] = std::log(o.width);
+  }
+  lb[static_cast<std::size_t>(nw)] = std::log(o.min_lambda);
+  ub[static_cast<std::size_t>(nw)] = std::log(o.max_lambda);
+  v[static_cast<std::size_t>(nw)] = std::log(o.lambda);
+  opt.set_lower_bounds(lb);
+  opt.set_upper_bounds(ub);
+  opt.set_maxeval(o.evaluations);
+  opt.set_xtol_rel(1e-4);
+  opt.set_min_objective([](const std::vector<double>& x, std::vector<double>&, void* f) {
+    return (*static_cast<std::function<double(const std::vector<double>&)>*>(f))(x);
+  }, &objective);
+  nlopt::srand(static_cast<unsigned long>(o.seed));
+  std::string termination;
+  double value = 0.0;
+  try {
+    termination = nlopt_result_to_string(static_cast<nlopt_result>(opt.optimize(v, value)));
+  } catch (const std::exception& e) {
+    termination = std::string("stopped: ") + e.what();
+  }
+  if (!std::isfinite(best.value)) fail("nlopt: no hyper-parameter setting gave a valid fit");
+
+  configure(best.v);
+  const ForwardSelectionResult r = forward_select(problem.x, problem.y, fs);
+  fill_network(r, fs.widths, net);
+
+  SolverSummary s;
+  s.solver = "nlopt";
+  s.termination = termination;
+  s.iterations = static_cast<int>(history.size());
+  s.cost_history = history;
+  s.nodes = static_cast<int>(r.weights.size());
+  s.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  s.peak_rss_mb = peak_rss_mb();
+  s.details = {{"algorithm", o.algorithm}, {"criterion", o.criterion}, {"criterion_value", r.criterion},
+               {"width", std::vector<double>(fs.widths.data(), fs.widths.data() + fs.widths.size())},
+               {"lambda", fs.lambda}, {"candidates", r.candidates}};
+  return s;
+}
+
+}  // namespace gyrosid

@@ -1,0 +1,240 @@
+#include "solvers/ols/forward_selection.h"
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "model/rbf_network.h"
+#include "solvers/common/candidates.h"
+
+namespace gyrosid {
+
+double selection_criterion(SelectionCriterion criterion, double rss, double gamma, double n) {
+  const double dof = std::max(n - gamma, 1e-12);
+  switch (criterion) {
+    case SelectionCriterion::uev: return rss / dof;
+    case SelectionCriterion::fpe: return rss * (n + gamma) / (n * dof);
+    case SelectionCriterion::gcv: return n * rss / (dof * dof);
+    case SelectionCriterion::bic: return rss * (n + (std::log(n) - 1.0) * gamma) / (n * dof);
+    case SelectionCriterion::loo: break;
+  }
+  fail("selection_criterion: LOO needs the residuals");
+}
+
+namespace {
+
+// Regularised quantities of the orthogonal model for a given lambda (d: squared norms, qy: projections of y
+// on the unit columns, r2: |unregularised residual|^2).
+struct RidgeState {
+  double rss = 0, gamma = 0, sum_d_over_a2 = 0, sum_g2_over_a = 0;
+};
+
+RidgeState ridge_state(const Eigen::VectorXd& d, const Eigen::VectorXd& qy, Eigen::Index k, double r2, double lambda) {
+  RidgeState s;
+  s.rss = r2;
+  for (Eigen::Index i = 0; i < k; ++i) {
+    const double a = d(i) + lambda;
+    const double shrink = qy(i) * lambda / a;  // e = r + sum_k q_k qy_k lambda/(d_k + lambda)
+    s.rss += shrink * shrink;
+    s.gamma += d(i) / a;
+    s.sum_d_over_a2 += d(i) / (a * a);
+    const double g = std::sqrt(d(i)) * qy(i) / a;  // g_k = c_k/(d_k + lambda), c_k = s_k qy_k
+    s.sum_g2_over_a += g * g / a;
+  }
+  return s;
+}
+
+}  // namespace
+
+ForwardSelectionResult forward_select(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const ForwardSelectionOptions& o) {
+  const Eigen::Index n = x.rows(), dim = x.cols();
+  if (n == 0) fail("forward selection: no training samples");
+  if (o.widths.size() != dim) fail("forward selection: ", o.widths.size(), " widths for ", dim, " inputs");
+  if (o.max_nodes < 1) fail("forward selection: max_nodes must be >= 1");
+  if (!(o.lambda >= 0)) fail("forward selection: lambda must be >= 0");
+
+  const std::vector<Eigen::Index> cand = select_candidates(x, o.candidates);
+  const Eigen::Index m = static_cast<Eigen::Index>(cand.size());
+  Eigen::MatrixXd centres_all(m, dim);
+  for (Eigen::Index j = 0; j < m; ++j) centres_all.row(j) = x.row(cand[static_cast<std::size_t>(j)]);
+
+  // Candidate matrix H (N x M), column j the Gaussian centred on candidate j.
+  Eigen::MatrixXd h(n, m);
+  parallel_for(m, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    std::vector<double> row(static_cast<std::size_t>(dim)), c(static_cast<std::size_t>(dim));
+    for (Eigen::Index j = begin; j < end; ++j) {
+      for (Eigen::Index k = 0; k < dim; ++k) c[static_cast<std::size_t>(k)] = centres_all(j, k);
+      for (Eigen::Index i = 0; i < n; ++i) {
+        for (Eigen::Index k = 0; k < dim; ++k) row[static_cast<std::size_t>(k)] = x(i, k);
+        h(i, j) = gaussian(row.data(), c.data(), o.widths.data(), dim, 1);
+      }
+    }
+  }, 16);
+
+  const int cap = std::min<int>(o.max_nodes, static_cast<int>(m));
+  // Candidate state, by current column of h: squared norm, correlation with the unregularised residual and
+  // the coefficients on the selected unit vectors (coef = Q'H, one row per selected node), whose squared
+  // column norms give each candidate's projection on the selected span. Columns of selected or collinear
+  // candidates are compacted away once a quarter of the matrix is dead.
+  Eigen::VectorXd norm2 = h.colwise().squaredNorm().transpose();
+  Eigen::VectorXd proj2 = Eigen::VectorXd::Zero(m);
+  Eigen::VectorXd corr = h.transpose() * y;
+  Eigen::MatrixXd coef(cap, m);
+  std::vector<bool> alive(static_cast<std::size_t>(m), true);
+  std::vector<Eigen::Index> candidate_of(static_cast<std::size_t>(m));
+  for (Eigen::Index j = 0; j < m; ++j) candidate_of[static_cast<std::size_t>(j)] = j;
+  Eigen::Index live = m;
+  auto compact = [&] {
+    Eigen::Index out = 0;
+    for (Eigen::Index j = 0; j < h.cols(); ++j) {
+      if (!alive[static_cast<std::size_t>(j)]) continue;
+      if (out != j) {
+        h.col(out) = h.col(j);
+        coef.col(out) = coef.col(j);
+        norm2(out) = norm2(j), proj2(out) = proj2(j), corr(out) = corr(j);
+        candidate_of[static_cast<std::size_t>(out)] = candidate_of[static_cast<std::size_t>(j)];
+      }
+      ++out;
+    }
+    h.conservativeResize(Eigen::NoChange, out);
+    coef.conservativeResize(Eigen::NoChange, out);
+    norm2.conservativeResize(out), proj2.conservativeResize(out), corr.conservativeResize(out);
+    candidate_of.resize(static_cast<std::size_t>(out));
+    alive.assign(static_cast<std::size_t>(out), true);
+    live = out;
+  };
+
+  Eigen::MatrixXd q(n, cap);
+  Eigen::MatrixXd r_tilde = Eigen::MatrixXd::Zero(cap, cap);  // H_selected = Q r_tilde
+  Eigen::VectorXd qy(cap), d(cap);
+  std::vector<Eigen::Index> selected;
+  std::vector<double> lambdas;
+  Eigen::VectorXd r_ols = y;
+  double lambda = o.lambda;
+
+  ForwardSelectionResult result;
+  result.candidates = static_cast<int>(m);
+  double best = std::numeric_limits<double>::infinity();
+  int best_k = 0, since_best = 0;
+  result.termination = "max_nodes";
+
+  while (static_cast<int>(selected.size()) < cap) {
+    if (4 * live < 3 * h.cols()) compact();
+    // Best remaining candidate by regularised cost reduction.
+    Eigen::Index pick = -1;
+    double pick_score = -1.0;
+    for (Eigen::Index j = 0; j < h.cols(); ++j) {
+      if (!alive[static_cast<std::size_t>(j)]) continue;
+      const double rem = norm2(j) - proj2(j);
+      if (!(rem > o.collinear_tolerance * norm2(j))) {
+        alive[static_cast<std::size_t>(j)] = false;
+        --live;
+        ++result.skipped_collinear;
+        continue;
+      }
+      const double score = corr(j) * corr(j) / (rem + lambda);
+      if (score > pick_score) {
+        pick_score = score;
+        pick = j;
+      }
+    }
+    if (pick < 0) {
+      result.termination = "candidates_exhausted";
+      break;
+    }
+    alive[static_cast<std::size_t>(pick)] = false;
+    --live;
+    const Eigen::Index k = static_cast<Eigen::Index>(selected.size());
+
+    // Orthogonalise the chosen column: classical Gram-Schmidt with the stored coefficients, then one full
+    // re-orthogonalisation pass ("twice is enough": as stable as modified Gram-Schmidt).
+    Eigen::VectorXd coeff = coef.col(pick).head(k);
+    Eigen::VectorXd v = h.col(pick) - q.leftCols(k) * coeff;
+    const Eigen::VectorXd again = q.leftCols(k).transpose() * v;
+    v -= q.leftCols(k) * again;
+    coeff += again;
+    const double dk = v.squaredNorm();
+    if (!(dk > o.collinear_tolerance * norm2(pick))) {
+      ++result.skipped_collinear;
+      continue;
+    }
+    const double sk = std::sqrt(dk);
+    q.col(k) = v / sk;
+    r_tilde.col(k).head(k) = coeff;
+    r_tilde(k, k) = sk;
+    d(k) = dk;
+    qy(k) = q.col(k).dot(r_ols);
+    r_ols -= qy(k) * q.col(k);
+    // Row k of Q'H for every live candidate: the one O(N M) product per step, split across threads.
+    const auto qk = q.col(k);
+    parallel_for(h.cols(), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+      const Eigen::Index len = end - begin;
+      coef.row(k).segment(begin, len).noalias() = qk.transpose() * h.middleCols(begin, len);
+      proj2.segment(begin, len) += coef.row(k).segment(begin, len).transpose().cwiseAbs2();
+      corr.segment(begin, len) -= qy(k) * coef.row(k).segment(begin, len).transpose();
+    }, 64);
+    selected.push_back(candidate_of[static_cast<std::size_t>(pick)]);
+    const Eigen::Index kk = k + 1;
+
+    // Ridge parameter and criterion for the k+1-node model.
+    const double r2 = r_ols.squaredNorm();
+    if (o.reestimate_lambda) {
+      for (int it = 0; it < 30; ++it) {
+        const RidgeState s = ridge_state(d, qy, kk, r2, lambda);
+        if (!(s.sum_g2_over_a > 0) || !(s.sum_d_over_a2 > 0)) break;
+        const double next = std::clamp(s.rss * s.sum_d_over_a2 / (std::max(n - s.gamma, 1e-12) * s.sum_g2_over_a), 1e-14, 1e6);
+        const bool done = std::abs(next - lambda) <= 1e-6 * lambda;
+        lambda = next;
+        if (done) break;
+      }
+    }
+    lambdas.push_back(lambda);
+    const RidgeState s = ridge_state(d, qy, kk, r2, lambda);
+    double crit = 0.0;
+    if (o.criterion == SelectionCriterion::loo) {
+      // e = r + Q b, 1 - h_ii = 1 - (Q.^2) a, with a_k = d_k/(d_k + lambda), b_k = qy_k lambda/(d_k + lambda).
+      Eigen::VectorXd a(kk), b(kk);
+      for (Eigen::Index i = 0; i < kk; ++i) {
+        a(i) = d(i) / (d(i) + lambda);
+        b(i) = qy(i) * lambda / (d(i) + lambda);
+      }
+      const Eigen::VectorXd e = r_ols + q.leftCols(kk) * b;
+      const Eigen::VectorXd eta = Eigen::VectorXd::Ones(n) - q.leftCols(kk).cwiseAbs2() * a;
+      crit = (e.array() / eta.array().max(1e-12)).square().mean();
+    } else {
+      crit = selection_criterion(o.criterion, s.rss, s.gamma, static_cast<double>(n));
+    }
+    result.criterion_history.push_back(crit);
+    if (crit < best * (1.0 - 1e-12)) {
+      best = crit;
+      best_k = static_cast<int>(kk);
+      since_best = 0;
+    } else if (++since_best >= o.patience) {
+      result.termination = "criterion_minimum";
+      break;
+    }
+  }
+  if (best_k == 0) fail("forward selection: no node could be added (all candidates collinear or the target is zero)");
+
+  // Weights of the kept network: H_k a = Q_k t, t_k = qy_k d_k/(d_k + lambda)  =>  r_tilde a = t.
+  const double lam = lambdas[static_cast<std::size_t>(best_k - 1)];
+  Eigen::VectorXd t(best_k);
+  for (Eigen::Index i = 0; i < best_k; ++i) t(i) = qy(i) * d(i) / (d(i) + lam);
+  result.weights = r_tilde.topLeftCorner(best_k, best_k).triangularView<Eigen::Upper>().solve(t);
+  result.centres.resize(best_k, dim);
+  for (Eigen::Index i = 0; i < best_k; ++i) result.centres.row(i) = centres_all.row(selected[static_cast<std::size_t>(i)]);
+  result.lambda = lam;
+  result.criterion = best;
+  const RidgeState s = ridge_state(d, qy, best_k, 0.0, lam);
+  // |unregularised residual|^2 after best_k nodes = |y|^2 - sum_{i<best_k} qy_i^2 (recomputed exactly below).
+  Eigen::VectorXd r = y - q.leftCols(best_k) * qy.head(best_k);
+  result.rss = r.squaredNorm() + s.rss;
+  result.effective_parameters = s.gamma;
+  result.steps = static_cast<int>(selected.size());
+  return result;
+}
+
+}  // namespace gyrosid

@@ -1,0 +1,69 @@
+#include "solvers/ols/ols_solver.h"
+
+#include <chrono>
+
+#include "core/error.h"
+#include "solvers/common/candidates.h"
+
+namespace gyrosid {
+
+OptionTable OlsOptions::table() {
+  OptionTable t("ols");
+  t.choice("criterion", &criterion, {"bic", "gcv", "uev", "fpe", "loo"}, "stopping criterion (thesis: bic)")
+      .real("width", &width, 0.0, 1e6, "node width r in normalised input units (every input)", true)
+      .text("widths", &widths, "per-input widths, comma-separated (overrides width)")
+      .integer("candidates", &candidates, 0, 1000000, "candidate centres: a space-filling subset of the training points (0 = all)")
+      .integer("max_nodes", &max_nodes, 1, 100000, "upper bound on the number of nodes")
+      .real("lambda", &lambda, 0.0, 1e6, "initial global ridge parameter (unit-RMS target)")
+      .flag("reestimate_lambda", &reestimate_lambda, "re-estimate lambda by GCV after every step (Orr)")
+      .integer("patience", &patience, 1, 1000, "steps without improvement of the criterion before stopping");
+  return t;
+}
+
+ForwardSelectionOptions OlsOptions::selection(Eigen::Index dimension) const {
+  ForwardSelectionOptions s;
+  s.criterion = parse_enum<SelectionCriterion>(criterion);
+  s.widths = node_widths(width, parse_list(widths, "ols option 'widths'"), dimension);
+  s.candidates = candidates;
+  s.max_nodes = max_nodes;
+  s.lambda = lambda;
+  s.reestimate_lambda = reestimate_lambda;
+  s.patience = patience;
+  return s;
+}
+
+OlsSolver::OlsSolver(const OptionMap& options) { options_.table().apply(options); }
+
+std::string OlsSolver::help() {
+  OlsOptions o;
+  return "ols - orthogonal least-squares forward selection (Chen 1991) with Orr's regularisation:\n" + o.table().help();
+}
+
+void fill_network(const ForwardSelectionResult& r, const Eigen::RowVectorXd& widths, RbfNetwork& net) {
+  net.centres = r.centres;
+  net.widths = widths.replicate(r.centres.rows(), 1);
+  net.weights = r.weights;
+  net.bias = 0.0;
+}
+
+SolverSummary OlsSolver::train(const RbfProblem& problem, RbfNetwork& net) {
+  const auto start = std::chrono::steady_clock::now();
+  const ForwardSelectionOptions s = options_.selection(problem.dimension());
+  const ForwardSelectionResult r = forward_select(problem.x, problem.y, s);
+  fill_network(r, s.widths, net);
+  SolverSummary summary;
+  summary.solver = "ols";
+  summary.termination = r.termination;
+  summary.iterations = r.steps;
+  summary.cost_history = r.criterion_history;
+  summary.nodes = static_cast<int>(r.weights.size());
+  summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.peak_rss_mb = peak_rss_mb();
+  summary.details = {{"criterion", options_.criterion}, {"criterion_value", r.criterion}, {"lambda", r.lambda},
+                     {"effective_parameters", r.effective_parameters}, {"rss", r.rss},
+                     {"candidates", r.candidates}, {"skipped_collinear", r.skipped_collinear},
+                     {"width", std::vector<double>(s.widths.data(), s.widths.data() + s.widths.size())}};
+  return summary;
+}
+
+}  // namespace gyrosid

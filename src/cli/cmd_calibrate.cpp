@@ -1,0 +1,158 @@
+// gyrosid calibrate / compensate / export: fit a calibration model to a recording, apply it, export it to C.
+#include <iostream>
+#include <memory>
+
+#include "cli/app.h"
+#include "core/config.h"
+#include "core/error.h"
+#include "core/format.h"
+#include "core/recording.h"
+#include "core/units.h"
+#include "model/calibration_model.h"
+#include "solvers/calibrate.h"
+#include "solvers/solver.h"
+
+namespace gyrosid::cli {
+namespace {
+
+struct CalibrateOptions {
+  std::string config, recording, model, solver, out, features, target, normalization, help_for;
+  std::vector<std::string> set;
+};
+
+std::vector<std::string> split_commas(const std::string& text) {
+  std::vector<std::string> out;
+  std::string item;
+  for (char c : text) {
+    if (c == ',') {
+      if (!item.empty()) out.push_back(item);
+      item.clear();
+    } else if (c != ' ') {
+      item += c;
+    }
+  }
+  if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+void run_calibrate(CalibrateOptions o) {
+  if (!o.help_for.empty()) {
+    std::cout << (o.help_for == "classical" || o.help_for == "greybox" ? model_help(o.help_for) : solver_help(o.help_for));
+    return;
+  }
+  CalibrationRequest request;
+  // A YAML config gives defaults; command-line values win.
+  if (!o.config.empty()) {
+    const ConfigNode c = ConfigNode::load(o.config);
+    c.allow_only({"recording", "model", "solver", "features", "target", "normalization", "options", "out"});
+    if (o.recording.empty() && c.has("recording")) o.recording = c.resolve(c.text("recording"));
+    if (o.model.empty()) o.model = c.text("model", "");
+    if (o.solver.empty()) o.solver = c.text("solver", "");
+    if (o.target.empty()) o.target = c.text("target", "");
+    if (o.normalization.empty()) o.normalization = c.text("normalization", "");
+    if (o.out.empty() && c.has("out")) o.out = c.resolve(c.text("out"));
+    if (o.features.empty() && c.has("features")) {
+      const ConfigNode f = c["features"];
+      for (std::size_t i = 0; i < f.size(); ++i) request.features.push_back(f.at(i).as_text());
+    }
+    if (auto opts = c.find("options")) {
+      for (const auto& key : opts->keys()) request.options[key] = (*opts)[key].as_text();
+    }
+  }
+  if (o.recording.empty()) fail("--recording is required (or 'recording' in --config)");
+  if (o.out.empty()) fail("--out is required (or 'out' in --config)");
+  request.model = o.model.empty() ? "rbf" : o.model;
+  request.solver = o.solver.empty() ? "ols" : o.solver;
+  if (!o.features.empty()) request.features = split_commas(o.features);
+  if (!o.target.empty()) request.target = parse_enum<ModelTarget>(o.target, "--target");
+  if (!o.normalization.empty()) request.normalization = parse_enum<NormalizationKind>(o.normalization, "--normalization");
+  for (const auto& kv : o.set) {
+    const auto [key, value] = split_option(kv);
+    request.options[key] = value;
+  }
+  const Recording rec = read_recording(o.recording);
+  const CalibrationResult result = calibrate(rec, request);
+  save_model(o.out, *result.model, {{"training", result.training}, {"summary", result.summary}});
+  std::cout << "wrote " << o.out << ": " << result.model->kind() << " model";
+  if (result.summary.contains("nodes")) std::cout << ", " << result.summary["nodes"].get<int>() << " nodes";
+  if (result.summary.contains("termination")) std::cout << ", " << result.summary["termination"].get<std::string>();
+  std::cout << ", " << format_significant(result.summary.value("time_s", 0.0), 3) << " s";
+  if (result.summary.contains("peak_rss_mb")) std::cout << ", peak " << format_significant(result.summary["peak_rss_mb"].get<double>(), 3) << " MB";
+  std::cout << "\n";
+}
+
+struct CompensateOptions {
+  std::string model, recording, out;
+};
+
+void run_compensate(const CompensateOptions& o) {
+  const auto model = load_model(o.model);
+  Recording rec = read_recording(o.recording);
+  const Dataset data = make_dataset(rec, model->features(), model->target());
+  const Eigen::VectorXd comp = compensate(*model, data);
+  std::vector<double> dps(static_cast<std::size_t>(comp.size()));
+  for (Eigen::Index i = 0; i < comp.size(); ++i) dps[static_cast<std::size_t>(i)] = units::radps_to_dps(comp(i));
+  rec.set_column("compensated_dps", dps);
+  write_recording(rec, o.out);
+  std::cout << "wrote " << o.out << ": " << rec.rows() << " samples with compensated_dps";
+  if (data.reference.allFinite()) {
+    const double before = units::radps_to_dph(std::sqrt((data.measured - data.reference).squaredNorm() / data.size()));
+    const double after = units::radps_to_dph(std::sqrt((comp - data.reference).squaredNorm() / data.size()));
+    std::cout << "; rms error against ref_rate_dps " << format_significant(before, 4) << " -> " << format_significant(after, 4) << " deg/h";
+  }
+  std::cout << "\n";
+}
+
+struct ExportOptions {
+  std::string model, prefix = "gyro", out;
+};
+
+}  // namespace
+
+void register_calibrate(CLI::App& app, Action& action) {
+  auto o = std::make_shared<CalibrateOptions>();
+  CLI::App* cmd = app.add_subcommand("calibrate", "Fit a calibration model (rbf, classical, greybox) to a recording");
+  cmd->add_option("--recording", o->recording, "Training recording (single gyro, with ref_rate_dps)");
+  cmd->add_option("--model", o->model, "rbf (default), classical or greybox");
+  cmd->add_option("--solver", o->solver, "RBF solver: ols (default), lrols_loo, ofs_loo, ceres, nlopt, ipopt");
+  cmd->add_option("--set", o->set, "Solver or model option key=value (repeatable); see --options-of");
+  cmd->add_option("--features", o->features, "Model inputs, comma-separated (default measured_rate,temperature)");
+  cmd->add_option("--target", o->target, "error (default: model the rate error) or corrected_rate");
+  cmd->add_option("--normalization", o->normalization, "Input normalisation: range (default) or units (deg/s, deg C)");
+  cmd->add_option("--config", o->config, "YAML with any of: recording, model, solver, features, target, normalization, options, out");
+  cmd->add_option("--options-of", o->help_for, "Print the options of a solver or model and exit");
+  cmd->add_option("--out", o->out, "Model file to write (JSON)");
+  cmd->footer(
+      "Examples:\n"
+      "  gyrosid calibrate --recording train.csv --model rbf --solver ols --set criterion=bic --set width=0.2 --out m.json\n"
+      "  gyrosid calibrate --recording soak.csv --model classical --out classical.json\n"
+      "  gyrosid calibrate --options-of ceres\n"
+      "The thesis's configuration: --solver ols --normalization units --set width=17.5 --set criterion=bic\n"
+      "(Orr's toolbox on deg/s and deg C with node scale 17.5).");
+  cmd->callback([o, &action] { action = [o] { run_calibrate(*o); }; });
+}
+
+void register_compensate(CLI::App& app, Action& action) {
+  auto o = std::make_shared<CompensateOptions>();
+  CLI::App* cmd = app.add_subcommand("compensate", "Apply a calibration model: the recording plus a compensated_dps column");
+  cmd->add_option("--model", o->model, "Model file written by calibrate")->required();
+  cmd->add_option("--recording", o->recording, "Recording to compensate")->required();
+  cmd->add_option("--out", o->out, "Recording to write")->required();
+  cmd->callback([o, &action] { action = [o] { run_compensate(*o); }; });
+}
+
+void register_export(CLI::App& app, Action& action) {
+  auto o = std::make_shared<ExportOptions>();
+  CLI::App* cmd = app.add_subcommand("export", "Export a model to dependency-free C99 (<prefix>.h, <prefix>.c)");
+  cmd->add_option("--model", o->model, "Model file written by calibrate")->required();
+  cmd->add_option("--prefix", o->prefix, "C identifier prefix")->capture_default_str();
+  cmd->add_option("--out", o->out, "Output directory")->required();
+  cmd->callback([o, &action] {
+    action = [o] {
+      load_model(o->model)->export_c(o->out, o->prefix);
+      std::cout << "wrote " << o->out << "/" << o->prefix << ".h and " << o->prefix << ".c\n";
+    };
+  });
+}
+
+}  // namespace gyrosid::cli

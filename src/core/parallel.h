@@ -1,0 +1,15 @@
+// Splits [0, count) into contiguous chunks run on up to hardware_concurrency() threads (GYROSID_THREADS
+// overrides). Each index is processed exactly once and chunks never share outputs, so results are
+// bit-identical whatever the thread count.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+
+namespace gyrosid {
+
+int worker_threads();
+void parallel_for(std::ptrdiff_t count, const std::function<void(std::ptrdiff_t begin, std::ptrdiff_t end)>& body,
+                  std::ptrdiff_t min_chunk = 1);
+
+}  // namespace gyrosid

@@ -1,0 +1,117 @@
+#include "model/calibration_model.h"
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "model/classical_model.h"
+#include "model/greybox_model.h"
+#include "model/rbf_network.h"
+
+namespace gyrosid {
+
+void CExport::array(const std::string& name, const double* values, std::size_t count) {
+  source << "static const double " << id(name) << "[" << std::max<std::size_t>(count, 1) << "] = {";
+  for (std::size_t i = 0; i < count; ++i) {
+    if (i % 4 == 0) source << "\n   ";
+    source << " " << std::hexfloat << values[i] << std::defaultfloat << (i + 1 < count ? "," : "");
+  }
+  if (count == 0) source << "0.0";
+  source << "};\n";
+}
+
+Eigen::VectorXd CalibrationModel::predict(const Dataset& data) const {
+  Eigen::VectorXd out(data.size());
+  std::vector<double> row(static_cast<std::size_t>(data.x.cols()));
+  for (Eigen::Index i = 0; i < data.size(); ++i) {
+    for (Eigen::Index k = 0; k < data.x.cols(); ++k) row[static_cast<std::size_t>(k)] = data.x(i, k);
+    out(i) = predict(row.data());
+  }
+  return out;
+}
+
+nlohmann::json CalibrationModel::to_json() const {
+  return {{"format", kModelFormat},
+          {"kind", kind()},
+          {"target", to_string(target())},
+          {"features", features()},
+          {"parameters", parameters_json()}};
+}
+
+void CalibrationModel::export_c(const std::filesystem::path& dir, const std::string& prefix) const {
+  for (char c : prefix) {
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_') || std::isdigit(static_cast<unsigned char>(prefix.front()))) {
+      fail("C export: prefix '", prefix, "' is not a C identifier");
+    }
+  }
+  CExport out;
+  out.prefix = prefix;
+  std::string guard = prefix;
+  for (char& c : guard) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  out.header << "/* " << prefix << ".h - gyrosid " << kind() << " calibration model, generated; dependency-free C99. */\n"
+             << "#ifndef " << guard << "_H\n#define " << guard << "_H\n\n"
+             << "/* Inputs x[] in this order (SI: rad/s, deg C, deg C/s):";
+  for (std::size_t i = 0; i < features().size(); ++i) out.header << (i ? ", " : " ") << features()[i];
+  out.header << ". */\n#define " << guard << "_NUM_INPUTS " << features().size() << "\n\n"
+             << "/* Model output in rad/s: the rate " << (target() == ModelTarget::error ? "error" : "itself (corrected)") << ". */\n"
+             << "double " << prefix << "_predict(const double* x);\n"
+             << "/* Compensated rate, rad/s. */\n"
+             << "double " << prefix << "_compensate(const double* x, double measured_radps);\n\n#endif\n";
+  out.source << "/* " << prefix << ".c - gyrosid " << kind() << " calibration model, generated. */\n"
+             << "#include <math.h>\n#include \"" << prefix << ".h\"\n\n";
+  export_c_body(out);
+  out.source << "\ndouble " << prefix << "_compensate(const double* x, double measured_radps) {\n"
+             << (target() == ModelTarget::error ? "  return measured_radps - " : "  (void)measured_radps;\n  return ")
+             << prefix << "_predict(x);\n}\n";
+  write_file_atomic(dir / (prefix + ".h"), out.header.str());
+  write_file_atomic(dir / (prefix + ".c"), out.source.str());
+}
+
+Eigen::VectorXd compensate(const CalibrationModel& model, const Dataset& data) {
+  const Eigen::VectorXd p = model.predict(data);
+  return model.target() == ModelTarget::error ? Eigen::VectorXd(data.measured - p) : p;
+}
+
+void save_model(const std::filesystem::path& path, const CalibrationModel& model, const nlohmann::json& extra) {
+  nlohmann::json j = model.to_json();
+  for (auto it = extra.begin(); it != extra.end(); ++it) j[it.key()] = it.value();
+  write_file_atomic(path, j.dump(1) + "\n");
+}
+
+std::unique_ptr<CalibrationModel> model_from_json(const nlohmann::json& j, const std::string& source) {
+  try {
+    if (j.value("format", "") != kModelFormat) {
+      fail(source, ": not a gyrosid model (expected \"format\": \"", kModelFormat, "\")");
+    }
+    const std::string kind = j.at("kind").get<std::string>();
+    const auto features = j.at("features").get<std::vector<std::string>>();
+    const auto target = parse_enum<ModelTarget>(j.at("target").get<std::string>(), source);
+    const auto& p = j.at("parameters");
+    if (kind == "rbf") return RbfNetwork::from_json(p, features, target);
+    if (kind == "classical") return ClassicalModel::from_json(p, features, target);
+    if (kind == "greybox") return GreyboxModel::from_json(p, features, target);
+    fail(source, ": unknown model kind '", kind, "'; known: rbf, classical, greybox");
+  } catch (const nlohmann::json::exception& e) {
+    fail(source, ": malformed model: ", e.what());
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    if (what.rfind(source, 0) == 0) throw;
+    fail(source, ": ", what);
+  }
+}
+
+std::unique_ptr<CalibrationModel> load_model(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) fail(path.string(), ": cannot open model");
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception& e) {
+    fail(path.string(), ": not valid JSON: ", e.what());
+  }
+  return model_from_json(j, path.string());
+}
+
+}  // namespace gyrosid

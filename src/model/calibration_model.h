@@ -1,0 +1,75 @@
+// A calibration model: maps the gyro's measured inputs (features, see dataset.h) to its rate error - which
+// compensation subtracts (thesis figs 4.17/4.19) - or directly to the corrected rate (fig 4.18).
+//
+// Every model saves to JSON (format "gyrosid-model/1", loading back to the same numbers) and exports to
+// dependency-free C99 for an embedded navigation processor.
+#pragma once
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "model/dataset.h"
+
+namespace gyrosid {
+
+inline constexpr std::string_view kModelFormat = "gyrosid-model/1";
+
+// C99 export under construction: a header with the declarations and a source with the data and code.
+struct CExport {
+  std::string prefix;  // C identifier prefix, e.g. "gyro_x"
+  std::ostringstream header;
+  std::ostringstream source;
+
+  // `static const double <prefix>_<name>[] = {...};` with every digit needed to round-trip.
+  void array(const std::string& name, const double* values, std::size_t count);
+  std::string id(const std::string& name) const { return prefix + "_" + name; }
+};
+
+class CalibrationModel {
+ public:
+  virtual ~CalibrationModel() = default;
+
+  virtual std::string_view kind() const = 0;
+  const std::vector<std::string>& features() const { return features_; }
+  ModelTarget target() const { return target_; }
+
+  // Model output for one sample of inputs x[0..d-1] (SI units, the order of features()): the rate error or
+  // the corrected rate, rad/s. Stateless: a model with dynamics (a thermal lag) evaluates in steady state.
+  virtual double predict(const double* x) const = 0;
+  // Outputs along a recording (models with dynamics run them over time); default: sample by sample.
+  virtual Eigen::VectorXd predict(const Dataset& data) const;
+
+  // Model-specific JSON (the common fields are added by to_json()).
+  virtual nlohmann::json parameters_json() const = 0;
+  // Body of `double <prefix>_predict(const double* x)` plus any data it needs, into out.source.
+  virtual void export_c_body(CExport& out) const = 0;
+
+  nlohmann::json to_json() const;
+  // Writes <prefix>.h and <prefix>.c into `dir` (atomically). The header declares
+  //   double <prefix>_predict(const double* x);          model output, rad/s
+  //   double <prefix>_compensate(const double* x, double measured_radps);
+  void export_c(const std::filesystem::path& dir, const std::string& prefix) const;
+
+ protected:
+  CalibrationModel(std::vector<std::string> features, ModelTarget target)
+      : features_(std::move(features)), target_(target) {}
+  std::vector<std::string> features_;
+  ModelTarget target_;
+};
+
+// The compensated rate of every sample: measured - predicted error, or the predicted corrected rate.
+Eigen::VectorXd compensate(const CalibrationModel& model, const Dataset& data);
+
+// Saving and loading. `extra` (training provenance, solver summary) is stored beside the model.
+void save_model(const std::filesystem::path& path, const CalibrationModel& model, const nlohmann::json& extra);
+std::unique_ptr<CalibrationModel> model_from_json(const nlohmann::json& j, const std::string& source);
+std::unique_ptr<CalibrationModel> load_model(const std::filesystem::path& path);
+
+}  // namespace gyrosid

@@ -1,0 +1,56 @@
+// The classical (industry) compensation of thesis s5.3.2:
+//
+//   error(w, T) = b(T) + [s_T(T) + s_w(w)] w
+//   b(T)   = sum_{i=0..nb} beta_i v^i                 bias polynomial in temperature (cubic in the thesis)
+//   s_T(T) = sum_{j=1..nt} tau_j v^j                  scale factor in temperature, "averaged over rate"
+//   s_w(w) = sum_{k=0..nw} sigma_k u^k                scale factor in rate, "averaged over temperature"
+//
+// with u = w / w_s, v = (T - T_0) / T_s scaled for conditioning, w the measured rate. The thesis's averaging
+// of the soak data over rate and over temperature is the least-squares fit of this additive separable model;
+// it is solved by column-pivoted Householder QR (no normal equations).
+#pragma once
+
+#include "model/calibration_model.h"
+
+namespace gyrosid {
+
+struct ClassicalOptions {
+  int bias_order = 3;           // thesis fig 3.7
+  int sf_temperature_order = 2; // thesis fig 3.3
+  int sf_rate_order = 6;        // thesis fig 3.4
+  std::string validate() const;
+};
+
+class ClassicalModel : public CalibrationModel {
+ public:
+  ClassicalModel(std::vector<std::string> features, ModelTarget target);
+
+  std::string_view kind() const override { return "classical"; }
+  using CalibrationModel::predict;
+  double predict(const double* x) const override;
+  nlohmann::json parameters_json() const override;
+  void export_c_body(CExport& out) const override;
+  static std::unique_ptr<ClassicalModel> from_json(const nlohmann::json& j, std::vector<std::string> features,
+                                                   ModelTarget target);
+
+  double rate_scale = 1.0;        // w_s, rad/s
+  double temperature_reference = 25.0, temperature_scale = 1.0;  // T_0, T_s (deg C)
+  Eigen::VectorXd bias;           // beta_0..beta_nb, rad/s
+  Eigen::VectorXd sf_temperature; // tau_1..tau_nt (index 0 unused, kept 0)
+  Eigen::VectorXd sf_rate;        // sigma_0..sigma_nw
+};
+
+struct ClassicalFitSummary {
+  std::size_t samples = 0;
+  std::size_t parameters = 0;
+  double rms_residual_dph = 0.0;
+  double condition_estimate = 0.0;  // |R_11| / |R_pp| of the pivoted QR
+  double time_s = 0.0;
+  nlohmann::json to_json() const;
+};
+
+// Requires features (measured_rate, temperature) in that order and target error.
+std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const ClassicalOptions& options,
+                                              ClassicalFitSummary* summary = nullptr);
+
+}  // namespace gyrosid

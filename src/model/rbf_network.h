@@ -1,0 +1,51 @@
+// Gaussian radial basis function network with a width per input per node (thesis eqs 4.1-4.5):
+//
+//   f(x) = b + sum_j w_j exp(-z_j(x)),   z_j(x) = sum_k (x~_k - c_jk)^2 / r_jk^2,   x~ = normalised x
+//
+// Centres c and widths r live in normalised input units; weights w and the optional constant b in rad/s.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "model/calibration_model.h"
+#include "model/normalizer.h"
+
+namespace gyrosid {
+
+class RbfNetwork : public CalibrationModel {
+ public:
+  RbfNetwork(std::vector<std::string> features, ModelTarget target, Normalizer normalizer);
+
+  std::string_view kind() const override { return "rbf"; }
+  using CalibrationModel::predict;
+  double predict(const double* x) const override;
+  nlohmann::json parameters_json() const override;
+  void export_c_body(CExport& out) const override;
+  static std::unique_ptr<RbfNetwork> from_json(const nlohmann::json& j, std::vector<std::string> features,
+                                               ModelTarget target);
+
+  // Normalised-space evaluation and the basis matrix Phi (N x m), Phi_ij = exp(-z_j(x_i)).
+  double evaluate_normalised(const double* xn) const;
+  Eigen::MatrixXd basis(const Eigen::MatrixXd& xn) const;
+
+  Eigen::Index nodes() const { return weights.size(); }
+  Eigen::Index dimension() const { return normalizer.dimension(); }
+
+  Normalizer normalizer;
+  Eigen::MatrixXd centres;  // m x d
+  Eigen::MatrixXd widths;   // m x d
+  Eigen::VectorXd weights;  // m
+  double bias = 0.0;
+};
+
+// exp(-sum_k (x_k - c_k)^2 / r_k^2) for one node; the single definition used by every evaluation path.
+inline double gaussian(const double* x, const double* c, const double* r, Eigen::Index d, Eigen::Index stride) {
+  double z = 0.0;
+  for (Eigen::Index k = 0; k < d; ++k) {
+    const double u = (x[k] - c[k * stride]) / r[k * stride];
+    z += u * u;
+  }
+  return std::exp(-z);
+}
+
+}  // namespace gyrosid

@@ -1,0 +1,68 @@
+#include "model/surface_comparison.h"
+
+#include <cmath>
+
+#include "core/earth.h"
+#include "core/error.h"
+#include "core/units.h"
+
+namespace gyrosid {
+
+std::string SurfaceGridSpec::validate() const {
+  if (!(temp_max_c > temp_min_c)) return "temperature range is empty";
+  if (!(rate_max_dps > rate_min_dps)) return "rate range is empty";
+  if (temp_points < 2 || rate_points < 2) return "a grid needs at least 2 x 2 points";
+  return "";
+}
+
+nlohmann::json SurfaceStats::to_json() const {
+  return {{"mean_dph", mean_dph}, {"sigma_dph", sigma_dph}, {"max_dph", max_dph}, {"min_dph", min_dph}, {"rms_dph", rms_dph}};
+}
+
+SurfaceStats surface_stats(const Eigen::MatrixXd& diff) {
+  SurfaceStats s;
+  const double n = static_cast<double>(diff.size());
+  s.mean_dph = diff.mean();
+  s.sigma_dph = std::sqrt((diff.array() - s.mean_dph).square().sum() / std::max(1.0, n - 1));
+  s.max_dph = diff.maxCoeff();
+  s.min_dph = diff.minCoeff();
+  s.rms_dph = std::sqrt(diff.squaredNorm() / n);
+  return s;
+}
+
+SurfaceComparison compare_surfaces(const CalibrationModel& model, const GyroSensor& truth, const SurfaceGridSpec& g) {
+  if (auto p = g.validate(); !p.empty()) fail("surface grid: ", p);
+  SurfaceComparison c;
+  for (int i = 0; i < g.temp_points; ++i) c.temps_c.push_back(g.temp_min_c + (g.temp_max_c - g.temp_min_c) * i / (g.temp_points - 1));
+  for (int j = 0; j < g.rate_points; ++j) c.rates_dps.push_back(g.rate_min_dps + (g.rate_max_dps - g.rate_min_dps) * j / (g.rate_points - 1));
+  c.true_dph.resize(g.temp_points, g.rate_points);
+  c.estimated_dph.resize(g.temp_points, g.rate_points);
+  const double gravity = earth::normal_gravity(0.0);
+  std::vector<double> x(model.features().size());
+  for (int i = 0; i < g.temp_points; ++i) {
+    for (int j = 0; j < g.rate_points; ++j) {
+      GyroEnvironment env;
+      env.temp_c = c.temps_c[static_cast<std::size_t>(i)];
+      env.f_s = Eigen::Vector3d(0, 0, gravity);
+      const double w = units::dps_to_radps(c.rates_dps[static_cast<std::size_t>(j)]);
+      const double wm = truth.errors.forward(w, env);
+      for (std::size_t k = 0; k < x.size(); ++k) {
+        const std::string& f = model.features()[k];
+        if (f == "measured_rate") x[k] = wm;
+        else if (f == "temperature") x[k] = env.temp_c;
+        else if (f == "temperature_rate") x[k] = 0.0;
+        else if (f == "accel_x_mps2" || f == "accel_y_mps2") x[k] = 0.0;
+        else if (f == "accel_z_mps2") x[k] = gravity;
+        else fail("surface comparison: no steady-state value for model input '", f, "'");
+      }
+      const double p = model.predict(x.data());
+      const double estimated_error = model.target() == ModelTarget::error ? p : wm - p;
+      c.true_dph(i, j) = units::radps_to_dph(wm - w);
+      c.estimated_dph(i, j) = units::radps_to_dph(estimated_error);
+    }
+  }
+  c.stats = surface_stats(c.difference_dph());
+  return c;
+}
+
+}  // namespace gyrosid
