@@ -20,6 +20,7 @@ OptionTable IpoptOptions::table() {
       .choice("constraint", &constraint, {"none", "weight_norm", "roughness"}, "inequality constraint")
       .real("bound", &bound, 0.0, 1e30, "upper bound of the constraint (0: 1.5 x its starting value)")
       .real("lambda", &lambda, 0.0, 1e6, "ridge on the weights")
+      .choice("hessian", &hessian, {"gauss_newton", "limited_memory"}, "Hessian of the Lagrangian: J'J or L-BFGS")
       .integer("max_iterations", &max_iterations, 1, 100000, "Ipopt iterations")
       .real("tolerance", &tolerance, 0.0, 1.0, "Ipopt convergence tolerance", true);
   return t;
@@ -70,7 +71,7 @@ class RbfNlp : public Ipopt::TNLP {
     n = static_cast<Index>(m_ * block_);
     m = o_.constraint == "none" ? 0 : 1;
     nnz_jac = m == 0 ? 0 : (o_.constraint == "roughness" ? static_cast<Index>(m_ * (d_ + 1)) : static_cast<Index>(m_));
-    nnz_h = 0;
+    nnz_h = o_.hessian == "gauss_newton" ? n * (n + 1) / 2 : 0;
     style = TNLP::C_STYLE;
     return true;
   }
@@ -176,6 +177,54 @@ class RbfNlp : public Ipopt::TNLP {
     }
     return true;
   }
+  // Gauss-Newton Hessian of the Lagrangian, lower triangle: sigma (J'J + lambda I_w) plus the multiplier
+  // times the weight-norm constraint's Hessian (2 I_w); the roughness constraint's curvature is left out.
+  bool eval_h(Index n, const Number* x, bool, Number obj_factor, Index m, const Number* multipliers, bool, Index,
+              Index* row, Index* col, Number* values) override {
+    if (!values) {
+      Index at = 0;
+      for (Index i = 0; i < n; ++i)
+        for (Index j = 0; j <= i; ++j) row[at] = i, col[at++] = j;
+      return true;
+    }
+    const Eigen::MatrixXd jac = jacobian(x);
+    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);
+    h.selfadjointView<Eigen::Lower>().rankUpdate(jac.transpose());
+    h *= obj_factor;
+    const double constraint_curvature = (m > 0 && o_.constraint == "weight_norm") ? 2.0 * multipliers[0] : 0.0;
+    for (Eigen::Index j = 0; j < m_; ++j) {
+      const Eigen::Index w = j * block_ + 2 * d_;
+      h(w, w) += obj_factor * o_.lambda + constraint_curvature;
+    }
+    Index at = 0;
+    for (Index i = 0; i < n; ++i)
+      for (Index j = 0; j <= i; ++j) values[at++] = h(i, j);
+    return true;
+  }
+
+  Eigen::MatrixXd jacobian(const Number* x) const {
+    const Eigen::Index n = p_.size();
+    Eigen::MatrixXd jac(n, m_ * block_);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (Eigen::Index j = 0; j < m_; ++j) {
+        const Number* b = x + j * block_;
+        double z = 0.0;
+        for (Eigen::Index k = 0; k < d_; ++k) {
+          const double uk = (p_.x(i, k) - b[k]) / std::exp(b[d_ + k]);
+          z += uk * uk;
+        }
+        const double ph = std::exp(-z), w = b[2 * d_];
+        for (Eigen::Index k = 0; k < d_; ++k) {
+          const double r = std::exp(b[d_ + k]), uk = (p_.x(i, k) - b[k]) / r;
+          jac(i, j * block_ + k) = w * ph * 2.0 * uk / r;
+          jac(i, j * block_ + d_ + k) = w * ph * 2.0 * uk * uk;
+        }
+        jac(i, j * block_ + 2 * d_) = ph;
+      }
+    }
+    return jac;
+  }
+
   bool intermediate_callback(Ipopt::AlgorithmMode, Index, Number obj, Number, Number, Number, Number, Number, Number,
                              Number, Index, const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
     objective_history.push_back(obj);
@@ -225,9 +274,13 @@ SolverSummary IpoptRbfSolver::train(const RbfProblem& problem, RbfNetwork& net) 
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", 0);
   app->Options()->SetStringValue("sb", "yes");
-  app->Options()->SetStringValue("hessian_approximation", "limited-memory");
+  app->Options()->SetStringValue("hessian_approximation", options_.hessian == "gauss_newton" ? "exact" : "limited-memory");
   app->Options()->SetIntegerValue("max_iter", options_.max_iterations);
   app->Options()->SetNumericValue("tol", options_.tolerance);
+  // The objective starts far from the barrier's scale; adaptive mu keeps the barrier from dominating the
+  // early, large Gauss-Newton steps.
+  app->Options()->SetStringValue("mu_strategy", "adaptive");
+  app->Options()->SetNumericValue("mu_init", 1e-6);
   if (app->Initialize() != Ipopt::Solve_Succeeded) fail("ipopt: initialisation failed");
   app->OptimizeTNLP(nlp);
 

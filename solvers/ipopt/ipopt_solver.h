@@ -1,5 +1,5 @@
 // `ipopt`: the joint problem of the `ceres` solver with bounds and constraints, by Ipopt's interior-point
-// method (exact gradients, limited-memory Hessian):
+// method (exact gradients; Gauss-Newton Hessian J'J, or limited-memory quasi-Newton):
 //   min  1/2 sum_i r_i^2 + lambda/2 sum_j w_j^2
 //   s.t. r_min <= r_jk <= r_max (as log-width bounds), centres within the data range plus a margin,
 //        optionally sum_j w_j^2 <= bound (weight norm) or sum_j w_j^2 sum_k 1/r_jk^2 <= bound (roughness),
@@ -17,7 +17,8 @@ struct IpoptOptions {
   std::string constraint = "none";  // none | weight_norm | roughness
   double bound = 0.0;             // the constraint's upper bound (0: 1.5 x its value at the start)
   double lambda = 1e-8;
-  int max_iterations = 300;
+  std::string hessian = "gauss_newton";  // gauss_newton | limited_memory
+  int max_iterations = 200;
   double tolerance = 1e-9;
   OptionTable table();
 };

@@ -1,0 +1,236 @@
+// Calibration models: planted coefficients recovered, JSON round trip, C export compiled and compared.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/random.h"
+#include "core/units.h"
+#include "model/classical_model.h"
+#include "model/greybox_model.h"
+#include "model/rbf_network.h"
+#include "sensor/sensor_config.h"
+#include "sim/simulate.h"
+#include "trajectory/trajectory_config.h"
+
+namespace gyrosid {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace units;
+
+// Inputs spanning the calibration domain: rate in [-100, 100] deg/s, temperature in [-20, 60] C.
+Dataset random_dataset(std::size_t n, std::uint64_t seed) {
+  RandomStream r(seed, "dataset");
+  Dataset d;
+  d.features = {"measured_rate", "temperature"};
+  d.x.resize(static_cast<Eigen::Index>(n), 2);
+  for (std::size_t i = 0; i < n; ++i) {
+    d.x(static_cast<Eigen::Index>(i), 0) = dps_to_radps(-100 + 200 * r.uniform());
+    d.x(static_cast<Eigen::Index>(i), 1) = -20 + 80 * r.uniform();
+    d.t_s.push_back(static_cast<double>(i));
+  }
+  d.measured = d.x.col(0);
+  d.reference = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+  d.target = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+  return d;
+}
+
+TEST(ClassicalModel, RecoversPlantedPolynomialCoefficients) {
+  ClassicalModel truth(default_features(), ModelTarget::error);
+  truth.rate_scale = dps_to_radps(100);
+  truth.temperature_reference = 20;
+  truth.temperature_scale = 40;
+  truth.bias = Eigen::Vector4d(dph_to_radps(-15), dph_to_radps(3), dph_to_radps(-1.5), dph_to_radps(0.7));
+  truth.sf_temperature = Eigen::Vector3d(0, 120e-6, -40e-6);
+  truth.sf_rate.resize(7);
+  truth.sf_rate << 50e-6, 30e-6, -700e-6, 20e-6, 60e-6, 0, -10e-6;
+  Dataset d = random_dataset(4000, 1);
+  for (Eigen::Index i = 0; i < d.size(); ++i) {
+    const double x[2] = {d.x(i, 0), d.x(i, 1)};
+    d.target(i) = truth.predict(x);
+  }
+  ClassicalFitSummary s;
+  const auto fit = fit_classical(d, ClassicalOptions{}, &s);
+  // The fit chooses its own scalings; compare the polynomials, not the raw coefficients.
+  for (double t : {-20.0, 0.0, 33.3, 60.0}) {
+    for (double w : {-100.0, -7.0, 0.5, 88.0}) {
+      const double x[2] = {dps_to_radps(w), t};
+      EXPECT_NEAR(fit->predict(x), truth.predict(x), 1e-12 * dps_to_radps(1)) << t << " C, " << w << " deg/s";
+    }
+  }
+  EXPECT_LT(s.rms_residual_dph, 1e-8);
+  EXPECT_EQ(s.parameters, 4u + 2u + 7u);
+}
+
+TEST(ClassicalModel, RejectsADegenerateRecording) {
+  Dataset d = random_dataset(100, 2);
+  d.x.col(1).setConstant(25.0);  // one temperature: the temperature polynomials are not determined
+  try {
+    fit_classical(d, ClassicalOptions{});
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("does not determine all"));
+  }
+}
+
+// A noise-free recording of a sensor with a planted unified model, its probe lagging the chamber and its
+// coil lagging the probe by 90 s.
+Recording planted_greybox_recording(GyroSensor* truth_out) {
+  SensorSpec spec = without_noise(load_sensor_file("builtin:sensors/open_loop_fog.yaml"));
+  auto& g = std::get<GyroSensor>(spec);
+  g.errors.shupe_rad_per_c = dph_to_radps(4.0) * 60.0;  // 4 deg/h per C/min
+  g.errors.scale_factor_asymmetry = 300e-6;
+  g.thermal.coil_tau_s = 90.0;
+  *truth_out = g;
+  TrajectorySpec t = load_trajectory_file("builtin:trajectories/dual_scan.yaml");
+  t.sampling = Sampling{6000, 0.0};
+  return simulate(spec, t, 1).recording;
+}
+
+TEST(GreyboxModel, RecoversAPlantedUnifiedModelWithShupeAsymmetryAndLag) {
+  GyroSensor truth;
+  const Recording rec = planted_greybox_recording(&truth);
+  GreyboxOptions o;
+  o.surface_temperatures_c = {-60, -20, 0, 20, 25, 40, 60, 80};  // the truth's grid
+  o.shupe = o.asymmetry = o.thermal_lag = true;
+  o.ridge = 1e-12;
+  const Dataset d = make_dataset(rec, greybox_features(o), ModelTarget::error);
+  GreyboxFitSummary s;
+  const auto m = fit_greybox(d, o, &s);
+  EXPECT_NEAR(m->lag_tau_s(), 90.0, 1.0);
+  EXPECT_NEAR(m->errors().shupe_rad_per_c / truth.errors.shupe_rad_per_c, 1.0, 0.02);
+  EXPECT_NEAR(m->errors().scale_factor_asymmetry, 300e-6, 5e-6);
+  // Bias polynomial against the truth's constant + cubic, over the calibrated range.
+  for (double t = -20; t <= 60; t += 10) {
+    const double truth_bias = truth.errors.bias_radps + truth.errors.bias_temperature_radps(t);
+    EXPECT_NEAR(radps_to_dph(m->errors().bias_temperature_radps(t) + m->errors().bias_radps), radps_to_dph(truth_bias), 0.05) << t;
+  }
+  EXPECT_LT(s.rms_residual_dph, 0.05);
+  // Compensation with the fitted model removes the errors along the recording.
+  const Eigen::VectorXd comp = compensate(*m, d);
+  EXPECT_LT(radps_to_dph(std::sqrt((comp - d.reference).squaredNorm() / d.size())), 0.05);
+}
+
+// --- JSON round trip and C export, for every model kind ---
+
+std::unique_ptr<RbfNetwork> small_rbf() {
+  auto net = std::make_unique<RbfNetwork>(default_features(), ModelTarget::error,
+                                          Normalizer{Eigen::Vector2d(0.01, 20.0), Eigen::Vector2d(1.7, 40.0)});
+  RandomStream r(3, "rbf");
+  const int m = 9;
+  net->centres.resize(m, 2), net->widths.resize(m, 2), net->weights.resize(m);
+  for (int j = 0; j < m; ++j) {
+    net->centres(j, 0) = -1 + 2 * r.uniform(), net->centres(j, 1) = -1 + 2 * r.uniform();
+    net->widths(j, 0) = 0.2 + r.uniform(), net->widths(j, 1) = 0.2 + r.uniform();
+    net->weights(j) = 1e-3 * r.normal();
+  }
+  net->bias = -7e-5;
+  return net;
+}
+
+std::unique_ptr<ClassicalModel> small_classical() {
+  auto m = std::make_unique<ClassicalModel>(default_features(), ModelTarget::error);
+  m->rate_scale = 1.7, m->temperature_reference = 21.5, m->temperature_scale = 39.0;
+  m->bias = Eigen::Vector4d(-7e-5, 1e-5, -3e-6, 2e-7);
+  m->sf_temperature = Eigen::Vector3d(0, 1e-4, -2e-5);
+  m->sf_rate = Eigen::Vector4d(1e-4, 2e-5, -7e-4, 3e-5);
+  return m;
+}
+
+std::unique_ptr<GreyboxModel> small_greybox() {
+  GyroSensor truth;
+  const Recording rec = planted_greybox_recording(&truth);
+  GreyboxOptions o;
+  o.asymmetry = true;
+  return fit_greybox(make_dataset(rec, greybox_features(o), ModelTarget::error), o);
+}
+
+std::vector<std::array<double, 2>> probe_points() {
+  std::vector<std::array<double, 2>> pts;
+  for (double t : {-70.0, -20.0, 0.0, 24.9, 60.0, 85.0})
+    for (double w : {-110.0, -100.0, -33.3, -1e-6, 0.0, 1e-6, 0.25, 47.0, 100.0})
+      pts.push_back({dps_to_radps(w), t});
+  return pts;
+}
+
+TEST(Models, JsonRoundTripReproducesEveryPrediction) {
+  const auto dir = fs::temp_directory_path() / "gyrosid_model_json";
+  std::vector<std::unique_ptr<CalibrationModel>> models;
+  models.push_back(small_rbf());
+  models.push_back(small_classical());
+  models.push_back(small_greybox());
+  for (const auto& m : models) {
+    const auto path = dir / (std::string(m->kind()) + ".json");
+    save_model(path, *m, {{"note", "test"}});
+    const auto back = load_model(path);
+    EXPECT_EQ(back->kind(), m->kind());
+    EXPECT_EQ(back->features(), m->features());
+    for (const auto& x : probe_points()) EXPECT_EQ(back->predict(x.data()), m->predict(x.data())) << m->kind();
+  }
+  fs::remove_all(dir);
+}
+
+TEST(Models, CExportCompilesAndReproducesTheCppCompensation) {
+  const auto dir = fs::temp_directory_path() / "gyrosid_c_export";
+  fs::remove_all(dir);
+  std::vector<std::unique_ptr<CalibrationModel>> models;
+  models.push_back(small_rbf());
+  models.push_back(small_classical());
+  models.push_back(small_greybox());
+  const auto points = probe_points();
+  for (const auto& m : models) {
+    const std::string prefix = "gyro_" + std::string(m->kind());
+    m->export_c(dir, prefix);
+    // A driver that prints the compensated rate of each input with every digit.
+    std::ofstream driver(dir / (prefix + "_main.c"));
+    driver << "#include <stdio.h>\n#include \"" << prefix << ".h\"\nint main(void) {\n  double x[2];\n"
+           << "  while (scanf(\"%lf %lf\", &x[0], &x[1]) == 2) printf(\"%.17g\\n\", " << prefix << "_compensate(x, x[0]));\n"
+           << "  return 0;\n}\n";
+    driver.close();
+    const std::string exe = (dir / prefix).string();
+    const std::string compile = "cc -std=c99 -pedantic -Wall -Werror -O2 -o " + exe + " " + (dir / (prefix + ".c")).string() +
+                                " " + (dir / (prefix + "_main.c")).string() + " -lm 2>&1";
+    ASSERT_EQ(std::system(compile.c_str()), 0) << compile;
+    std::ofstream in(dir / "in.txt");
+    in.precision(17);
+    for (const auto& x : points) in << x[0] << " " << x[1] << "\n";
+    in.close();
+    FILE* pipe = popen((exe + " < " + (dir / "in.txt").string()).c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    for (const auto& x : points) {
+      double c = 0;
+      ASSERT_EQ(std::fscanf(pipe, "%lf", &c), 1);
+      const double cpp = x[0] - m->predict(x.data());
+      EXPECT_NEAR(c, cpp, 1e-12 * std::max(1.0, std::abs(cpp))) << m->kind() << " at " << x[0] << ", " << x[1];
+    }
+    pclose(pipe);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(Models, MalformedModelFilesAreClearErrors) {
+  const auto dir = fs::temp_directory_path() / "gyrosid_bad_model";
+  fs::create_directories(dir);
+  std::ofstream(dir / "a.json") << "{\"format\": \"something\"}";
+  std::ofstream(dir / "b.json") << "{\"format\": \"gyrosid-model/1\", \"kind\": \"rbf\", \"features\": [\"measured_rate\"], "
+                                   "\"target\": \"error\", \"parameters\": {}}";
+  std::ofstream(dir / "c.json") << "not json";
+  for (const char* f : {"a.json", "b.json", "c.json"}) {
+    try {
+      load_model(dir / f);
+      FAIL() << f;
+    } catch (const Error& e) {
+      EXPECT_THAT(e.what(), ::testing::HasSubstr(f));
+    }
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace gyrosid
