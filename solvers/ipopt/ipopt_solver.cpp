@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 
 #include "core/error.h"
 #include "solvers/ceres/ceres_solver.h"
@@ -21,6 +22,7 @@ OptionTable IpoptOptions::table() {
       .real("bound", &bound, 0.0, 1e30, "upper bound of the constraint (0: 1.5 x its starting value)")
       .real("lambda", &lambda, 0.0, 1e6, "ridge on the weights")
       .choice("hessian", &hessian, {"gauss_newton", "limited_memory"}, "Hessian of the Lagrangian: J'J or L-BFGS")
+      .real("damping", &damping, 0.0, 1e6, "Levenberg-Marquardt damping of the Gauss-Newton Hessian (relative to its diagonal)")
       .integer("max_iterations", &max_iterations, 1, 100000, "Ipopt iterations")
       .real("tolerance", &tolerance, 0.0, 1.0, "Ipopt convergence tolerance", true);
   return t;
@@ -190,6 +192,10 @@ class RbfNlp : public Ipopt::TNLP {
     const Eigen::MatrixXd jac = jacobian(x);
     Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);
     h.selfadjointView<Eigen::Lower>().rankUpdate(jac.transpose());
+    // Levenberg-Marquardt damping of the Gauss-Newton matrix: nodes with little weight make J'J nearly
+    // singular in their centre and width directions, and undamped Newton steps there are huge.
+    const Eigen::VectorXd diag = h.diagonal();
+    h.diagonal() += o_.damping * diag + Eigen::VectorXd::Constant(n, 1e-10 * diag.maxCoeff());
     h *= obj_factor;
     const double constraint_curvature = (m > 0 && o_.constraint == "weight_norm") ? 2.0 * multipliers[0] : 0.0;
     for (Eigen::Index j = 0; j < m_; ++j) {
@@ -272,15 +278,15 @@ SolverSummary IpoptRbfSolver::train(const RbfProblem& problem, RbfNetwork& net) 
     nlp->bound_ = options_.bound > 0 ? options_.bound : 1.5 * nlp->constraint_value(x0.data());
   }
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-  app->Options()->SetIntegerValue("print_level", 0);
+  app->Options()->SetIntegerValue("print_level", std::getenv("GYROSID_IPOPT_PRINT") ? std::atoi(std::getenv("GYROSID_IPOPT_PRINT")) : 0);
   app->Options()->SetStringValue("sb", "yes");
   app->Options()->SetStringValue("hessian_approximation", options_.hessian == "gauss_newton" ? "exact" : "limited-memory");
   app->Options()->SetIntegerValue("max_iter", options_.max_iterations);
   app->Options()->SetNumericValue("tol", options_.tolerance);
-  // The objective starts far from the barrier's scale; adaptive mu keeps the barrier from dominating the
-  // early, large Gauss-Newton steps.
-  app->Options()->SetStringValue("mu_strategy", "adaptive");
-  app->Options()->SetNumericValue("mu_init", 1e-6);
+  // Bounds are rarely active at the solution: start the barrier small and decrease it monotonically, so it
+  // does not hold the iterates away from the least-squares minimum.
+  app->Options()->SetStringValue("mu_strategy", "monotone");
+  app->Options()->SetNumericValue("mu_init", 1e-8);
   if (app->Initialize() != Ipopt::Solve_Succeeded) fail("ipopt: initialisation failed");
   app->OptimizeTNLP(nlp);
 

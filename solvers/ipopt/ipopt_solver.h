@@ -18,6 +18,7 @@ struct IpoptOptions {
   double bound = 0.0;             // the constraint's upper bound (0: 1.5 x its value at the start)
   double lambda = 1e-8;
   std::string hessian = "gauss_newton";  // gauss_newton | limited_memory
+  double damping = 1e-2;
   int max_iterations = 200;
   double tolerance = 1e-9;
   OptionTable table();

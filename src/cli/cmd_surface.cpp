@@ -58,11 +58,14 @@ void run_surface(const SurfaceOptions& o) {
   const std::filesystem::path dir = o.out;
   const Eigen::MatrixXd diff = c.difference_dph();
   write_file_atomic(dir / "surface.csv", [&](std::ostream& out) {
-    out << "temp_c,rate_dps,true_dph,estimated_dph,difference_dph\n";
+    out << "temp_c,rate_dps,measured_rate_dps,true_dph,estimated_dph,difference_dph\n";
     for (std::size_t i = 0; i < c.temps_c.size(); ++i)
       for (std::size_t j = 0; j < c.rates_dps.size(); ++j) {
         const auto ii = static_cast<Eigen::Index>(i), jj = static_cast<Eigen::Index>(j);
-        out << format_number(c.temps_c[i]) << ',' << format_number(c.rates_dps[j]) << ',' << format_number(c.true_dph(ii, jj))
+        // measured = true rate + true error
+        const double measured = c.rates_dps[j] + c.true_dph(ii, jj) / 3600.0;
+        out << format_number(c.temps_c[i]) << ',' << format_number(c.rates_dps[j]) << ',' << format_number(measured) << ','
+            << format_number(c.true_dph(ii, jj))
             << ',' << format_number(c.estimated_dph(ii, jj)) << ',' << format_number(diff(ii, jj)) << '\n';
       }
   });

@@ -1,0 +1,81 @@
+"""Shared helpers for experiment drivers: run the gyrosid command, cache results, write tables and plots.
+
+Experiments call the gyrosid executable (each calibration in its own process, so its peak memory is its
+own) and keep every intermediate file under the experiment's output folder; a rerun reuses what exists
+unless --force is given.
+"""
+import csv
+import json
+import os
+import subprocess
+import sys
+import time
+
+
+class Runner:
+    def __init__(self, gyrosid, out_dir, force=False):
+        self.gyrosid = os.path.abspath(gyrosid)
+        self.out = os.path.abspath(out_dir)
+        self.force = force
+        os.makedirs(self.out, exist_ok=True)
+
+    def path(self, *parts):
+        p = os.path.join(self.out, *parts)
+        os.makedirs(os.path.dirname(p), exist_ok=True)
+        return p
+
+    def run(self, args, product):
+        """Runs `gyrosid args...` unless `product` already exists (and --force is off). Returns seconds."""
+        if os.path.exists(product) and not self.force:
+            return 0.0
+        start = time.time()
+        env = dict(os.environ, GYROSID_QUIET="1")
+        result = subprocess.run([self.gyrosid] + [str(a) for a in args], capture_output=True, text=True, env=env)
+        if result.returncode != 0:
+            sys.stderr.write(result.stdout + result.stderr)
+            raise RuntimeError("gyrosid %s failed" % " ".join(str(a) for a in args))
+        return time.time() - start
+
+
+def load_json(path):
+    with open(path) as f:
+        return json.load(f)
+
+
+def write_csv(path, rows, columns):
+    tmp = path + ".tmp"
+    with open(tmp, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=columns, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow(r)
+    os.replace(tmp, path)
+
+
+def fmt(v, digits=3):
+    if isinstance(v, float):
+        return "%.*g" % (digits, v)
+    return str(v)
+
+
+def markdown_table(rows, columns, headers=None):
+    headers = headers or columns
+    out = ["| " + " | ".join(headers) + " |", "|" + "---|" * len(columns)]
+    for r in rows:
+        out.append("| " + " | ".join(fmt(r.get(c, "")) for c in columns) + " |")
+    return "\n".join(out) + "\n"
+
+
+def write_text(path, text):
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)
+
+
+def gnuplot(png, script):
+    """Renders a gnuplot script (without terminal/output) into png."""
+    tmp_png = png + ".tmp.png"
+    full = "set terminal pngcairo noenhanced size 960,640 font 'Sans,10'\nset output '%s'\n%s\nset output\n" % (tmp_png, script)
+    subprocess.run(["gnuplot"], input=full, text=True, check=True)
+    os.replace(tmp_png, png)
