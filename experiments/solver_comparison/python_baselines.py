@@ -91,7 +91,7 @@ def main():
                     row["rms_vs_" + label] = row["rms_dph"] / float(r["rms_dph"])
             out.append(row)
             sys.stderr.write("  %-12s %-58s %6d samples %8.2f s  rms %8.4g deg/h\n" % (noise, name, used, seconds, row["rms_dph"]))
-        for label in ["ols", "ceres"]:
+        for label in ["ols", "ceres", "nlopt"]:
             r = ours.get((args.training, noise, label))
             if r:
                 out.append({"noise": noise, "method": "gyrosid " + label, "samples_used": len(xn), "time_s": float(r["time_s"]),
