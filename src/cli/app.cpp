@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   register_compensate(app, action);
   register_surface(app, action);
   register_export(app, action);
+  register_cof(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

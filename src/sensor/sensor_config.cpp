@@ -187,6 +187,16 @@ const ThermalPath& thermal_path(const SensorSpec& spec) {
   return std::visit([](const auto& s) -> const ThermalPath& { return s.thermal; }, spec);
 }
 
+TriadSensor as_triad(const SensorSpec& spec) {
+  if (const auto* t = std::get_if<TriadSensor>(&spec)) return *t;
+  const auto& g = std::get<GyroSensor>(spec);
+  TriadSensor t;
+  t.name = g.name + " (x3)";
+  t.gyros = {g, g, g};
+  t.thermal = g.thermal;
+  return t;
+}
+
 const std::string& sensor_name(const SensorSpec& spec) {
   return std::visit([](const auto& s) -> const std::string& { return s.name; }, spec);
 }

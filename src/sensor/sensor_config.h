@@ -19,6 +19,8 @@ SensorSpec load_sensor(const ConfigNode& node);
 SensorSpec load_sensor_file(const std::string& path);
 
 const ThermalPath& thermal_path(const SensorSpec& spec);
+// A triad: the spec itself, or three copies of a single gyro on perfectly aligned axes.
+TriadSensor as_triad(const SensorSpec& spec);
 const std::string& sensor_name(const SensorSpec& spec);
 
 }  // namespace gyrosid

@@ -1,0 +1,82 @@
+// Criterion of fit (thesis s4.5, fig 5.3): the reference IMU data of a flight and the same data with all
+// three gyros perturbed by the sensor model and then compensated by the model under test go through the
+// same strapdown INS; the end-of-trajectory position difference is the criterion. Accelerometers are
+// error-free (thesis s4.5: only the gyros under test may move the solution).
+//
+// Gyro rates are clipped (or scaled) to the calibrated range, as the thesis did (+-100 deg/s); the reference
+// INS uses the same clipped data, so the criterion isolates the compensation error. Temperature follows the
+// altitude by the standard-atmosphere lapse rate from a start temperature (thesis eq C.1); the coil may lag
+// the air by a pure thermal delay (thesis Tables 5.10/5.11) while the model is given the air temperature.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "core/enum_names.h"
+#include "model/calibration_model.h"
+#include "sensor/gyro_sensor.h"
+#include "trajectory/flight.h"
+
+namespace gyrosid::nav {
+
+enum class CompensationMode { model, none, truth };
+
+struct CofOptions {
+  double start_temp_c = 10.0;
+  double thermal_delay_s = 0.0;
+  double clip_rate_dps = 100.0;  // <= 0: rates used as they are
+  bool scale_rates = false;      // scale every rate by the same factor into the range instead of clipping
+  std::string validate() const;
+};
+
+struct CofRun {
+  Eigen::Vector3d error_ned = Eigen::Vector3d::Zero();  // end position minus the reference INS's, m
+  double end_error_m = 0.0;
+  double error_after_1h_m = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::array<double, 2>> growth;  // (t_s, |error| m), decimated, when recorded
+};
+
+class CofEvaluator {
+ public:
+  CofEvaluator(const FlightTrajectory& flight, const TriadSensor& sensor, const CalibrationModel* model,
+               const CofOptions& options);
+
+  // One INS run; noise on or off (off: the sensor's deterministic errors only). Deterministic per seed.
+  CofRun run(CompensationMode mode, bool noise, std::uint64_t seed, bool record_growth = false) const;
+  // Reference runs of the thesis (s5.5): white noise of the given 1-Hz sigma on the reference rates, or a
+  // constant bias, with no other error and no compensation.
+  CofRun run_reference(double white_sigma_1hz_radps, double bias_radps, std::uint64_t seed) const;
+
+  // (along-track, horizontal cross-track, vertical cross-track) w.r.t. the reference end velocity.
+  Eigen::Vector3d decompose(const Eigen::Vector3d& error_ned) const;
+  double duration_s() const { return flight_.duration_s(); }
+  const std::vector<NavState>& reference_path() const { return reference_path_; }
+  const std::vector<double>& air_temperature_c() const { return air_temp_; }
+  double max_abs_rate_dps() const { return max_rate_dps_; }
+  std::size_t clipped_samples() const { return clipped_; }
+
+ private:
+  CofRun integrate(const std::array<std::vector<double>, 3>& rates, bool record_growth) const;
+  std::array<std::vector<double>, 3> compensate(const std::array<std::vector<double>, 3>& measured) const;
+
+  const FlightTrajectory& flight_;
+  TriadSensor sensor_;
+  const CalibrationModel* model_;
+  CofOptions options_;
+  Excitation excitation_;                        // clipped reference rates, specific force, temperatures
+  std::vector<double> air_temp_, air_rate_;      // what the model is told (probe = air)
+  std::vector<NavState> reference_path_;         // reference INS, every step
+  std::array<std::vector<double>, 3> deterministic_;  // noise-free sensor outputs
+  std::array<Eigen::Matrix3d, 3> c_s_b_;
+  double max_rate_dps_ = 0.0;
+  std::size_t clipped_ = 0;
+};
+
+}  // namespace gyrosid::nav

@@ -1,0 +1,100 @@
+// Criterion of fit: a perfect compensation leaves no error, decomposition is orthonormal, the Monte Carlo
+// is deterministic whatever the thread count and stops by the normality test.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include "core/units.h"
+#include "nav/cof_report.h"
+#include "nav/criterion_of_fit.h"
+#include "nav/monte_carlo.h"
+#include "sensor/sensor_config.h"
+
+namespace gyrosid::nav {
+namespace {
+
+const FlightTrajectory& short_flight() {
+  static const FlightTrajectory f = generate_flight(builtin_flight("short"), 100.0);
+  return f;
+}
+
+TriadSensor reference_triad() { return as_triad(load_sensor_file("builtin:sensors/open_loop_fog.yaml")); }
+
+TEST(CriterionOfFit, PerfectCompensationLeavesNoErrorAndRawGyrosDo) {
+  const CofEvaluator cof(short_flight(), reference_triad(), nullptr, CofOptions{});
+  const CofRun truth = cof.run(CompensationMode::truth, false, 1);
+  EXPECT_LT(truth.end_error_m, 1e-6);
+  const CofRun raw = cof.run(CompensationMode::none, false, 1);
+  EXPECT_GT(raw.end_error_m, 1.0);  // tens of deg/h of bias and up to 0.1 deg/s of scale-factor error
+  const Eigen::Vector3d parts = cof.decompose(raw.error_ned);
+  EXPECT_NEAR(parts.norm(), raw.end_error_m, 1e-9 * raw.end_error_m);
+}
+
+TEST(CriterionOfFit, PerfectCompensationUnderAThermalDelayAndMisalignment) {
+  // The truth compensation knows the coil temperature and the misalignment: still nothing left.
+  TriadSensor t = as_triad(load_sensor_file("builtin:sensors/fog_triad.yaml"));
+  CofOptions o;
+  o.thermal_delay_s = 3.0;
+  o.start_temp_c = -5.0;
+  const CofEvaluator cof(short_flight(), t, nullptr, o);
+  EXPECT_LT(cof.run(CompensationMode::truth, false, 1).end_error_m, 1e-6);
+}
+
+TEST(CriterionOfFit, RatesAreClippedToTheCalibratedRange) {
+  const CofEvaluator cof(short_flight(), reference_triad(), nullptr, CofOptions{});
+  EXPECT_GT(cof.max_abs_rate_dps(), 100.0);  // the turn-around and the roll exceed it
+  EXPECT_GT(cof.clipped_samples(), 0u);
+  CofOptions none;
+  none.clip_rate_dps = 0;
+  EXPECT_EQ(CofEvaluator(short_flight(), reference_triad(), nullptr, none).clipped_samples(), 0u);
+}
+
+TEST(CriterionOfFit, TemperatureFollowsTheLapseRate) {
+  const FlightTrajectory f = generate_flight(builtin_flight("medium"), 50.0);
+  CofOptions o;
+  o.start_temp_c = 10.0;
+  const CofEvaluator cof(f, reference_triad(), nullptr, o);
+  const double dh = f.truth.back().h - f.truth.front().h;
+  EXPECT_GT(std::abs(dh), 100.0);
+  EXPECT_NEAR(cof.air_temperature_c().back(), 10.0 - 0.0065 * dh, 1e-9);
+}
+
+TEST(MonteCarlo, DeterministicWhateverTheThreadCountAndStopsByNormality) {
+  const CofEvaluator cof(short_flight(), reference_triad(), nullptr, CofOptions{});
+  auto sample = [&](int i) { return cof.decompose(cof.run(CompensationMode::truth, true, 1000 + static_cast<std::uint64_t>(i)).error_ned); };
+  MonteCarloOptions o;
+  o.runs = 0;
+  o.min_runs = 25;
+  o.max_runs = 400;
+  setenv("GYROSID_THREADS", "1", 1);
+  const MonteCarloResult one = monte_carlo(sample, o);
+  setenv("GYROSID_THREADS", "2", 1);
+  const MonteCarloResult two = monte_carlo(sample, o);
+  unsetenv("GYROSID_THREADS");
+  ASSERT_EQ(one.samples.size(), two.samples.size());
+  for (std::size_t i = 0; i < one.samples.size(); ++i) EXPECT_EQ(one.samples[i], two.samples[i]);
+  // White noise through a perfect compensation: normal errors, accepted early.
+  EXPECT_TRUE(one.normal);
+  EXPECT_GE(one.runs, 25);
+  EXPECT_LT(one.runs, 400);
+  EXPECT_NEAR(one.sigma_m, std::sqrt(one.components[0].sigma * one.components[0].sigma +
+                                     one.components[1].sigma * one.components[1].sigma +
+                                     one.components[2].sigma * one.components[2].sigma), 1e-12);
+}
+
+TEST(MonteCarlo, TruthCompensatedNoiseMatchesTheJustNoiseReference) {
+  // Compensating perfectly leaves only the sensor's white noise: statistically the thesis's "just noise"
+  // reference (same 1-Hz sigma on the reference rates). Compare the spreads from 200 runs each.
+  const TriadSensor t = reference_triad();
+  const CofEvaluator cof(short_flight(), t, nullptr, CofOptions{});
+  MonteCarloOptions o;
+  o.runs = 200;
+  const MonteCarloResult compensated =
+      monte_carlo([&](int i) { return cof.decompose(cof.run(CompensationMode::truth, true, 7 + static_cast<std::uint64_t>(i)).error_ned); }, o);
+  const MonteCarloResult noise = monte_carlo(
+      [&](int i) { return cof.decompose(cof.run_reference(t.gyros[0].noise.arw_rad_rt_s, 0.0, 9 + static_cast<std::uint64_t>(i)).error_ned); }, o);
+  EXPECT_NEAR(compensated.sigma_m / noise.sigma_m, 1.0, 0.2);  // two 200-run estimates of one sigma
+}
+
+}  // namespace
+}  // namespace gyrosid::nav
