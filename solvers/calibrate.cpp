@@ -1,5 +1,6 @@
 #include "solvers/calibrate.h"
 
+#include "core/config.h"
 #include "core/error.h"
 #include "model/classical_model.h"
 #include "model/greybox_model.h"
@@ -112,6 +113,25 @@ CalibrationResult calibrate(const Recording& recording, const CalibrationRequest
   result.training["recording"] = recording.source();
   result.training["samples"] = recording.rows();
   return result;
+}
+
+CalibrationRequest calibration_request_from_config(const ConfigNode& c, const std::vector<std::string>& also_allowed) {
+  std::vector<std::string> keys = {"model", "solver", "features", "target", "normalization", "options"};
+  keys.insert(keys.end(), also_allowed.begin(), also_allowed.end());
+  c.allow_only(keys);
+  CalibrationRequest r;
+  r.model = c.text("model", r.model);
+  r.solver = c.text("solver", r.solver);
+  if (c.has("features")) {
+    const ConfigNode f = c["features"];
+    for (std::size_t i = 0; i < f.size(); ++i) r.features.push_back(f.at(i).as_text());
+  }
+  if (c.has("target")) r.target = parse_enum<ModelTarget>(c.text("target"), c.where("target"));
+  if (c.has("normalization")) r.normalization = parse_enum<NormalizationKind>(c.text("normalization"), c.where("normalization"));
+  if (auto opts = c.find("options")) {
+    for (const auto& key : opts->keys()) r.options[key] = (*opts)[key].as_text();
+  }
+  return r;
 }
 
 }  // namespace gyrosid

@@ -31,6 +31,12 @@ struct CalibrationResult {
 };
 
 CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& request);
+
+class ConfigNode;
+// A request from a calibration YAML (keys model, solver, features, target, normalization, options; the
+// keys in `also_allowed`, e.g. recording and out for `gyrosid calibrate --config`, pass unread). Unknown
+// keys and bad values are errors naming the file, line and key.
+CalibrationRequest calibration_request_from_config(const ConfigNode& config, const std::vector<std::string>& also_allowed = {});
 std::string model_help(const std::string& model);  // the model's options (classical, greybox)
 
 }  // namespace gyrosid

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "core/progress.h"
 #include "model/rbf_network.h"
 #include "solvers/common/candidates.h"
 
@@ -121,7 +122,9 @@ ForwardSelectionResult forward_select(const Eigen::MatrixXd& x, const Eigen::Vec
   int best_k = 0, since_best = 0;
   result.termination = "max_nodes";
 
+  Progress progress("OLS forward selection (nodes of at most " + std::to_string(cap) + ")", static_cast<std::size_t>(cap));
   while (static_cast<int>(selected.size()) < cap) {
+    progress.update(selected.size());
     if (4 * live < 3 * h.cols()) compact();
     // Best remaining candidate by regularised cost reduction.
     Eigen::Index pick = -1;

@@ -16,7 +16,9 @@ OptionTable OlsOptions::table() {
       .integer("max_nodes", &max_nodes, 1, 100000, "upper bound on the number of nodes")
       .real("lambda", &lambda, 0.0, 1e6, "initial global ridge parameter (unit-RMS target)")
       .flag("reestimate_lambda", &reestimate_lambda, "re-estimate lambda by GCV after every step (Orr)")
-      .integer("patience", &patience, 1, 1000, "steps without improvement of the criterion before stopping");
+      .integer("patience", &patience, 1, 1000, "steps without improvement of the criterion before stopping")
+      .real("collinear_tolerance", &collinear_tolerance, 1e-15, 1e-2,
+            "skip a candidate once its squared norm left after orthogonalisation is below this fraction");
   return t;
 }
 
@@ -29,6 +31,7 @@ ForwardSelectionOptions OlsOptions::selection(Eigen::Index dimension) const {
   s.lambda = lambda;
   s.reestimate_lambda = reestimate_lambda;
   s.patience = patience;
+  s.collinear_tolerance = collinear_tolerance;
   return s;
 }
 

@@ -16,6 +16,7 @@ struct OlsOptions {
   double lambda = 1e-6;
   bool reestimate_lambda = true;
   int patience = 3;
+  double collinear_tolerance = 1e-9;
   OptionTable table();
   ForwardSelectionOptions selection(Eigen::Index dimension) const;
 };

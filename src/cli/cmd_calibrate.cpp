@@ -40,29 +40,18 @@ void run_calibrate(CalibrateOptions o) {
     std::cout << (o.help_for == "classical" || o.help_for == "greybox" ? model_help(o.help_for) : solver_help(o.help_for));
     return;
   }
-  CalibrationRequest request;
   // A YAML config gives defaults; command-line values win.
+  CalibrationRequest request;
   if (!o.config.empty()) {
     const ConfigNode c = ConfigNode::load(o.config);
-    c.allow_only({"recording", "model", "solver", "features", "target", "normalization", "options", "out"});
+    request = calibration_request_from_config(c, {"recording", "out"});
     if (o.recording.empty() && c.has("recording")) o.recording = c.resolve(c.text("recording"));
-    if (o.model.empty()) o.model = c.text("model", "");
-    if (o.solver.empty()) o.solver = c.text("solver", "");
-    if (o.target.empty()) o.target = c.text("target", "");
-    if (o.normalization.empty()) o.normalization = c.text("normalization", "");
     if (o.out.empty() && c.has("out")) o.out = c.resolve(c.text("out"));
-    if (o.features.empty() && c.has("features")) {
-      const ConfigNode f = c["features"];
-      for (std::size_t i = 0; i < f.size(); ++i) request.features.push_back(f.at(i).as_text());
-    }
-    if (auto opts = c.find("options")) {
-      for (const auto& key : opts->keys()) request.options[key] = (*opts)[key].as_text();
-    }
   }
   if (o.recording.empty()) fail("--recording is required (or 'recording' in --config)");
   if (o.out.empty()) fail("--out is required (or 'out' in --config)");
-  request.model = o.model.empty() ? "rbf" : o.model;
-  request.solver = o.solver.empty() ? "ols" : o.solver;
+  if (!o.model.empty()) request.model = o.model;
+  if (!o.solver.empty()) request.solver = o.solver;
   if (!o.features.empty()) request.features = split_commas(o.features);
   if (!o.target.empty()) request.target = parse_enum<ModelTarget>(o.target, "--target");
   if (!o.normalization.empty()) request.normalization = parse_enum<NormalizationKind>(o.normalization, "--normalization");

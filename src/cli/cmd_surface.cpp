@@ -31,16 +31,7 @@ void run_surface(const SurfaceOptions& o) {
   const SensorSpec spec = load_sensor_file(o.sensor);
   const GyroSensor& truth = representative_gyro(spec);
   // Default domain: the temperatures the model was trained on, within the sensor's surface grid.
-  SurfaceGridSpec grid;
-  if (truth.errors.scale_factor_surface) {
-    grid.temp_min_c = truth.errors.scale_factor_surface->x().front();
-    grid.temp_max_c = truth.errors.scale_factor_surface->x().back();
-  }
-  const auto domain = model_json.value("/training/domain/temperature"_json_pointer, nlohmann::json());
-  if (domain.is_array() && domain.size() == 2) {
-    grid.temp_min_c = std::max(grid.temp_min_c, domain[0].get<double>());
-    grid.temp_max_c = std::min(grid.temp_max_c, domain[1].get<double>());
-  }
+  SurfaceGridSpec grid = comparison_grid(truth, {model_json.value("training", nlohmann::json::object())});
   auto pair = [](const std::string& text, const char* what, double& lo, double& hi) {
     if (text.empty()) return;
     const auto v = parse_list(text, what);

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/recording.h"
+#include "model/surface_comparison.h"
 #include "sensor/allan.h"
 #include "sensor/sensor_config.h"
 
@@ -26,6 +27,11 @@ std::vector<double> rate_column_dph(const Recording& recording, const std::strin
 // specific force 1 g along it), in deg/s: the "true error surface" of thesis fig 3.12.
 std::function<double(double temp_c, double rate_dps)> error_surface_dps(const GyroSensor& gyro);
 const GyroSensor& representative_gyro(const SensorSpec& sensor);  // the single gyro, or a triad's z gyro
+
+// The (T, omega) grid on which to compare models with the truth: the sensor's surface grid, narrowed to
+// the temperatures every given model was trained on (their training.domain.temperature), so that no model
+// is scored where it would extrapolate.
+SurfaceGridSpec comparison_grid(const GyroSensor& truth, const std::vector<nlohmann::json>& trainings);
 
 struct AllanReport {
   std::vector<AllanPoint> curve;  // deg/h

@@ -109,16 +109,20 @@ std::vector<std::string> ConfigNode::keys() const {
 }
 
 void ConfigNode::allow_only(std::initializer_list<std::string_view> allowed) const {
+  allow_only(std::vector<std::string>(allowed.begin(), allowed.end()));
+}
+
+void ConfigNode::allow_only(const std::vector<std::string>& allowed) const {
   if (node_.IsNull()) return;
   if (!node_.IsMap()) fail(where(), ": expected a map");
   for (const auto& kv : node_) {
     const std::string key = kv.first.as<std::string>();
     bool ok = false;
-    for (auto a : allowed) ok = ok || a == key;
+    for (const auto& a : allowed) ok = ok || a == key;
     if (!ok) {
       std::string list;
-      for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-      fail(where(key), ": unknown key '", key, "'; allowed here: ", list);
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      fail(source_, mark_text(kv.first), " (", child_path(key), "): unknown key '", key, "'; allowed here: ", list);
     }
   }
 }

@@ -30,6 +30,7 @@ class ConfigNode {
   std::vector<std::string> keys() const;
   // Rejects keys outside `allowed`, listing the allowed ones (catches typos in configs).
   void allow_only(std::initializer_list<std::string_view> allowed) const;
+  void allow_only(const std::vector<std::string>& allowed) const;
 
   // Typed values of children; the one-argument forms require the key.
   double number(std::string_view key) const;

@@ -21,15 +21,19 @@ FlightTrajectory load_flight(const std::string& name, double rate_hz) {
 }
 
 CofReport evaluate_criterion_of_fit(const CofRequest& r) {
-  CofReport report;
-  report.flight = load_flight(r.trajectory, r.rate_hz);
-  const TriadSensor sensor = as_triad(load_sensor_file(r.sensor));
   std::unique_ptr<CalibrationModel> model;
   CompensationMode mode = CompensationMode::model;
   if (r.model == "none") mode = CompensationMode::none;
   else if (r.model == "truth") mode = CompensationMode::truth;
   else model = load_model(r.model);
-  const CofEvaluator cof(report.flight, sensor, model.get(), r.options);
+  return score_flight(load_flight(r.trajectory, r.rate_hz), as_triad(load_sensor_file(r.sensor)), model.get(), mode, r);
+}
+
+CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const CalibrationModel* model,
+                       CompensationMode mode, const CofRequest& r) {
+  CofReport report;
+  report.flight = std::move(flight);
+  const CofEvaluator cof(report.flight, sensor, model, r.options);
   report.reference = cof.reference_path();
 
   report.run = cof.run(mode, false, r.seed, true);
@@ -57,6 +61,8 @@ CofReport evaluate_criterion_of_fit(const CofRequest& r) {
       {"drift_m_per_h", drift_basis},
       {"drift_nmi_per_h", drift_basis / 1852.0},
       {"seed", r.seed}};
+  auto dph = [](const Eigen::Vector3d& v) { return std::vector<double>{units::radps_to_dph(v.x()), units::radps_to_dph(v.y()), units::radps_to_dph(v.z())}; };
+  j["residual_rate_dph"] = {{"mean", dph(report.run.residual_mean)}, {"rms", dph(report.run.residual_rms)}};
   if (!std::isnan(report.run.error_after_1h_m)) j["error_after_1h_m"] = report.run.error_after_1h_m;
   if (!std::isnan(report.uncompensated.error_after_1h_m)) j["uncompensated_error_after_1h_m"] = report.uncompensated.error_after_1h_m;
 

@@ -36,5 +36,9 @@ struct CofReport {
 
 FlightTrajectory load_flight(const std::string& name_or_file, double rate_hz);
 CofReport evaluate_criterion_of_fit(const CofRequest& request);
+// The same with the flight, the sensor and the model already in memory (request.model, .sensor and
+// .trajectory are then only labels in the summary).
+CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const CalibrationModel* model,
+                       CompensationMode mode, const CofRequest& request);
 
 }  // namespace gyrosid::nav

@@ -136,12 +136,18 @@ CofRun CofEvaluator::integrate(const std::array<std::vector<double>, 3>& rates, 
     return earth::ned_offset(a.lat, a.lon, a.h, b.lat, b.lon, b.h);
   };
   for (std::size_t k = 0; k < n; ++k) {
-    ins.step(Eigen::Vector3d(rates[0][k], rates[1][k], rates[2][k]) * dt, flight_.dv[k]);
+    const Eigen::Vector3d w(rates[0][k], rates[1][k], rates[2][k]);
+    const Eigen::Vector3d e = w - excitation_.omega_ib_b[k];
+    r.residual_mean += e;
+    r.residual_rms += e.cwiseAbs2();
+    ins.step(w * dt, flight_.dv[k]);
     if (record_growth && ((k + 1) % stride == 0 || k + 1 == n)) {
       r.growth.push_back({excitation_.t_s[k], error_at(k + 1).norm()});
     }
     if (k + 1 == hour) r.error_after_1h_m = error_at(k + 1).norm();
   }
+  r.residual_mean /= static_cast<double>(n);
+  r.residual_rms = (r.residual_rms / static_cast<double>(n)).cwiseSqrt();
   r.error_ned = error_at(n);
   r.end_error_m = r.error_ned.norm();
   return r;

@@ -41,6 +41,9 @@ struct CofRun {
   double end_error_m = 0.0;
   double error_after_1h_m = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::array<double, 2>> growth;  // (t_s, |error| m), decimated, when recorded
+  // The gyro rates fed to the INS minus the reference rates, per body axis (rad/s): what the compensation
+  // left, the link between surface statistics and the criterion.
+  Eigen::Vector3d residual_mean = Eigen::Vector3d::Zero(), residual_rms = Eigen::Vector3d::Zero();
 };
 
 class CofEvaluator {

@@ -10,6 +10,20 @@
 
 namespace gyrosid {
 
+void plot_error_growth(const std::filesystem::path& png, const std::string& title,
+                       const std::vector<std::pair<std::string, const nav::CofRun*>>& runs) {
+  std::string blocks, plots;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    std::vector<std::vector<double>> rows;
+    for (const auto& p : runs[i].second->growth) rows.push_back({p[0], std::max(p[1], 1e-9)});
+    const std::string name = str_cat("g", i);
+    blocks += datablock(name, rows);
+    plots += str_cat(i ? ", " : "", "$", name, " using 1:2 with lines lw 2 title ", gnuplot_quote(runs[i].first));
+  }
+  render_png(png, blocks + str_cat("set title ", gnuplot_quote(title), "\nset xlabel 'time (s)'\n",
+                                   "set ylabel 'position error (m)'\nset logscale y\nset format y '%.0e'\nset grid\nset key left top\nplot ", plots, "\n"));
+}
+
 void write_cof_outputs(const nav::CofReport& r, const std::filesystem::path& dir) {
   write_file_atomic(dir / "cof.json", r.summary.dump(2) + "\n");
 
@@ -27,19 +41,9 @@ void write_cof_outputs(const nav::CofReport& r, const std::filesystem::path& dir
                                                  "set cblabel 'height (km)'\nset palette rgb 33,13,10\n"
                                                  "plot $track using 1:2:3 with lines lw 2 lc palette notitle\n"));
 
-  // Position-error growth.
-  auto series = [](const nav::CofRun& run) {
-    std::vector<std::vector<double>> rows;
-    for (const auto& p : run.growth) rows.push_back({p[0], std::max(p[1], 1e-9)});
-    return rows;
-  };
-  render_png(dir / "error_growth.png",
-             datablock("model", series(r.run)) + datablock("raw", series(r.uncompensated)) +
-                 str_cat("set title 'Position error against the reference INS'\nset xlabel 'time (s)'\n"
-                         "set ylabel 'position error (m)'\nset logscale y\nset grid\nset key left top\n"
-                         "plot $raw using 1:2 with lines lw 2 title 'uncompensated', "
-                         "$model using 1:2 with lines lw 2 title ",
-                         gnuplot_quote("compensated (" + r.summary.value("model", std::string()) + ")"), "\n"));
+  plot_error_growth(dir / "error_growth.png", "Position error against the reference INS",
+                    {{"uncompensated", &r.uncompensated},
+                     {"compensated (" + r.summary.value("model", std::string()) + ")", &r.run}});
 
   if (r.mc) {
     const char* names[] = {"along-track", "cross-track (horizontal)", "cross-track (vertical)"};

@@ -3,11 +3,18 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "nav/cof_report.h"
 
 namespace gyrosid {
 
 void write_cof_outputs(const nav::CofReport& report, const std::filesystem::path& dir);
+
+// Position-error growth of several runs on one flight, log scale (runs need recorded growth).
+void plot_error_growth(const std::filesystem::path& png, const std::string& title,
+                       const std::vector<std::pair<std::string, const nav::CofRun*>>& runs);
 
 }  // namespace gyrosid

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -120,8 +121,85 @@ TEST_F(Cli, BadInputsAreClearErrorsAndLeaveNothingBehind) {
   EXPECT_THAT(r.output, HasSubstr("--out is required"));
 }
 
+nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(read_text(p)); }
+
+// simulate -> calibrate -> compensate -> surface -> export: each step reads what the previous one wrote.
+TEST_F(Cli, CalibrationChainOnNoiseFreeDataBeatsTheRawGyroByOrdersOfMagnitude) {
+  ASSERT_EQ(run("simulate --noise-free --samples 1111 --out " + path("dual.csv")).status, 0);
+  Result r = run("calibrate --recording " + path("dual.csv") + " --config builtin:calibration/rbf_noisy.yaml --out " + path("rbf.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("rbf model"));
+  r = run("compensate --model " + path("rbf.json") + " --recording " + path("dual.csv") + " --out " + path("comp.csv"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const Recording c = read_recording(path("comp.csv"));
+  double raw = 0.0, left = 0.0;
+  for (std::size_t i = 0; i < c.rows(); ++i) {
+    raw += std::pow(c.column("gyro_dps")[i] - c.column("ref_rate_dps")[i], 2);
+    left += std::pow(c.column("compensated_dps")[i] - c.column("ref_rate_dps")[i], 2);
+  }
+  EXPECT_LT(std::sqrt(left / raw), 1e-3);  // the raw error is ~100 deg/h at the rate extremes
+  r = run("surface --model " + path("rbf.json") + " --out " + path("surface"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto s = read_json(dir_ / "surface" / "surface.json");
+  EXPECT_LT(s["difference"]["rms_dph"].get<double>(), 1.0);  // against the sensor's true surface
+  EXPECT_TRUE(fs::exists(dir_ / "surface" / "difference.png"));
+  r = run("calibrate --recording " + path("dual.csv") + " --config builtin:calibration/rbf_noisy.yaml --set width=-1 --out " + path("x.json"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("width"));
+  EXPECT_FALSE(fs::exists(path("x.json")));
+  std::ofstream(path("cal.yaml")) << "model: rbf\nsolver: ols\noptoins:\n  width: 0.2\n";
+  r = run("calibrate --recording " + path("dual.csv") + " --config " + path("cal.yaml") + " --out " + path("x.json"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("cal.yaml:3"));
+  EXPECT_THAT(r.output, HasSubstr("unknown key 'optoins'"));
+}
+
+// gyrosid cof's contract: the keys outside tools read, a perfect compensation scoring zero, the raw gyro
+// scoring its uncompensated error, and the error components adding up to the end error.
+TEST_F(Cli, CofContractTruthNoneAndMonteCarlo) {
+  Result r = run("cof --model truth --trajectory short --out " + path("truth"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto t = read_json(dir_ / "truth" / "cof.json");
+  EXPECT_EQ(t["trajectory"], "short");
+  EXPECT_NEAR(t["duration_s"].get<double>(), 10.0, 1e-9);
+  EXPECT_LT(t["end_error_m"].get<double>(), 1e-9);
+  EXPECT_GT(t["uncompensated_end_error_m"].get<double>(), 0.1);
+  for (const char* key : {"along_track_m", "drift_m_per_h"}) EXPECT_TRUE(t.contains(key)) << key;
+  ASSERT_EQ(t["cross_track_m"].size(), 2u);
+
+  r = run("cof --model none --trajectory short --monte-carlo 30 --seed 4 --out " + path("none"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto n = read_json(dir_ / "none" / "cof.json");
+  EXPECT_DOUBLE_EQ(n["end_error_m"].get<double>(), t["uncompensated_end_error_m"].get<double>());
+  const double along = n["along_track_m"], c0 = n["cross_track_m"][0], c1 = n["cross_track_m"][1];
+  EXPECT_NEAR(std::sqrt(along * along + c0 * c0 + c1 * c1), n["end_error_m"].get<double>(), 1e-9 * n["end_error_m"].get<double>());
+  EXPECT_EQ(n["monte_carlo"]["runs"], 30);
+  EXPECT_GT(n["monte_carlo"]["sigma_m"].get<double>(), 0.0);
+  EXPECT_TRUE(n["monte_carlo"]["anderson_darling_accepted"].is_boolean());
+  for (const char* png : {"ground_track.png", "error_growth.png", "monte_carlo.png"}) EXPECT_TRUE(fs::exists(dir_ / "none" / png)) << png;
+
+  r = run("cof --model none --trajectory medum --out " + path("bad"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("medum"));
+  EXPECT_FALSE(fs::exists(path("bad")));
+}
+
+// The main job on a reduced set-up (one flight, the fast RBF preset): it writes its report, and the RBF
+// compensation beats the classical one by the criterion of fit on the short flight.
+TEST_F(Cli, MainJobWritesItsReport) {
+  const Result r = run("run --flights short --rbf-config builtin:calibration/rbf_noisy.yaml --out " + path("report"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto s = read_json(dir_ / "report" / "summary.json");
+  EXPECT_GT(s["criterion_of_fit"]["short"]["ratio"].get<double>(), 30.0);
+  EXPECT_LT(s["models"]["rbf"]["surface"]["rms_dph"].get<double>(), s["models"]["classical"]["surface"]["rms_dph"].get<double>());
+  const std::string md = read_text(dir_ / "report" / "report.md");
+  EXPECT_THAT(md, HasSubstr("Criterion of fit"));
+  for (const char* f : {"models/rbf.json", "models/classical.json", "data/dual_scan.csv", "cof/short_error_growth.png", "allan/allan.png"})
+    EXPECT_TRUE(fs::exists(dir_ / "report" / f)) << f;
+}
+
 TEST_F(Cli, HelpTeaches) {
-  for (const char* sub : {"simulate", "allan", "run"}) {
+  for (const char* sub : {"simulate", "allan", "run", "calibrate", "compensate", "surface", "export", "cof"}) {
     const Result r = run(std::string(sub) + " --help");
     EXPECT_EQ(r.status, 0) << sub;
     EXPECT_THAT(r.output, HasSubstr("--out")) << sub;
