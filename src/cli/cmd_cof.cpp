@@ -17,6 +17,7 @@ struct CofCommand {
   std::string monte_carlo;
   std::string out;
   double clip = 100.0;
+  std::string probe = "coil";
 };
 
 void run_cof(CofCommand c) {
@@ -32,6 +33,7 @@ void run_cof(CofCommand c) {
     }
   }
   c.request.options.clip_rate_dps = c.clip;
+  c.request.options.probe = parse_enum<nav::TemperatureProbe>(c.probe, "--temperature-probe");
   const nav::CofReport r = nav::evaluate_criterion_of_fit(c.request);
   write_cof_outputs(r, c.out);
   const auto& j = r.summary;
@@ -60,6 +62,7 @@ void register_cof(CLI::App& app, Action& action) {
   cmd->add_option("--rate-hz", c->request.rate_hz, "IMU rate for generated flights")->capture_default_str();
   cmd->add_option("--start-temp-c", c->request.options.start_temp_c, "Air temperature at the start (thesis: 10 C)")->capture_default_str();
   cmd->add_option("--thermal-delay-s", c->request.options.thermal_delay_s, "Coil temperature delay behind the air (thesis: 300 s)")->capture_default_str();
+  cmd->add_option("--temperature-probe", c->probe, "Temperature given to the model: coil (the gyro's probe, thesis) or air")->capture_default_str();
   cmd->add_option("--rate-limit-dps", c->clip, "Clip gyro rates to this range (thesis: 100; 0: no limit)")->capture_default_str();
   cmd->add_flag("--scale-rates", c->request.options.scale_rates, "Scale the rates into the range instead of clipping");
   cmd->add_option("--monte-carlo", c->monte_carlo, "auto (until Anderson-Darling accepts normality, >= 25 runs) or a number of runs");

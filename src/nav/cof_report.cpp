@@ -49,6 +49,7 @@ CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const
       {"rate_hz", r.rate_hz},
       {"start_temp_c", r.options.start_temp_c},
       {"thermal_delay_s", r.options.thermal_delay_s},
+      {"temperature_probe", std::string(to_string(r.options.probe))},
       {"rate_limit_dps", r.options.clip_rate_dps},
       {"rates", r.options.scale_rates ? "scaled" : "clipped"},
       {"max_rate_dps", cof.max_abs_rate_dps()},

@@ -68,9 +68,7 @@ CofEvaluator::CofEvaluator(const FlightTrajectory& flight, const TriadSensor& se
     const double h = flight.truth.size() == n + 1 ? flight.truth[k + 1].h : reference_path_[k + 1].h;
     air_temp_[k] = options.start_temp_c - 0.0065 * (h - h0);
   }
-  air_rate_ = time_derivative(ex.t_s, air_temp_);
   ex.chamber_temp_c = air_temp_;
-  ex.probe_temp_c = air_temp_;
   ex.coil_temp_c.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
     const double delayed_t = ex.t_s[k] - options.thermal_delay_s;
@@ -84,6 +82,9 @@ CofEvaluator::CofEvaluator(const FlightTrajectory& flight, const TriadSensor& se
     }
   }
   ex.coil_temp_rate_c_per_s = time_derivative(ex.t_s, ex.coil_temp_c);
+  ex.probe_temp_c = options.probe == TemperatureProbe::coil ? ex.coil_temp_c : air_temp_;
+  probe_temp_ = ex.probe_temp_c;
+  probe_rate_ = time_derivative(ex.t_s, probe_temp_);
 
   // Noise-free sensor outputs, reused by every run.
   TriadSensor quiet = sensor_;
@@ -109,8 +110,8 @@ std::array<std::vector<double>, 3> CofEvaluator::compensate(const std::array<std
       for (std::size_t k = 0; k < n; ++k) {
         const auto row = static_cast<Eigen::Index>(k);
         if (name == "measured_rate") d.x(row, col) = measured[ai][k];
-        else if (name == "temperature") d.x(row, col) = air_temp_[k];
-        else if (name == "temperature_rate") d.x(row, col) = air_rate_[k];
+        else if (name == "temperature") d.x(row, col) = probe_temp_[k];
+        else if (name == "temperature_rate") d.x(row, col) = probe_rate_[k];
         else if (name == "accel_x_mps2") d.x(row, col) = (c_s_b_[ai] * excitation_.f_b[k])(0);
         else if (name == "accel_y_mps2") d.x(row, col) = (c_s_b_[ai] * excitation_.f_b[k])(1);
         else if (name == "accel_z_mps2") d.x(row, col) = (c_s_b_[ai] * excitation_.f_b[k])(2);

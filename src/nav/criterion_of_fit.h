@@ -6,7 +6,8 @@
 // Gyro rates are clipped (or scaled) to the calibrated range, as the thesis did (+-100 deg/s); the reference
 // INS uses the same clipped data, so the criterion isolates the compensation error. Temperature follows the
 // altitude by the standard-atmosphere lapse rate from a start temperature (thesis eq C.1); the coil may lag
-// the air by a pure thermal delay (thesis Tables 5.10/5.11) while the model is given the air temperature.
+// the air by a pure thermal delay (thesis Tables 5.9-5.11); the model is given the coil temperature (the
+// gyro's probe, as in the thesis) or, as an option, the air temperature.
 #pragma once
 
 #include <Eigen/Core>
@@ -28,9 +29,27 @@ namespace gyrosid::nav {
 
 enum class CompensationMode { model, none, truth };
 
+// Where the temperature given to the compensation is measured: at the coil (the gyro's own probe, the
+// thesis's assumption - a thermal delay then only changes the temperatures the gyro sees) or in the air
+// (an external probe - the compensation is then wrong by the delay).
+enum class TemperatureProbe { coil, air };
+}  // namespace gyrosid::nav
+
+namespace gyrosid {
+template <>
+struct EnumNames<nav::TemperatureProbe> {
+  static constexpr std::string_view kNoun = "temperature probe";
+  static constexpr std::array<std::pair<nav::TemperatureProbe, std::string_view>, 2> kTable{
+      {{nav::TemperatureProbe::coil, "coil"}, {nav::TemperatureProbe::air, "air"}}};
+};
+}  // namespace gyrosid
+
+namespace gyrosid::nav {
+
 struct CofOptions {
   double start_temp_c = 10.0;
   double thermal_delay_s = 0.0;
+  TemperatureProbe probe = TemperatureProbe::coil;
   double clip_rate_dps = 100.0;  // <= 0: rates used as they are
   bool scale_rates = false;      // scale every rate by the same factor into the range instead of clipping
   std::string validate() const;
@@ -74,7 +93,8 @@ class CofEvaluator {
   const CalibrationModel* model_;
   CofOptions options_;
   Excitation excitation_;                        // clipped reference rates, specific force, temperatures
-  std::vector<double> air_temp_, air_rate_;      // what the model is told (probe = air)
+  std::vector<double> air_temp_;                 // from the altitude by the lapse rate
+  std::vector<double> probe_temp_, probe_rate_;  // what the model is told
   std::vector<NavState> reference_path_;         // reference INS, every step
   std::array<std::vector<double>, 3> deterministic_;  // noise-free sensor outputs
   std::array<Eigen::Matrix3d, 3> c_s_b_;

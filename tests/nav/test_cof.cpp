@@ -9,6 +9,9 @@
 #include "nav/criterion_of_fit.h"
 #include "nav/monte_carlo.h"
 #include "sensor/sensor_config.h"
+#include "sim/simulate.h"
+#include "solvers/calibrate.h"
+#include "trajectory/trajectory_config.h"
 
 namespace gyrosid::nav {
 namespace {
@@ -38,6 +41,27 @@ TEST(CriterionOfFit, PerfectCompensationUnderAThermalDelayAndMisalignment) {
   o.start_temp_c = -5.0;
   const CofEvaluator cof(short_flight(), t, nullptr, o);
   EXPECT_LT(cof.run(CompensationMode::truth, false, 1).end_error_m, 1e-6);
+}
+
+// The medium flight climbs: with a 300-s delay the coil stays at its start temperature. A model told the
+// coil temperature (the gyro's probe, as in the thesis) compensates as well as without the delay; a model
+// told the air temperature compensates for temperatures the coil never saw.
+TEST(CriterionOfFit, AThermalDelayHurtsOnlyWhenTheModelIsToldTheAirTemperature) {
+  const FlightTrajectory f = generate_flight(builtin_flight("medium"), 50.0);
+  const TriadSensor t = reference_triad();
+  TrajectorySpec dual = load_trajectory_file("builtin:trajectories/dual_scan.yaml");
+  dual.sampling = Sampling{1111, 0.0};
+  const Simulation train = simulate(without_noise(load_sensor_file("builtin:sensors/open_loop_fog.yaml")), dual, 1);
+  const CalibrationResult fit = calibrate(train.recording, CalibrationRequest{});  // OLS RBF, ~0.07 deg/h
+  const CalibrationModel* model = fit.model.get();
+  CofOptions coil, air;
+  coil.thermal_delay_s = air.thermal_delay_s = 300.0;
+  air.probe = TemperatureProbe::air;
+  const double with_coil = CofEvaluator(f, t, model, coil).run(CompensationMode::model, false, 1).end_error_m;
+  const double with_air = CofEvaluator(f, t, model, air).run(CompensationMode::model, false, 1).end_error_m;
+  const double no_delay = CofEvaluator(f, t, model, CofOptions{}).run(CompensationMode::model, false, 1).end_error_m;
+  EXPECT_GT(with_air, 30.0 * with_coil);
+  EXPECT_LT(with_coil, 3.0 * no_delay);
 }
 
 TEST(CriterionOfFit, RatesAreClippedToTheCalibratedRange) {
