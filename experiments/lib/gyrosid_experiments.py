@@ -37,6 +37,14 @@ class Runner:
         return time.time() - start
 
 
+def set_args(options):
+    """`--set key=value` arguments for gyrosid from a dict (YAML booleans as true/false)."""
+    out = []
+    for k, v in options.items():
+        out += ["--set", "%s=%s" % (k, str(v).lower() if isinstance(v, bool) else v)]
+    return out
+
+
 def load_json(path):
     with open(path) as f:
         return json.load(f)

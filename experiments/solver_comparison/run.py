@@ -16,7 +16,7 @@ import sys
 import yaml
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "lib"))
-from gyrosid_experiments import Runner, gnuplot, load_json, markdown_table, write_csv, write_text  # noqa: E402
+from gyrosid_experiments import Runner, gnuplot, load_json, markdown_table, set_args, write_csv, write_text  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -88,16 +88,12 @@ def main():
                 sim.append("--noise-free")
             run.run(sim, rec)
             for s in cfg["solvers"]:
-                opts = []
-                for k, v in s["options"].items():
-                    opts += ["--set", "%s=%s" % (k, v)]
+                opts = set_args(s["options"])
                 rows.append(evaluate(train, noise, s["name"], ["--recording", rec, "--solver", s["solver"]] + opts))
             rows.append(evaluate(train, noise, "classical", ["--recording", rec, "--model", "classical"]))
             if not args.skip_thesis:
                 for w in cfg["thesis"]["widths"]:
-                    opts = ["--normalization", "units", "--set", "width=%s" % w]
-                    for k, v in cfg["thesis"]["options"].items():
-                        opts += ["--set", "%s=%s" % (k, v)]
+                    opts = ["--normalization", "units", "--set", "width=%s" % w] + set_args(cfg["thesis"]["options"])
                     sweep.append(evaluate(train, noise, "thesis_w%s" % w, ["--recording", rec, "--solver", "ols"] + opts,
                                           {"width": w}))
 
