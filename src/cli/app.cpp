@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   register_surface(app, action);
   register_export(app, action);
   register_cof(app, action);
+  register_explain(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -7,6 +7,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "model/classical_model.h"
+#include "model/explained_model.h"
 #include "model/greybox_model.h"
 #include "model/rbf_network.h"
 
@@ -92,7 +93,8 @@ std::unique_ptr<CalibrationModel> model_from_json(const nlohmann::json& j, const
     if (kind == "rbf") return RbfNetwork::from_json(p, features, target);
     if (kind == "classical") return ClassicalModel::from_json(p, features, target);
     if (kind == "greybox") return GreyboxModel::from_json(p, features, target);
-    fail(source, ": unknown model kind '", kind, "'; known: rbf, classical, greybox");
+    if (kind == "explained") return ExplainedModel::from_json(p, source);
+    fail(source, ": unknown model kind '", kind, "'; known: rbf, classical, greybox, explained");
   } catch (const nlohmann::json::exception& e) {
     fail(source, ": malformed model: ", e.what());
   } catch (const Error& e) {

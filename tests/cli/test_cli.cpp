@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -198,8 +199,46 @@ TEST_F(Cli, MainJobWritesItsReport) {
     EXPECT_TRUE(fs::exists(dir_ / "report" / f)) << f;
 }
 
+// gyrosid explain's contract: explain.json keys, residuals.csv columns, a model.json every command loads.
+TEST_F(Cli, ExplainWritesItsContract) {
+  std::ofstream(path("shupe.yaml")) << read_text(fs::path(GYROSID_SOURCE_DIR) / "configs/sensors/open_loop_fog.yaml")
+                                    << "\nshupe_dph_per_c_per_min: 4\n";
+  ASSERT_EQ(run("simulate --sensor " + path("shupe.yaml") + " --trajectory builtin:trajectories/test_4x16.yaml --seed 2 --out " + path("rec.csv")).status, 0);
+  Result r = run("explain --recording " + path("rec.csv") + " --baseline-form polynomial --bootstrap 199 --out " + path("why"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto j = read_json(dir_ / "why" / "explain.json");
+  EXPECT_EQ(j["verdict"], "missing_physics");
+  ASSERT_FALSE(j["effects"].empty());
+  EXPECT_EQ(j["effects"][0]["id"], "shupe");
+  for (const char* key : {"id", "description", "parameters", "confidence", "delta_bic", "p_value", "alternatives"}) {
+    EXPECT_TRUE(j["effects"][0].contains(key)) << key;
+  }
+  EXPECT_NEAR(j["effects"][0]["parameters"]["k_dph_per_cpm"].get<double>(), 4.0, 0.4);
+  EXPECT_TRUE(j["noise"]["terms"].is_array());
+  EXPECT_TRUE(j["unexplained"].is_array());
+  for (const char* key : {"rms_before_dph", "rms_after_dph", "heldout_rms_before_dph", "heldout_rms_after_dph"}) EXPECT_TRUE(j["fit"].contains(key)) << key;
+  EXPECT_LT(j["fit"]["heldout_rms_after_dph"].get<double>(), j["fit"]["heldout_rms_before_dph"].get<double>());
+  const std::string residuals = read_text(dir_ / "why" / "residuals.csv");
+  EXPECT_EQ(residuals.substr(0, residuals.find('\n')), "t_s,residual_before_dph,residual_after_dph,heldout");
+  EXPECT_EQ(static_cast<std::size_t>(std::count(residuals.begin(), residuals.end(), '\n')), read_recording(path("rec.csv")).rows() + 1);
+  for (const char* png : {"residual_time.png", "residual_grid.png", "correlations.png", "allan.png", "report.md"}) {
+    EXPECT_TRUE(fs::exists(dir_ / "why" / png)) << png;
+  }
+  // The refitted model compensates the recording: the error left is the noise.
+  r = run("compensate --model " + path("why/model.json") + " --recording " + path("rec.csv") + " --out " + path("comp.csv"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("rms error against ref_rate_dps"));
+
+  r = run("explain --recording " + path("rec.csv") + " --model m.json --baseline b.csv --out " + path("x"));
+  EXPECT_NE(r.status, 0);
+  r = run("explain --recording " + path("rec.csv") + " --effects shupe,warp_drive --out " + path("x"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("warp_drive"));
+  EXPECT_FALSE(fs::exists(path("x")));
+}
+
 TEST_F(Cli, HelpTeaches) {
-  for (const char* sub : {"simulate", "allan", "run", "calibrate", "compensate", "surface", "export", "cof"}) {
+  for (const char* sub : {"simulate", "allan", "run", "calibrate", "compensate", "surface", "export", "cof", "explain"}) {
     const Result r = run(std::string(sub) + " --help");
     EXPECT_EQ(r.status, 0) << sub;
     EXPECT_THAT(r.output, HasSubstr("--out")) << sub;

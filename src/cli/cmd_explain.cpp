@@ -1,0 +1,73 @@
+// gyrosid explain: find which physics a simulation left out of a recording, model it, prove the fit better.
+#include <iostream>
+#include <memory>
+
+#include "cli/app.h"
+#include "core/error.h"
+#include "core/format.h"
+#include "core/recording.h"
+#include "explain/explain.h"
+#include "report/explain_report.h"
+
+namespace gyrosid::cli {
+namespace {
+
+struct ExplainCommand {
+  std::string recording, out, baseline_form = "surface";
+  explain::ExplainOptions options;
+};
+
+void run_explain(ExplainCommand c) {
+  c.options.baseline_form = parse_enum<explain::BaselineForm>(c.baseline_form, "--baseline-form");
+  const Recording rec = read_recording(c.recording);
+  const explain::ExplainResult r = explain::explain_recording(rec, c.options);
+  write_explain_outputs(r, c.out);
+  const auto& j = r.summary;
+  std::cout << "verdict: " << j["verdict"].get<std::string>();
+  for (const auto& e : j["effects"]) {
+    std::cout << "\n  effect " << e["id"].get<std::string>() << " (dBIC " << format_significant(e["delta_bic"].get<double>(), 3) << ", p "
+              << format_significant(e["p_value"].get<double>(), 2) << ")";
+    if (!e["alternatives"].empty()) std::cout << ", cannot be told apart from " << e["alternatives"].dump();
+  }
+  for (const auto& u : j["unexplained"]) {
+    std::cout << "\n  unexplained " << u["kind"].get<std::string>() << (u["channel"].is_null() ? "" : " " + u["channel"].get<std::string>());
+  }
+  const auto& f = j["fit"];
+  std::cout << "\nresidual rms " << format_significant(f["rms_before_dph"].get<double>(), 4) << " -> " << format_significant(f["rms_after_dph"].get<double>(), 4)
+            << " deg/h (held out " << format_significant(f["heldout_rms_before_dph"].get<double>(), 4) << " -> "
+            << format_significant(f["heldout_rms_after_dph"].get<double>(), 4) << "), noise floor "
+            << format_significant(j["noise"]["noise_floor_dph"].get<double>(), 4) << " deg/h\nwrote " << c.out
+            << "/explain.json, residuals.csv, model.json, report.md\n";
+}
+
+}  // namespace
+
+void register_explain(CLI::App& app, Action& action) {
+  auto c = std::make_shared<ExplainCommand>();
+  CLI::App* cmd = app.add_subcommand("explain", "Find the physics a simulation left out of a recording, model it, show the fit improve");
+  cmd->add_option("--recording", c->recording, "The recording to explain (gyrosid-recording/1)")->required();
+  auto* model = cmd->add_option("--model", c->options.model_path, "The simulation as a saved model (any model calibrate writes)");
+  cmd->add_option("--baseline", c->options.baseline_path, "Or: a calibration recording to fit the baseline family on")->excludes(model);
+  cmd->add_option("--baseline-form", c->baseline_form, "Scale factor of the baseline family: surface (thesis grid) or polynomial")
+      ->capture_default_str();
+  cmd->add_option("--axis", c->options.input.axis, "Triad recordings: the gyro to explain (x, y or z)");
+  cmd->add_option("--effects", c->options.effects, "Restrict the library to these effects (comma-separated ids)");
+  cmd->add_option("--alpha", c->options.selection.alpha, "Family-wise error rate over the library (Holm)")->capture_default_str();
+  cmd->add_option("--bootstrap", c->options.selection.bootstrap, "Block-bootstrap resamples for the p-values")->capture_default_str();
+  cmd->add_option("--max-effects", c->options.selection.max_effects, "Forward-selection steps at most")->capture_default_str();
+  cmd->add_option("--seed", c->options.selection.seed, "Seed of the bootstrap")->capture_default_str();
+  cmd->add_option("--out", c->out, "Output directory: explain.json, residuals.csv, model.json, report.md, plots")->required();
+  cmd->footer(
+      "The simulation: with --model a saved model predicts the recording; with --baseline the baseline family (bias\n"
+      "cubic in T, scale factor a polynomial of order 3 in T and omega) is fitted on that calibration recording; with\n"
+      "neither it is fitted on this recording's training blocks. Its coefficients are re-estimated either way.\n"
+      "Effects: temperature_bias, shupe, thermal_lag, thermal_hysteresis, warmup_transient, aging_trend,\n"
+      "scale_factor_asymmetry, scale_factor_nonlinearity, scale_factor_temperature, g_sensitivity, g2_sensitivity\n"
+      "(accel_*_mps2 columns), magnetic_sensitivity (mag*_ut columns), cross_axis_coupling (triads).\n"
+      "Blocks: whole thermal cycles when the recording has four or more, else eight spans of time; every fourth block\n"
+      "from the third is held out and only confirms.\n"
+      "Example: gyrosid explain --recording lab.csv --model sim.json --out why/");
+  cmd->callback([c, &action] { action = [c] { run_explain(*c); }; });
+}
+
+}  // namespace gyrosid::cli

@@ -1,0 +1,224 @@
+#include "explain/diagnostics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "core/error.h"
+#include "core/stats.h"
+#include "core/units.h"
+
+namespace gyrosid::explain {
+namespace {
+
+// P(sup |Brownian bridge| > x).
+double kolmogorov_p(double x) {
+  if (x < 0.2) return 1.0;
+  double p = 0.0;
+  for (int j = 1; j <= 100; ++j) {
+    const double term = std::exp(-2.0 * j * j * x * x);
+    p += (j % 2 ? 2.0 : -2.0) * term;
+    if (term < 1e-16) break;
+  }
+  return std::clamp(p, 0.0, 1.0);
+}
+
+Eigen::VectorXd standardized(const Eigen::VectorXd& v) {
+  const double mean = v.mean();
+  const double sd = std::sqrt((v.array() - mean).square().mean());
+  return sd > 0 ? Eigen::VectorXd((v.array() - mean) / sd) : Eigen::VectorXd::Zero(v.size());
+}
+
+// Correlation of a and b shifted by `lag` whitened rows, over pairs that are `lag` samples apart in the recording.
+double lagged_correlation(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const std::vector<Eigen::Index>& rows, Eigen::Index lag) {
+  double sum = 0.0;
+  Eigen::Index count = 0;
+  const auto n = static_cast<Eigen::Index>(rows.size());
+  for (Eigen::Index t = std::max<Eigen::Index>(0, lag); t < n && t - lag < n; ++t) {
+    if (rows[static_cast<std::size_t>(t)] - rows[static_cast<std::size_t>(t - lag)] != lag) continue;
+    sum += a(t) * b(t - lag);
+    ++count;
+  }
+  return count ? sum / static_cast<double>(n) : 0.0;
+}
+
+}  // namespace
+
+Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, const ArNoiseModel& noise, double alpha) {
+  Diagnostics d;
+  std::vector<Eigen::Index> all(static_cast<std::size_t>(in.size()));
+  for (Eigen::Index i = 0; i < in.size(); ++i) all[static_cast<std::size_t>(i)] = i;
+  const Whitener w(noise, contiguous_runs(all, in.segment));
+  const Eigen::VectorXd e_raw = w.apply(residual);
+  const Eigen::VectorXd e = standardized(e_raw);
+  const auto n = static_cast<double>(e.size());
+  double ar_sum = 1.0;
+  for (double a : noise.a) ar_sum += a;
+  const double innovation_sd = std::sqrt((e_raw.array() - e_raw.mean()).square().mean());
+  d.long_run_sigma_dph = innovation_sd / std::max(std::abs(ar_sum), 1e-6);
+
+  // Whiteness.
+  d.ljung_box_lags = 20;
+  double q = 0.0;
+  for (int k = 1; k <= d.ljung_box_lags; ++k) {
+    const double r = lagged_correlation(e, e, w.rows(), k);
+    q += r * r / (n - k);
+  }
+  d.ljung_box_q = n * (n + 2.0) * q;
+  d.ljung_box_dof = std::max(1, d.ljung_box_lags - noise.order());
+  d.ljung_box_p = 1.0 - stats::chi2_cdf(d.ljung_box_q, d.ljung_box_dof);
+
+  // Correlation with every channel, through the same whitening filter.
+  std::vector<std::pair<std::string, Eigen::VectorXd>> channels;
+  const Signals& s = in.signals;
+  const CoilTemperature probe = coil_temperature(s, 0.0);
+  channels.emplace_back("temp_c", s.temp_c);
+  channels.emplace_back("temperature_rate", probe.rate_c_per_s);
+  channels.emplace_back("rate_dps", s.rate / units::kDegToRad);
+  channels.emplace_back("abs_rate_dps", s.rate.cwiseAbs() / units::kDegToRad);
+  channels.emplace_back("t_s", Eigen::Map<const Eigen::VectorXd>(s.t_s.data(), s.size()));
+  for (const auto* group : {&in.accel, &in.magnetic, &in.cross_axis, &in.aux}) {
+    for (const auto& name : *group) channels.emplace_back(name, s.channel(name));
+  }
+  const Eigen::Index max_lag = std::max<Eigen::Index>(1, std::min<Eigen::Index>(static_cast<Eigen::Index>(600.0 / in.dt_s), e.size() / 10));
+  std::vector<Eigen::Index> lags;
+  for (int k = -20; k <= 20; ++k) {
+    const Eigen::Index lag = static_cast<Eigen::Index>(std::llround(static_cast<double>(max_lag) * k / 20.0));
+    if (lags.empty() || lags.back() != lag) lags.push_back(lag);
+  }
+  const double z_channel = stats::normal_quantile(1.0 - alpha / (2.0 * static_cast<double>(lags.size() * channels.size())));
+  for (const auto& [name, values] : channels) {
+    ChannelCorrelation c;
+    c.channel = name;
+    c.threshold = z_channel / std::sqrt(n);
+    const Eigen::VectorXd cw = standardized(w.apply(values));
+    if (cw.isZero()) continue;  // constant after filtering: nothing to correlate
+    for (Eigen::Index lag : lags) {
+      const double r = lagged_correlation(e, cw, w.rows(), lag);
+      c.lag_s.push_back(static_cast<double>(lag) * in.dt_s);
+      c.r.push_back(r);
+      if (std::abs(r) > std::abs(c.peak_r)) c.peak_r = r, c.peak_lag_s = static_cast<double>(lag) * in.dt_s;
+    }
+    c.significant = std::abs(c.peak_r) > c.threshold;
+    d.channels.push_back(c);
+  }
+
+  // Change points in time: binary segmentation of the (unwhitened) residual by CUSUM.
+  const Eigen::Index total = residual.size();
+  const Eigen::Index min_len = std::max<Eigen::Index>(30, total / 50);
+  const int max_tests = 31;
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> segments;
+  std::function<void(Eigen::Index, Eigen::Index, int)> split = [&](Eigen::Index lo, Eigen::Index hi, int depth) {
+    const Eigen::Index len = hi - lo;
+    if (depth < 5 && len >= 2 * min_len) {
+      const double mean = residual.segment(lo, len).mean();
+      double sum = 0.0, peak = 0.0;
+      Eigen::Index at = -1;
+      for (Eigen::Index k = lo; k < hi - 1; ++k) {
+        sum += residual(k) - mean;
+        if (k - lo + 1 >= min_len && hi - k - 1 >= min_len && std::abs(sum) > peak) peak = std::abs(sum), at = k;
+      }
+      const double stat = peak / (d.long_run_sigma_dph * std::sqrt(static_cast<double>(len)));
+      if (at >= 0 && kolmogorov_p(stat) < alpha / max_tests) {
+        split(lo, at + 1, depth + 1);
+        split(at + 1, hi, depth + 1);
+        return;
+      }
+    }
+    segments.emplace_back(lo, hi);
+  };
+  split(0, total, 0);
+  d.window_threshold = stats::normal_quantile(1.0 - alpha / (2.0 * static_cast<double>(segments.size())));
+  for (const auto& [lo, hi] : segments) {
+    TimeWindow t;
+    t.t_start_s = s.t_s[static_cast<std::size_t>(lo)];
+    t.t_end_s = s.t_s[static_cast<std::size_t>(hi - 1)];
+    t.mean_dph = residual.segment(lo, hi - lo).mean();
+    t.z = t.mean_dph * std::sqrt(static_cast<double>(hi - lo)) / d.long_run_sigma_dph;
+    d.windows.push_back(t);
+  }
+
+  // Mean residual over (T, omega), heating and cooling apart.
+  const Eigen::VectorXd branch = thermal_branch(s, probe, TermScaling{});
+  const double t_lo = s.temp_c.minCoeff(), t_hi = s.temp_c.maxCoeff();
+  const Eigen::VectorXd rate_dps = s.rate / units::kDegToRad;
+  const double w_lo = rate_dps.minCoeff(), w_hi = rate_dps.maxCoeff();
+  const int t_bins = t_hi - t_lo > 1.0 ? 6 : 1, w_bins = w_hi - w_lo > 2.0 ? 5 : 1;
+  const int cells = t_bins * w_bins * 2;
+  std::vector<double> sum(static_cast<std::size_t>(cells), 0.0);
+  std::vector<int> count(static_cast<std::size_t>(cells), 0);
+  std::vector<double> first(static_cast<std::size_t>(cells), 0.0), last(static_cast<std::size_t>(cells), 0.0);
+  for (Eigen::Index i = 0; i < total; ++i) {
+    const int ti = std::min(t_bins - 1, static_cast<int>(t_bins * (s.temp_c(i) - t_lo) / std::max(t_hi - t_lo, 1e-9)));
+    const int wi = std::min(w_bins - 1, static_cast<int>(w_bins * (rate_dps(i) - w_lo) / std::max(w_hi - w_lo, 1e-9)));
+    const int bi = branch(i) >= 0 ? 0 : 1;
+    const auto c = static_cast<std::size_t>((ti * w_bins + wi) * 2 + bi);
+    if (count[c] == 0) first[c] = s.t_s[static_cast<std::size_t>(i)];
+    last[c] = s.t_s[static_cast<std::size_t>(i)];
+    sum[c] += residual(i);
+    ++count[c];
+  }
+  int tested = 0;
+  for (int c = 0; c < cells; ++c) tested += count[static_cast<std::size_t>(c)] >= 30;
+  d.cell_threshold = stats::normal_quantile(1.0 - alpha / (2.0 * std::max(1, tested)));
+  for (int c = 0; c < cells; ++c) {
+    const auto k = static_cast<std::size_t>(c);
+    if (count[k] < 30) continue;
+    GridCell g;
+    const int ti = c / 2 / w_bins, wi = c / 2 % w_bins;
+    g.temp_lo_c = t_lo + (t_hi - t_lo) * ti / t_bins, g.temp_hi_c = t_lo + (t_hi - t_lo) * (ti + 1) / t_bins;
+    g.rate_lo_dps = w_lo + (w_hi - w_lo) * wi / w_bins, g.rate_hi_dps = w_lo + (w_hi - w_lo) * (wi + 1) / w_bins;
+    g.heating = c % 2 == 0;
+    g.samples = count[k];
+    g.mean_dph = sum[k] / count[k];
+    g.z = g.mean_dph * std::sqrt(static_cast<double>(count[k])) / d.long_run_sigma_dph;
+    g.t_start_s = first[k], g.t_end_s = last[k];
+    d.cells.push_back(g);
+  }
+
+  // Noise terms from the Allan deviation of the longest uniformly sampled stretch.
+  Eigen::Index best_lo = 0, best_len = 0;
+  for (Eigen::Index i = 0, lo = 0; i <= total; ++i) {
+    if (i == total || in.segment[static_cast<std::size_t>(i)] != in.segment[static_cast<std::size_t>(lo)]) {
+      if (i - lo > best_len) best_lo = lo, best_len = i - lo;
+      lo = i;
+    }
+  }
+  if (best_len >= 1000) {
+    const std::vector<double> stretch(residual.data() + best_lo, residual.data() + best_lo + best_len);
+    d.allan = overlapping_allan_deviation(stretch, in.dt_s);
+    d.allan_fit = fit_allan(d.allan);
+    const AllanCoefficients& f = d.allan_fit;
+    if (f.angle_random_walk > 0) d.noise_terms.push_back({"white", {{"arw_deg_per_rt_h", f.angle_random_walk / 60.0}}});
+    if (f.quantization > 0) d.noise_terms.push_back({"quantization", {{"q_arcsec", f.quantization}}});
+    const GaussMarkovFit gm = fit_gauss_markov(d.allan, true);
+    const bool markov = gm.sigma > 0 && gm.relative_rms_residual < 0.5 * f.relative_rms_residual;
+    if (markov) d.noise_terms.push_back({"gauss_markov", {{"sigma_dph", gm.sigma}, {"tau_s", gm.tau_s}}});
+    else if (f.bias_instability > 0) d.noise_terms.push_back({"bias_instability", {{"b_dph", f.bias_instability}}});
+    if (f.rate_random_walk > 0) d.noise_terms.push_back({"rate_random_walk", {{"k_dph_per_rt_h", f.rate_random_walk * 60.0}}});
+    if (f.rate_ramp > 0) d.noise_terms.push_back({"rate_ramp", {{"r_dph_per_h", f.rate_ramp * 3600.0}}});
+  }
+  return d;
+}
+
+nlohmann::json Diagnostics::to_json() const {
+  nlohmann::json ch = nlohmann::json::array();
+  for (const auto& c : channels) {
+    ch.push_back({{"channel", c.channel}, {"peak_r", c.peak_r}, {"peak_lag_s", c.peak_lag_s}, {"threshold", c.threshold},
+                  {"significant", c.significant}});
+  }
+  nlohmann::json win = nlohmann::json::array();
+  for (const auto& t : windows) win.push_back({{"t_start_s", t.t_start_s}, {"t_end_s", t.t_end_s}, {"mean_dph", t.mean_dph}, {"z", t.z}});
+  nlohmann::json cl = nlohmann::json::array();
+  for (const auto& g : cells) {
+    cl.push_back({{"temp_c", {g.temp_lo_c, g.temp_hi_c}}, {"rate_dps", {g.rate_lo_dps, g.rate_hi_dps}}, {"branch", g.heating ? "heating" : "cooling"},
+                  {"samples", g.samples}, {"mean_dph", g.mean_dph}, {"z", g.z}});
+  }
+  return {{"ljung_box", {{"q", ljung_box_q}, {"lags", ljung_box_lags}, {"dof", ljung_box_dof}, {"p_value", ljung_box_p}}},
+          {"long_run_sigma_dph", long_run_sigma_dph},
+          {"channels", ch},
+          {"time_windows", {{"threshold_z", window_threshold}, {"windows", win}}},
+          {"grid", {{"threshold_z", cell_threshold}, {"cells", cl}}}};
+}
+
+}  // namespace gyrosid::explain

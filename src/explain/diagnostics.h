@@ -1,0 +1,69 @@
+// Residual diagnostics (Ljung's system identification, ch. 16): whiteness, correlation with every recorded
+// channel, structure in time and over (T, omega), and the residual's noise terms.
+//
+//   Ljung-Box   Q = n (n + 2) sum_{k<=h} r_k^2 / (n - k) on the whitened residual, chi-square with h - p dof
+//               (p the AR order: the fitted noise parameters are accounted for);
+//   channels    correlation of the whitened residual with each channel through the same filter, at lags; with a
+//               white residual its standard error is 1/sqrt(n) whatever the channel's own correlation;
+//   time        binary segmentation by CUSUM with the AR model's long-run variance (Kolmogorov p-values);
+//   (T, omega)  mean residual per cell, heating and cooling apart, against the long-run standard error;
+//   noise       overlapping Allan deviation of the residual and its IEEE Std 952 terms.
+// Thresholds are Bonferroni-corrected over the lags, channels, segments or cells tested.
+#pragma once
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "explain/explain_input.h"
+#include "explain/noise_model.h"
+#include "sensor/allan.h"
+
+namespace gyrosid::explain {
+
+struct ChannelCorrelation {
+  std::string channel;
+  std::vector<double> lag_s, r;
+  double peak_r = 0.0, peak_lag_s = 0.0, threshold = 0.0;
+  bool significant = false;
+};
+
+struct TimeWindow {
+  double t_start_s = 0.0, t_end_s = 0.0;
+  double mean_dph = 0.0, z = 0.0;
+};
+
+struct GridCell {
+  double temp_lo_c = 0.0, temp_hi_c = 0.0, rate_lo_dps = 0.0, rate_hi_dps = 0.0;
+  bool heating = true;
+  int samples = 0;
+  double mean_dph = 0.0, z = 0.0;
+  double t_start_s = 0.0, t_end_s = 0.0;
+};
+
+struct NoiseTerm {
+  std::string id;
+  nlohmann::json coefficients;
+};
+
+struct Diagnostics {
+  double ljung_box_q = 0.0, ljung_box_p = 1.0;
+  int ljung_box_lags = 0, ljung_box_dof = 0;
+  std::vector<ChannelCorrelation> channels;
+  std::vector<TimeWindow> windows;          // segments of the change-point search; significant ones flagged by z
+  double window_threshold = 0.0;
+  std::vector<GridCell> cells;
+  double cell_threshold = 0.0;
+  std::vector<AllanPoint> allan;            // deg/h; empty if no uniformly sampled stretch is long enough
+  AllanCoefficients allan_fit;
+  std::vector<NoiseTerm> noise_terms;
+  double long_run_sigma_dph = 0.0;
+  nlohmann::json to_json() const;
+};
+
+// `residual_dph` on every sample; `noise` the whitening model.
+Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual_dph, const ArNoiseModel& noise, double alpha);
+
+}  // namespace gyrosid::explain

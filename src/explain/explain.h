@@ -1,0 +1,53 @@
+// gyrosid explain: when a simulation and a recording differ, find which physics the simulation left out,
+// model it and show the fit improve on held-out data.
+//
+//   1. the simulation: a saved model (--model), the baseline family fitted on a calibration recording
+//      (--baseline), or the baseline family fitted on this recording's training blocks; its existing
+//      coefficients are always re-estimated, so a mis-set coefficient is never reported as missing physics;
+//   2. candidates from the effect library, projected off what the simulation can absorb, selected forward
+//      by BIC with block-bootstrap p-values and Holm's correction (selection.h);
+//   3. every selected effect must survive leave-one-block-out refits (stability) and must not make the
+//      held-out blocks worse; the model is refitted jointly in Ceres with confidence intervals (refit.h);
+//   4. the residual is diagnosed before and after (diagnostics.h); significant structure no effect
+//      explains is reported as unexplained and localised in time, in (T, omega) and by channel.
+#pragma once
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/recording.h"
+#include "explain/diagnostics.h"
+#include "explain/explain_input.h"
+#include "explain/selection.h"
+#include "model/explained_model.h"
+
+namespace gyrosid::explain {
+
+struct ExplainOptions {
+  std::string model_path;     // the simulation as a saved model
+  std::string baseline_path;  // or a calibration recording to fit the baseline family on
+  std::string effects;        // restrict the library: comma-separated effect ids (empty: all)
+  BaselineForm baseline_form = BaselineForm::surface;
+  InputOptions input;
+  SelectionOptions selection;
+  double min_stability = 0.5; // fraction of leave-one-block-out refits in which an effect must keep dBIC > 0
+  std::string validate() const;
+};
+
+struct ExplainResult {
+  nlohmann::json summary;                 // explain.json
+  std::unique_ptr<ExplainedModel> model;  // the refitted model
+  ExplainInput input;
+  Eigen::VectorXd simulation_residual_dph;  // recording - simulation as given (before re-estimation)
+  Eigen::VectorXd residual_before_dph;      // with the simulation's coefficients re-estimated
+  Eigen::VectorXd residual_after_dph;       // with the effects added
+  Diagnostics before, after;
+};
+
+ExplainResult explain_recording(const Recording& recording, const ExplainOptions& options);
+
+}  // namespace gyrosid::explain

@@ -1,0 +1,44 @@
+// What the missing-physics finder reads from a recording: one gyro's rate error against the reference,
+// its inputs as physics-term signals, the recorded channels grouped by meaning, and the split into blocks
+// - whole thermal cycles where the recording has them - of which some are held out for confirmation.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+#include "core/recording.h"
+#include "model/physics_terms.h"
+
+namespace gyrosid::explain {
+
+struct InputOptions {
+  std::string axis;            // triads: x, y or z; empty for a single-gyro recording
+  int heldout_every = 4;       // every n-th block (from the third) is held out
+  std::string validate() const;
+};
+
+struct ExplainInput {
+  std::string source;
+  // The physics terms are functions of the true rate: signals.rate is the reference (rad/s); channels hold
+  // specific force, magnetic field, the other axes' rates and auxiliaries.
+  Signals signals;
+  Eigen::VectorXd error;       // gyro output - reference, rad/s
+  std::vector<std::string> accel, magnetic, cross_axis, aux;  // channel names by group (no nan in any)
+  std::vector<std::string> skipped;                            // channels left out (nan), with the reason
+  std::vector<int> block;      // block index per sample
+  std::vector<char> heldout;   // 1 for held-out samples
+  std::vector<int> segment;    // runs of uniform sampling (a gap over 1.5 sample intervals starts a new one)
+  int blocks = 0;
+  bool thermal_cycles = false; // blocks are whole thermal cycles (else equal time blocks)
+  double dt_s = 1.0;           // median sample interval
+
+  Eigen::Index size() const { return error.size(); }
+  Eigen::Index training_size() const;
+};
+
+// Reads one gyro of a recording. Errors name the recording and the column.
+ExplainInput load_input(const Recording& recording, const InputOptions& options);
+
+}  // namespace gyrosid::explain

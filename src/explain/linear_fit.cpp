@@ -1,0 +1,65 @@
+#include "explain/linear_fit.h"
+
+#include <Eigen/QR>
+
+#include <cmath>
+
+namespace gyrosid::explain {
+
+WhitenedFit fit_whitened(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, double tolerance) {
+  WhitenedFit f;
+  f.beta = Eigen::VectorXd::Zero(x.cols());
+  f.kept.assign(static_cast<std::size_t>(x.cols()), 0);
+  if (x.cols() == 0) {
+    f.basis.resize(x.rows(), 0);
+    f.residual = y;
+    f.rss = y.squaredNorm();
+    return f;
+  }
+  // Equilibrate the columns so that the rank decision does not depend on their units.
+  Eigen::VectorXd norms = x.colwise().norm().transpose();
+  for (Eigen::Index j = 0; j < norms.size(); ++j) norms(j) = norms(j) > 0 ? norms(j) : 1.0;
+  const Eigen::MatrixXd xs = x * norms.cwiseInverse().asDiagonal();
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(xs);
+  qr.setThreshold(tolerance);
+  qr.compute(xs);
+  f.rank = static_cast<int>(qr.rank());
+  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(x.rows(), f.rank);
+  f.basis = q;
+  // Coefficients of the kept (pivot) columns: R11 b = Q1' y.
+  const Eigen::VectorXd qty = q.transpose() * y;
+  const Eigen::VectorXd b = qr.matrixR().topLeftCorner(f.rank, f.rank).triangularView<Eigen::Upper>().solve(qty);
+  for (int k = 0; k < f.rank; ++k) {
+    const Eigen::Index col = qr.colsPermutation().indices()(k);
+    f.beta(col) = b(k) / norms(col);
+    f.kept[static_cast<std::size_t>(col)] = 1;
+  }
+  f.residual = y - q * qty;
+  f.rss = f.residual.squaredNorm();
+  return f;
+}
+
+Eigen::MatrixXd new_directions(const Eigen::MatrixXd& c, const Eigen::MatrixXd& basis, double tolerance) {
+  if (c.cols() == 0) return Eigen::MatrixXd(c.rows(), 0);
+  const Eigen::RowVectorXd norms = c.colwise().norm();
+  Eigen::MatrixXd r = c;
+  if (basis.cols() > 0) {
+    r -= basis * (basis.transpose() * r);
+    r -= basis * (basis.transpose() * r);
+  }
+  // Keep columns with a meaningful part left, scaled by their original norm.
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index j = 0; j < r.cols(); ++j) {
+    if (norms(j) > 0 && r.col(j).norm() > tolerance * norms(j)) keep.push_back(j);
+  }
+  if (keep.empty()) return Eigen::MatrixXd(c.rows(), 0);
+  Eigen::MatrixXd k(r.rows(), static_cast<Eigen::Index>(keep.size()));
+  for (std::size_t i = 0; i < keep.size(); ++i) k.col(static_cast<Eigen::Index>(i)) = r.col(keep[i]) / norms(keep[i]);
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(k.rows(), k.cols());
+  qr.setThreshold(tolerance);
+  qr.compute(k);
+  const Eigen::Index rank = qr.rank();
+  return qr.householderQ() * Eigen::MatrixXd::Identity(k.rows(), rank);
+}
+
+}  // namespace gyrosid::explain

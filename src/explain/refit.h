@@ -1,0 +1,39 @@
+// The final joint fit of a selected model on the whitened training samples: the nonlinear time constants
+// (the coil's thermal lag when it was found missing, the warm-up's) by variable projection - NLopt's BOBYQA
+// over log(tau) with every linear coefficient solved exactly inside - then the joint problem in Ceres
+// (a Levenberg-Marquardt polish and ceres::Covariance, scaled by the residual variance). Time constants
+// live in log(tau), so their intervals are asymmetric in tau.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+#include "explain/selection.h"
+
+namespace gyrosid::explain {
+
+struct TimeConstant {
+  int term = -1;          // index of the warm-up term, or -1 for the thermal lag
+  double tau_s = 0.0;
+  double low_s = 0.0, high_s = 0.0;  // 95 % interval
+};
+
+struct RefitResult {
+  ModelSpec model;                 // with the refined time constants
+  Eigen::VectorXd beta;            // per column of the model's design matrix (deg/h per column unit); 0 if dropped
+  Eigen::VectorXd beta_sigma;      // standard deviations (0 where not computable)
+  std::vector<char> kept;          // per column: identifiable
+  std::vector<TimeConstant> time_constants;
+  double residual_sigma = 0.0;     // whitened residual standard deviation, deg/h
+  std::string termination;
+  int iterations = 0;
+  bool covariance_ok = false;
+};
+
+// `refine_lag`: the lag is a parameter (it was selected); otherwise it stays at the model's value.
+RefitResult refit(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& model, bool refine_lag,
+                  const TermScaling& scaling, const Whitener& whitener);
+
+}  // namespace gyrosid::explain

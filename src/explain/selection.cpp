@@ -1,0 +1,228 @@
+#include "explain/selection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "core/progress.h"
+#include "core/random.h"
+#include "explain/linear_fit.h"
+
+namespace gyrosid::explain {
+
+std::string SelectionOptions::validate() const {
+  if (!(alpha > 0 && alpha < 0.5)) return str_cat("alpha = ", alpha, " must be in (0, 0.5)");
+  if (bootstrap < 99) return str_cat("bootstrap = ", bootstrap, " resamples: need at least 99");
+  if (max_effects < 0 || max_effects > 13) return "max_effects must be in [0, 13]";
+  if (max_ar_order < 0 || max_ar_order > 50) return "max_ar_order must be in [0, 50]";
+  if (!(ambiguity_bic >= 0)) return "ambiguity_bic must be >= 0";
+  return "";
+}
+
+Whitener training_whitener(const ExplainInput& in, const ArNoiseModel& noise) {
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index i = 0; i < in.size(); ++i) {
+    if (!in.heldout[static_cast<std::size_t>(i)]) rows.push_back(i);
+  }
+  return Whitener(noise, contiguous_runs(rows, in.segment));
+}
+
+ModelSpec with_effect(const ModelSpec& model, const Candidate& c, double tau) {
+  ModelSpec m = model;
+  if (c.nonlinear == NonlinearParameter::lag_tau) {
+    m.lag_tau_s = tau;
+  } else {
+    Term t = c.term;
+    if (c.nonlinear == NonlinearParameter::warmup_tau) t.tau_s = tau;
+    m.terms.push_back(t);
+  }
+  return m;
+}
+
+namespace {
+
+std::vector<double> grid_of(const Candidate& c) {
+  return c.nonlinear == NonlinearParameter::none ? std::vector<double>{std::numeric_limits<double>::quiet_NaN()} : c.tau_grid_s;
+}
+
+Eigen::MatrixXd model_columns(const ModelSpec& m, const Signals& s, const TermScaling& sc) {
+  return design_matrix(m.terms, s, coil_temperature(s, m.lag_tau_s), sc);
+}
+
+// The noise model from the residual of everything at once (base plus every candidate, nonlinear ones at three
+// points of their grids), fitted by ordinary least squares on the training samples.
+Eigen::MatrixXd training_rows(const Eigen::MatrixXd& x, const std::vector<Eigen::Index>& rows) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), x.cols());
+  for (std::size_t r = 0; r < rows.size(); ++r) out.row(static_cast<Eigen::Index>(r)) = x.row(rows[r]);
+  return out;
+}
+
+ArNoiseModel full_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const TermScaling& sc,
+                              const std::vector<Candidate>& candidates, int max_order) {
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index i = 0; i < in.size(); ++i) {
+    if (!in.heldout[static_cast<std::size_t>(i)]) rows.push_back(i);
+  }
+  const Eigen::MatrixXd x_base = model_columns(base, in.signals, sc);
+  const Eigen::VectorXd yt = training_rows(y, rows);
+  const Eigen::VectorXd beta = fit_whitened(training_rows(x_base, rows), yt).beta;
+  std::vector<Eigen::MatrixXd> blocks{x_base};
+  for (const auto& c : candidates) {
+    const std::vector<double> grid = grid_of(c);
+    std::vector<double> points = grid;
+    if (grid.size() > 3) points = {grid[grid.size() / 6], grid[grid.size() / 2], grid[grid.size() * 5 / 6]};
+    for (double tau : points) blocks.push_back(candidate_columns(c, tau, base.terms, base.lag_tau_s, beta, in.signals, sc));
+  }
+  Eigen::Index cols = 0;
+  for (const auto& b : blocks) cols += b.cols();
+  Eigen::MatrixXd x(in.size(), cols);
+  Eigen::Index at = 0;
+  for (const auto& b : blocks) {
+    x.middleCols(at, b.cols()) = b;
+    at += b.cols();
+  }
+  const WhitenedFit f = fit_whitened(training_rows(x, rows), yt);
+  Eigen::VectorXd residual = Eigen::VectorXd::Zero(in.size());
+  for (std::size_t r = 0; r < rows.size(); ++r) residual(rows[r]) = f.residual(static_cast<Eigen::Index>(r));
+  return fit_ar(residual, contiguous_runs(rows, in.segment), max_order);
+}
+
+// Circular block bootstrap of r: `count` resamples side by side (n x count).
+Eigen::MatrixXd block_bootstrap(const Eigen::VectorXd& r, int count, std::uint64_t seed, int step) {
+  const Eigen::Index n = r.size();
+  const Eigen::Index block = std::max<Eigen::Index>(10, static_cast<Eigen::Index>(std::ceil(2.0 * std::cbrt(static_cast<double>(n)))));
+  RandomStream rng(seed, "explain/bootstrap/" + std::to_string(step));
+  Eigen::MatrixXd out(n, count);
+  for (int m = 0; m < count; ++m) {
+    for (Eigen::Index i = 0; i < n; i += block) {
+      const auto start = static_cast<Eigen::Index>(rng.uniform() * static_cast<double>(n)) % n;
+      for (Eigen::Index k = 0; k < block && i + k < n; ++k) out(i + k, m) = r((start + k) % n);
+    }
+  }
+  return out;
+}
+
+struct Evaluated {
+  CandidateScore score;
+  std::vector<double> tau;
+  std::vector<Eigen::MatrixXd> z;  // per grid value
+};
+
+double delta_bic(double rss, double stat, double n, int params) {
+  const double lr = n * std::log(rss / std::max(rss - stat, 1e-300 * rss));
+  return lr - params * std::log(n);
+}
+
+// Statistic of a candidate against a fitted model (no bootstrap): the best over its grid.
+Evaluated evaluate(const Candidate& c, const ModelSpec& model, const ExplainInput& in, const TermScaling& sc, const Whitener& w,
+                   const WhitenedFit& fit) {
+  Evaluated e;
+  e.score.id = c.id;
+  e.tau = grid_of(c);
+  const double n = static_cast<double>(fit.residual.size());
+  double best = -1.0;
+  for (double tau : e.tau) {
+    Eigen::MatrixXd z =
+        new_directions(w.apply(candidate_columns(c, tau, model.terms, model.lag_tau_s, fit.beta, in.signals, sc)), fit.basis);
+    const double stat = z.cols() ? (z.transpose() * fit.residual).squaredNorm() : 0.0;
+    if (stat > best) {
+      best = stat;
+      e.score.tau_s = tau;
+      e.score.columns = static_cast<int>(z.cols());
+    }
+    e.z.push_back(std::move(z));
+  }
+  e.score.delta_rss = std::max(best, 0.0);
+  const int q = c.nonlinear == NonlinearParameter::none ? 0 : 1;
+  e.score.lr = e.score.columns ? n * std::log(fit.rss / std::max(fit.rss - e.score.delta_rss, 1e-300 * fit.rss)) : 0.0;
+  e.score.delta_bic = e.score.columns ? delta_bic(fit.rss, e.score.delta_rss, n, e.score.columns + q) : -std::numeric_limits<double>::infinity();
+  return e;
+}
+
+WhitenedFit fit_model(const ModelSpec& m, const ExplainInput& in, const Eigen::VectorXd& yw, const TermScaling& sc, const Whitener& w) {
+  return fit_whitened(w.apply(model_columns(m, in.signals, sc)), yw);
+}
+
+}  // namespace
+
+SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const TermScaling& sc,
+                               const std::vector<Candidate>& candidates, const SelectionOptions& o) {
+  if (auto p = o.validate(); !p.empty()) fail("explain: ", p);
+  SelectionResult result;
+  result.model = base;
+  result.noise = full_model_noise(in, y, base, sc, candidates, o.max_ar_order);
+  const Whitener w = training_whitener(in, result.noise);
+  const Eigen::VectorXd yw = w.apply(y);
+  result.whitened_samples = static_cast<std::size_t>(yw.size());
+
+  std::vector<Candidate> open = candidates;
+  Progress progress("explain: selecting effects", static_cast<std::size_t>(std::max(1, o.max_effects)));
+  for (int step = 0; step < o.max_effects && !open.empty(); ++step) {
+    progress.update(static_cast<std::size_t>(step));
+    const WhitenedFit fit = fit_model(result.model, in, yw, sc, w);
+    std::vector<Evaluated> ev(open.size());
+    parallel_for(static_cast<std::ptrdiff_t>(open.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+      for (std::ptrdiff_t i = begin; i < end; ++i) ev[static_cast<std::size_t>(i)] = evaluate(open[static_cast<std::size_t>(i)], result.model, in, sc, w, fit);
+    }, 1);
+    // Bootstrap p-values: the same maximisation over each candidate's grid on every resample.
+    const Eigen::MatrixXd resamples = block_bootstrap(fit.residual, o.bootstrap, o.seed, step);
+    parallel_for(static_cast<std::ptrdiff_t>(open.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+      for (std::ptrdiff_t i = begin; i < end; ++i) {
+        Evaluated& e = ev[static_cast<std::size_t>(i)];
+        if (e.score.columns == 0) continue;
+        Eigen::VectorXd null_max = Eigen::VectorXd::Zero(o.bootstrap);
+        for (const auto& z : e.z) {
+          if (z.cols() == 0) continue;
+          null_max = null_max.cwiseMax((z.transpose() * resamples).colwise().squaredNorm().transpose());
+        }
+        const auto exceed = (null_max.array() >= e.score.delta_rss).count();
+        e.score.p_value = (1.0 + static_cast<double>(exceed)) / (1.0 + o.bootstrap);
+      }
+    }, 1);
+    // Holm's step-down over the testable candidates.
+    std::vector<std::size_t> order;
+    for (std::size_t i = 0; i < ev.size(); ++i) {
+      if (ev[i].score.columns > 0) order.push_back(i);
+    }
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ev[a].score.p_value < ev[b].score.p_value; });
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      if (ev[order[k]].score.p_value > o.alpha / static_cast<double>(order.size() - k)) break;
+      ev[order[k]].score.significant = true;
+    }
+    std::vector<CandidateScore> scores;
+    for (const auto& e : ev) scores.push_back(e.score);
+    result.steps.push_back(scores);
+
+    std::ptrdiff_t best = -1;
+    for (std::size_t i = 0; i < ev.size(); ++i) {
+      if (ev[i].score.significant && ev[i].score.delta_bic > 0 && (best < 0 || ev[i].score.delta_bic > ev[static_cast<std::size_t>(best)].score.delta_bic)) {
+        best = static_cast<std::ptrdiff_t>(i);
+      }
+    }
+    if (best < 0) break;
+    const auto b = static_cast<std::size_t>(best);
+    SelectedEffect chosen{open[b], ev[b].score, {}};
+    const ModelSpec next = with_effect(result.model, open[b], ev[b].score.tau_s);
+    const WhitenedFit next_fit = fit_model(next, in, yw, sc, w);
+
+    // Alternatives: close in dBIC, and each makes the other redundant.
+    for (std::size_t i = 0; i < ev.size(); ++i) {
+      if (i == b || !(ev[i].score.delta_bic > 0) || ev[i].score.delta_bic < ev[b].score.delta_bic - o.ambiguity_bic) continue;
+      const double other_given_best = evaluate(open[i], next, in, sc, w, next_fit).score.delta_bic;
+      const ModelSpec swapped = with_effect(result.model, open[i], ev[i].score.tau_s);
+      Candidate fixed = open[b];
+      if (fixed.nonlinear != NonlinearParameter::none) fixed.tau_grid_s = {ev[b].score.tau_s};
+      const double best_given_other = evaluate(fixed, swapped, in, sc, w, fit_model(swapped, in, yw, sc, w)).score.delta_bic;
+      if (other_given_best < o.ambiguity_bic && best_given_other < o.ambiguity_bic) chosen.alternatives.push_back(open[i].id);
+    }
+    result.effects.push_back(chosen);
+    result.model = next;
+    open.erase(open.begin() + best);
+  }
+  progress.finish();
+  return result;
+}
+
+}  // namespace gyrosid::explain

@@ -1,0 +1,81 @@
+// Detection and ranking of missing effects by forward selection in the whitened space.
+//
+// The noise model (an AR process, noise_model.h) is estimated once from the residual of the full model -
+// the base plus every candidate - so that deterministic structure the base lacks is not mistaken for
+// coloured noise, then held fixed. At every step, on the training samples:
+//   1. the current model's whitened columns span Q; its whitened residual is r;
+//   2. each candidate's whitened columns (at each value of its nonlinear parameter) are projected off Q
+//      (what the base can already absorb) and orthonormalised to Z; its statistic is |Z' r|^2, the drop
+//      in the residual sum of squares, maximised over the parameter grid;
+//   3. its likelihood ratio LR = n log(RSS / (RSS - stat)) and dBIC = LR - (k + q) log n (q nonlinear
+//      parameters);
+//   4. its p-value comes from a circular block bootstrap of r - the same maximisation over the parameter
+//      grid on every resample, so a lag search is not judged by a plain chi-square;
+//   5. Holm's step-down procedure over the candidates controls the family-wise error at alpha;
+//   6. the significant candidate with the largest dBIC is added; every other candidate within
+//      `ambiguity_bic` of it that it makes redundant - and that makes it redundant - is reported as an
+//      alternative the data cannot tell apart.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "explain/effect_library.h"
+#include "explain/noise_model.h"
+
+namespace gyrosid::explain {
+
+struct SelectionOptions {
+  double alpha = 0.05;
+  int bootstrap = 999;
+  int max_effects = 6;
+  int max_ar_order = 10;
+  double ambiguity_bic = 10.0;  // Kass & Raftery: 2 ln BF above 10 is very strong evidence
+  std::uint64_t seed = 1;
+  std::string validate() const;
+};
+
+// A model in the linear framework: terms (columns) and the coil's thermal lag.
+struct ModelSpec {
+  std::vector<Term> terms;
+  double lag_tau_s = 0.0;
+};
+
+struct CandidateScore {
+  EffectId id;
+  double tau_s = std::numeric_limits<double>::quiet_NaN();  // best nonlinear parameter, if any
+  int columns = 0;            // new directions after projecting off the model
+  double delta_rss = 0.0;     // whitened
+  double lr = 0.0;
+  double delta_bic = 0.0;
+  double p_value = 1.0;
+  bool significant = false;   // after Holm
+};
+
+struct SelectedEffect {
+  Candidate candidate;
+  CandidateScore score;
+  std::vector<EffectId> alternatives;
+};
+
+struct SelectionResult {
+  ModelSpec model;                               // base plus the selected effects
+  std::vector<SelectedEffect> effects;
+  std::vector<std::vector<CandidateScore>> steps;  // every candidate's score at every step
+  ArNoiseModel noise;                            // the whitening model
+  std::size_t whitened_samples = 0;
+};
+
+// The whitener of the training samples for a noise model.
+Whitener training_whitener(const ExplainInput& in, const ArNoiseModel& noise);
+// The model with a candidate added at parameter tau (thermal_lag sets the coil lag; others add a term).
+ModelSpec with_effect(const ModelSpec& model, const Candidate& c, double tau_s);
+
+// `y` is the target in deg/h on every sample (the error, minus any fixed offset).
+SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base,
+                               const TermScaling& scaling, const std::vector<Candidate>& candidates,
+                               const SelectionOptions& options);
+
+}  // namespace gyrosid::explain

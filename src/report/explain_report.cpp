@@ -1,0 +1,194 @@
+#include "report/explain_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/format.h"
+#include "core/gnuplot.h"
+#include "core/units.h"
+#include "report/plots.h"
+
+namespace gyrosid {
+namespace {
+
+using explain::ExplainResult;
+
+// Centred moving average over +-half_s seconds (the residual's structure, not its noise).
+Eigen::VectorXd smoothed(const std::vector<double>& t, const Eigen::VectorXd& v, double half_s) {
+  const std::size_t n = t.size();
+  Eigen::VectorXd out(v.size());
+  std::size_t lo = 0, hi = 0;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    while (hi < n && t[hi] <= t[i] + half_s) sum += v(static_cast<Eigen::Index>(hi++));
+    while (t[lo] < t[i] - half_s) sum -= v(static_cast<Eigen::Index>(lo++));
+    out(static_cast<Eigen::Index>(i)) = sum / static_cast<double>(hi - lo);
+  }
+  return out;
+}
+
+void plot_residual_time(const ExplainResult& r, const std::filesystem::path& png) {
+  const auto& t = r.input.signals.t_s;
+  const double half = std::max(30.0, 30.0 * r.input.dt_s);
+  const Eigen::VectorXd before = smoothed(t, r.residual_before_dph, half), after = smoothed(t, r.residual_after_dph, half);
+  const std::size_t stride = std::max<std::size_t>(1, t.size() / 4000);
+  std::vector<std::vector<double>> rows, held;
+  for (std::size_t i = 0; i < t.size(); i += stride) {
+    const auto k = static_cast<Eigen::Index>(i);
+    rows.push_back({t[i] / 3600.0, before(k), after(k)});
+    held.push_back({t[i] / 3600.0, r.input.heldout[i] ? 1.0 : 0.0});
+  }
+  const double lo = std::min(before.minCoeff(), after.minCoeff()), hi = std::max(before.maxCoeff(), after.maxCoeff());
+  render_png(png, datablock("r", rows) + datablock("h", held) +
+                      str_cat("set title 'Residual (recording - model), ", format_significant(2 * half, 2),
+                              "-s moving average; shaded: held-out blocks'\nset xlabel 'time (h)'\nset ylabel 'residual (deg/h)'\nset grid\n",
+                              "set yrange [", lo - 0.1 * (hi - lo + 1e-9), ":", hi + 0.1 * (hi - lo + 1e-9), "]\nset key top right\n",
+                              "plot $h using 1:($2 > 0 ? ", hi + 0.1 * (hi - lo + 1e-9), " : 1/0) with impulses lc rgb '#e8e8e8' notitle, ",
+                              "$r using 1:2 with lines lw 2 title 'before (simulation re-estimated)', ",
+                              "$r using 1:3 with lines lw 2 title 'after (effects added)'\n"));
+}
+
+void plot_residual_grid(const ExplainResult& r, const std::filesystem::path& png) {
+  const auto& s = r.input.signals;
+  const double half = std::max(30.0, 30.0 * r.input.dt_s);
+  const Eigen::VectorXd before = smoothed(s.t_s, r.residual_before_dph, half), after = smoothed(s.t_s, r.residual_after_dph, half);
+  const Eigen::VectorXd branch = thermal_branch(s, coil_temperature(s, 0.0), TermScaling{});
+  const std::size_t stride = std::max<std::size_t>(1, s.t_s.size() / 6000);
+  std::vector<std::vector<double>> rows[4];
+  for (std::size_t i = 0; i < s.t_s.size(); i += stride) {
+    const auto k = static_cast<Eigen::Index>(i);
+    const int b = branch(k) >= 0 ? 0 : 1;
+    const double rate = units::radps_to_dps(s.rate(k));
+    rows[b].push_back({s.temp_c(k), rate, before(k)});
+    rows[2 + b].push_back({s.temp_c(k), rate, after(k)});
+  }
+  const double lim = std::max(before.cwiseAbs().maxCoeff(), 1e-9);
+  const char* titles[] = {"before, heating", "before, cooling", "after, heating", "after, cooling"};
+  std::string script = str_cat("set multiplot layout 2,2 title 'Smoothed residual over (T, omega) (deg/h)'\n",
+                               "set palette defined (-1 'blue', 0 'white', 1 'red')\nset cbrange [", -lim, ":", lim, "]\n",
+                               "set xlabel 'temperature (C)'\nset ylabel 'rate (deg/s)'\nset grid\n");
+  for (int p = 0; p < 4; ++p) {
+    if (rows[p].empty()) rows[p].push_back({0.0, 0.0, 0.0});
+    script += datablock(str_cat("g", p), rows[p]) + str_cat("set title ", gnuplot_quote(titles[p]), "\nplot $g", p,
+                                                               " using 1:2:3 with points pt 7 ps 0.4 lc palette notitle\n");
+  }
+  render_png(png, script + "unset multiplot\n", PngSize{1280, 960});
+}
+
+void plot_correlations(const ExplainResult& r, const std::filesystem::path& png) {
+  std::string blocks, plots;
+  double threshold = 0.0;
+  int i = 0;
+  for (const auto& c : r.after.channels) {
+    std::vector<std::vector<double>> rows;
+    for (std::size_t k = 0; k < c.lag_s.size(); ++k) rows.push_back({c.lag_s[k], c.r[k]});
+    blocks += datablock(str_cat("c", i), rows);
+    plots += str_cat(i ? ", " : "", "$c", i, " using 1:2 with lines lw 2 title ", gnuplot_quote(c.channel));
+    threshold = c.threshold;
+    ++i;
+  }
+  if (i == 0) return;
+  render_png(png, blocks + str_cat("set title 'Correlation of the whitened residual (after) with each channel; dashed: significance'\n",
+                                   "set xlabel 'lag (s)'\nset ylabel 'correlation'\nset grid\nset key outside right\n",
+                                   "plot ", plots, ", ", threshold, " with lines dt 2 lc rgb 'black' notitle, ", -threshold,
+                                   " with lines dt 2 lc rgb 'black' notitle\n"),
+             PngSize{1200, 640});
+}
+
+std::string parameters_text(const nlohmann::json& params, const nlohmann::json& ci) {
+  std::string out;
+  for (auto it = params.begin(); it != params.end(); ++it) {
+    out += (out.empty() ? "" : "; ") + it.key() + " = " + format_significant(it.value().get<double>(), 4);
+    if (ci.contains(it.key())) {
+      out += " [" + format_significant(ci[it.key()][0].get<double>(), 3) + ", " + format_significant(ci[it.key()][1].get<double>(), 3) + "]";
+    }
+  }
+  return out;
+}
+
+std::string report_markdown(const ExplainResult& r) {
+  const auto& j = r.summary;
+  std::ostringstream md;
+  md << "# gyrosid explain: " << j["recording"]["source"].get<std::string>() << "\n\n"
+     << "**Verdict: " << j["verdict"].get<std::string>() << "**. Simulation: " << j["simulation"].get<std::string>() << ". "
+     << j["recording"]["samples"].get<int>() << " samples over " << format_significant(j["recording"]["duration_s"].get<double>() / 3600.0, 3)
+     << " h; " << j["recording"]["blocks"].get<int>() << " blocks (" << (j["recording"]["blocks_are_thermal_cycles"].get<bool>() ? "whole thermal cycles" : "equal spans of time")
+     << "), every fourth from the third held out. Run time " << format_significant(j["run_time_s"].get<double>(), 3) << " s.\n\n";
+  const auto& fit = j["fit"];
+  md << "## Fit (residual rms, deg/h)\n\n| | training | held-out |\n|---|---|---|\n"
+     << "| simulation as given | " << format_significant(fit["rms_simulation_dph"].get<double>(), 4) << " | |\n"
+     << "| before (its coefficients re-estimated) | " << format_significant(fit["rms_before_dph"].get<double>(), 4) << " | "
+     << format_significant(fit["heldout_rms_before_dph"].get<double>(), 4) << " |\n"
+     << "| after (effects added, refitted) | " << format_significant(fit["rms_after_dph"].get<double>(), 4) << " | "
+     << format_significant(fit["heldout_rms_after_dph"].get<double>(), 4) << " |\n"
+     << "| noise floor (the noise model alone) | " << format_significant(j["noise"]["noise_floor_dph"].get<double>(), 4) << " | |\n\n";
+  md << "## Effects found\n\n";
+  if (j["effects"].empty()) md << "None.\n\n";
+  for (const auto& e : j["effects"]) {
+    md << "### " << e["id"].get<std::string>() << "\n\n" << e["description"].get<std::string>() << "\n\n"
+       << "- parameters (95 % intervals): " << parameters_text(e["parameters"], e["confidence"]) << "\n"
+       << "- dBIC " << format_significant(e["delta_bic"].get<double>(), 4) << ", bootstrap p " << format_significant(e["p_value"].get<double>(), 3)
+       << ", stability " << format_significant(e["stability"].get<double>(), 2) << ", held-out: "
+       << (e["heldout_confirmed"].is_null() ? "not testable there" : e["heldout_confirmed"].get<bool>() ? "confirmed" : "not confirmed") << "\n";
+    for (const auto& s : e["separating_experiments"]) {
+      md << "- **cannot be told apart from " << s["alternative"].get<std::string>() << "** by this recording; to separate them: "
+         << s["experiment"].get<std::string>() << "\n";
+    }
+    md << "\n";
+  }
+  md << "## Unexplained structure after the refit\n\n";
+  if (j["unexplained"].empty()) md << "None significant.\n\n";
+  for (const auto& u : j["unexplained"]) {
+    md << "- " << u["kind"].get<std::string>() << (u["channel"].is_null() ? "" : " with `" + u["channel"].get<std::string>() + "`") << ", t "
+       << format_significant(u["t_start_s"].get<double>(), 5) << " .. " << format_significant(u["t_end_s"].get<double>(), 5)
+       << " s, statistic " << format_significant(u["statistic"].get<double>(), 3);
+    if (u.contains("temp_c")) md << ", T " << u["temp_c"].dump() << " C, rate " << u["rate_dps"].dump() << " deg/s, " << u["branch"].get<std::string>();
+    md << "\n";
+  }
+  md << "\n## Noise terms of the residual\n\n";
+  for (const auto& t : j["noise"]["terms"]) md << "- " << t["id"].get<std::string>() << ": " << t["coefficients"].dump() << " - " << t["description"].get<std::string>() << "\n";
+  md << "\nWhiteness after (Ljung-Box, " << j["diagnostics"]["after"]["ljung_box"]["lags"].get<int>() << " lags on the AR(" << j["noise"]["ar_order"].get<int>()
+     << ")-whitened residual): p = " << format_significant(j["diagnostics"]["after"]["ljung_box"]["p_value"].get<double>(), 3) << ".\n\n";
+  md << "## Selection\n\nEvery candidate at every forward step (dBIC, bootstrap p; * significant after Holm):\n\n";
+  int step = 0;
+  for (const auto& row : j["selection"]["steps"]) {
+    md << "- step " << ++step << ":";
+    for (const auto& c : row) {
+      md << " " << c["id"].get<std::string>() << " ";
+      if (c["delta_bic"].is_null()) md << "(absorbed)";
+      else md << format_significant(c["delta_bic"].get<double>(), 3) << "/" << format_significant(c["p_value"].get<double>(), 2) << (c["significant"].get<bool>() ? "*" : "");
+      md << ";";
+    }
+    md << "\n";
+  }
+  for (const auto& d : j["selection"]["dropped"]) md << "- dropped " << d["id"].get<std::string>() << ": " << d["reason"].get<std::string>() << "\n";
+  for (const auto& u : j["selection"]["untestable"]) md << "- not testable: " << u.get<std::string>() << "\n";
+  md << "\n## Plots\n\n![residual in time](residual_time.png)\n\n![residual over (T, omega)](residual_grid.png)\n\n"
+     << "![correlations](correlations.png)\n\n";
+  if (!r.after.allan.empty()) md << "![Allan deviation of the residual](allan.png)\n";
+  return md.str();
+}
+
+}  // namespace
+
+void write_explain_outputs(const ExplainResult& r, const std::filesystem::path& dir) {
+  write_file_atomic(dir / "explain.json", r.summary.dump(2) + "\n");
+  write_file_atomic(dir / "residuals.csv", [&](std::ostream& out) {
+    out << "t_s,residual_before_dph,residual_after_dph,heldout\n";
+    for (Eigen::Index i = 0; i < r.input.size(); ++i) {
+      out << format_number(r.input.signals.t_s[static_cast<std::size_t>(i)]) << ',' << format_number(r.residual_before_dph(i)) << ','
+          << format_number(r.residual_after_dph(i)) << ',' << (r.input.heldout[static_cast<std::size_t>(i)] ? 1 : 0) << '\n';
+    }
+  });
+  save_model(dir / "model.json", *r.model, {{"training", {{"recording", r.input.source}, {"explain", r.summary["simulation"]}}}});
+  plot_residual_time(r, dir / "residual_time.png");
+  plot_residual_grid(r, dir / "residual_grid.png");
+  plot_correlations(r, dir / "correlations.png");
+  if (!r.after.allan.empty()) plot_allan(dir / "allan.png", r.after.allan, r.after.allan_fit, "Allan deviation of the residual after the refit", "deg/h");
+  write_file_atomic(dir / "report.md", report_markdown(r));
+}
+
+}  // namespace gyrosid
