@@ -13,12 +13,13 @@ namespace gyrosid::cli {
 namespace {
 
 struct ExplainCommand {
-  std::string recording, out, baseline_form = "surface";
+  std::string recording, out, baseline_form = "surface", noise_model = "full";
   explain::ExplainOptions options;
 };
 
 void run_explain(ExplainCommand c) {
   c.options.baseline_form = parse_enum<explain::BaselineForm>(c.baseline_form, "--baseline-form");
+  c.options.selection.noise_model = parse_enum<explain::NoiseModelSource>(c.noise_model, "--noise-model");
   const Recording rec = read_recording(c.recording);
   const explain::ExplainResult r = explain::explain_recording(rec, c.options);
   write_explain_outputs(r, c.out);
@@ -49,6 +50,9 @@ void register_explain(CLI::App& app, Action& action) {
   auto* model = cmd->add_option("--model", c->options.model_path, "The simulation as a saved model (any model calibrate writes)");
   cmd->add_option("--baseline", c->options.baseline_path, "Or: a calibration recording to fit the baseline family on")->excludes(model);
   cmd->add_option("--baseline-form", c->baseline_form, "Scale factor of the baseline family: surface (thesis grid) or polynomial")
+      ->capture_default_str();
+  cmd->add_option("--noise-model", c->noise_model,
+                  "Whitening model once from the full model's residual (full) or from the current model at every step (current: conservative)")
       ->capture_default_str();
   cmd->add_option("--axis", c->options.input.axis, "Triad recordings: the gyro to explain (x, y or z)");
   cmd->add_option("--effects", c->options.effects, "Restrict the library to these effects (comma-separated ids)");

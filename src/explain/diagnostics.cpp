@@ -44,7 +44,7 @@ double lagged_correlation(const Eigen::VectorXd& a, const Eigen::VectorXd& b, co
 
 }  // namespace
 
-Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, const ArNoiseModel& noise, double alpha) {
+Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, const NoiseModel& noise, double alpha) {
   Diagnostics d;
   std::vector<Eigen::Index> all(static_cast<std::size_t>(in.size()));
   for (Eigen::Index i = 0; i < in.size(); ++i) all[static_cast<std::size_t>(i)] = i;
@@ -52,10 +52,7 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
   const Eigen::VectorXd e_raw = w.apply(residual);
   const Eigen::VectorXd e = standardized(e_raw);
   const auto n = static_cast<double>(e.size());
-  double ar_sum = 1.0;
-  for (double a : noise.a) ar_sum += a;
-  const double innovation_sd = std::sqrt((e_raw.array() - e_raw.mean()).square().mean());
-  d.long_run_sigma_dph = innovation_sd / std::max(std::abs(ar_sum), 1e-6);
+  d.noise = noise;
 
   // Whiteness.
   d.ljung_box_lags = 20;
@@ -65,7 +62,7 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
     q += r * r / (n - k);
   }
   d.ljung_box_q = n * (n + 2.0) * q;
-  d.ljung_box_dof = std::max(1, d.ljung_box_lags - noise.order());
+  d.ljung_box_dof = std::max(1, d.ljung_box_lags - noise.parameters());
   d.ljung_box_p = 1.0 - stats::chi2_cdf(d.ljung_box_q, d.ljung_box_dof);
 
   // Correlation with every channel, through the same whitening filter.
@@ -91,8 +88,9 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
     ChannelCorrelation c;
     c.channel = name;
     c.threshold = z_channel / std::sqrt(n);
+    const double span = values.maxCoeff() - values.minCoeff();
+    if (!(span > 1e-9 * std::max(1.0, values.cwiseAbs().maxCoeff()))) continue;  // constant: nothing to correlate
     const Eigen::VectorXd cw = standardized(w.apply(values));
-    if (cw.isZero()) continue;  // constant after filtering: nothing to correlate
     for (Eigen::Index lag : lags) {
       const double r = lagged_correlation(e, cw, w.rows(), lag);
       c.lag_s.push_back(static_cast<double>(lag) * in.dt_s);
@@ -103,23 +101,23 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
     d.channels.push_back(c);
   }
 
-  // Change points in time: binary segmentation of the (unwhitened) residual by CUSUM.
-  const Eigen::Index total = residual.size();
+  // Change points in time: binary segmentation by CUSUM of the whitened residual; each final segment's mean
+  // against the rest's, with the noise model's variance of means of that length.
+  const auto total = static_cast<Eigen::Index>(e.size());
   const Eigen::Index min_len = std::max<Eigen::Index>(30, total / 50);
   const int max_tests = 31;
-  std::vector<std::pair<Eigen::Index, Eigen::Index>> segments;
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> segments;  // whitened rows [lo, hi)
   std::function<void(Eigen::Index, Eigen::Index, int)> split = [&](Eigen::Index lo, Eigen::Index hi, int depth) {
     const Eigen::Index len = hi - lo;
     if (depth < 5 && len >= 2 * min_len) {
-      const double mean = residual.segment(lo, len).mean();
+      const double mean = e.segment(lo, len).mean();
       double sum = 0.0, peak = 0.0;
       Eigen::Index at = -1;
       for (Eigen::Index k = lo; k < hi - 1; ++k) {
-        sum += residual(k) - mean;
+        sum += e(k) - mean;
         if (k - lo + 1 >= min_len && hi - k - 1 >= min_len && std::abs(sum) > peak) peak = std::abs(sum), at = k;
       }
-      const double stat = peak / (d.long_run_sigma_dph * std::sqrt(static_cast<double>(len)));
-      if (at >= 0 && kolmogorov_p(stat) < alpha / max_tests) {
+      if (at >= 0 && kolmogorov_p(peak / std::sqrt(static_cast<double>(len))) < alpha / max_tests) {
         split(lo, at + 1, depth + 1);
         split(at + 1, hi, depth + 1);
         return;
@@ -129,12 +127,19 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
   };
   split(0, total, 0);
   d.window_threshold = stats::normal_quantile(1.0 - alpha / (2.0 * static_cast<double>(segments.size())));
+  const auto& rows = w.rows();
   for (const auto& [lo, hi] : segments) {
     TimeWindow t;
-    t.t_start_s = s.t_s[static_cast<std::size_t>(lo)];
-    t.t_end_s = s.t_s[static_cast<std::size_t>(hi - 1)];
-    t.mean_dph = residual.segment(lo, hi - lo).mean();
-    t.z = t.mean_dph * std::sqrt(static_cast<double>(hi - lo)) / d.long_run_sigma_dph;
+    const Eigen::Index first = rows[static_cast<std::size_t>(lo)], last = rows[static_cast<std::size_t>(hi - 1)];
+    t.t_start_s = s.t_s[static_cast<std::size_t>(first)];
+    t.t_end_s = s.t_s[static_cast<std::size_t>(last)];
+    t.mean_dph = residual.segment(first, last - first + 1).mean();
+    // In the whitened residual (unit variance, white under the noise model) the segment's mean against the
+    // rest's is N(0, 1/len + 1/rest).
+    const double len = static_cast<double>(hi - lo), rest = n - len;
+    const double mean_in = e.segment(lo, hi - lo).mean();
+    const double mean_out = rest > 0 ? (e.sum() - mean_in * len) / rest : 0.0;
+    t.z = rest > 0 ? (mean_in - mean_out) / std::sqrt(1.0 / len + 1.0 / rest) : 0.0;
     d.windows.push_back(t);
   }
 
@@ -148,15 +153,26 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
   std::vector<double> sum(static_cast<std::size_t>(cells), 0.0);
   std::vector<int> count(static_cast<std::size_t>(cells), 0);
   std::vector<double> first(static_cast<std::size_t>(cells), 0.0), last(static_cast<std::size_t>(cells), 0.0);
-  for (Eigen::Index i = 0; i < total; ++i) {
+  // Cell means of the raw residual are reported; the test uses the whitened residual, white with unit
+  // variance under the noise model, so a cell spread over the record is not judged against a wander.
+  std::vector<double> sum_white(static_cast<std::size_t>(cells), 0.0);
+  std::vector<int> count_white(static_cast<std::size_t>(cells), 0);
+  std::vector<int> cell_of(static_cast<std::size_t>(residual.size()), 0);
+  for (Eigen::Index i = 0; i < residual.size(); ++i) {
     const int ti = std::min(t_bins - 1, static_cast<int>(t_bins * (s.temp_c(i) - t_lo) / std::max(t_hi - t_lo, 1e-9)));
     const int wi = std::min(w_bins - 1, static_cast<int>(w_bins * (rate_dps(i) - w_lo) / std::max(w_hi - w_lo, 1e-9)));
     const int bi = branch(i) >= 0 ? 0 : 1;
     const auto c = static_cast<std::size_t>((ti * w_bins + wi) * 2 + bi);
+    cell_of[static_cast<std::size_t>(i)] = static_cast<int>(c);
     if (count[c] == 0) first[c] = s.t_s[static_cast<std::size_t>(i)];
     last[c] = s.t_s[static_cast<std::size_t>(i)];
     sum[c] += residual(i);
     ++count[c];
+  }
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const auto c = static_cast<std::size_t>(cell_of[static_cast<std::size_t>(rows[r])]);
+    sum_white[c] += e(static_cast<Eigen::Index>(r));
+    ++count_white[c];
   }
   int tested = 0;
   for (int c = 0; c < cells; ++c) tested += count[static_cast<std::size_t>(c)] >= 30;
@@ -171,15 +187,15 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
     g.heating = c % 2 == 0;
     g.samples = count[k];
     g.mean_dph = sum[k] / count[k];
-    g.z = g.mean_dph * std::sqrt(static_cast<double>(count[k])) / d.long_run_sigma_dph;
+    g.z = count_white[k] ? sum_white[k] / std::sqrt(static_cast<double>(count_white[k])) : 0.0;
     g.t_start_s = first[k], g.t_end_s = last[k];
     d.cells.push_back(g);
   }
 
   // Noise terms from the Allan deviation of the longest uniformly sampled stretch.
   Eigen::Index best_lo = 0, best_len = 0;
-  for (Eigen::Index i = 0, lo = 0; i <= total; ++i) {
-    if (i == total || in.segment[static_cast<std::size_t>(i)] != in.segment[static_cast<std::size_t>(lo)]) {
+  for (Eigen::Index i = 0, lo = 0; i <= residual.size(); ++i) {
+    if (i == residual.size() || in.segment[static_cast<std::size_t>(i)] != in.segment[static_cast<std::size_t>(lo)]) {
       if (i - lo > best_len) best_lo = lo, best_len = i - lo;
       lo = i;
     }
@@ -215,7 +231,7 @@ nlohmann::json Diagnostics::to_json() const {
                   {"samples", g.samples}, {"mean_dph", g.mean_dph}, {"z", g.z}});
   }
   return {{"ljung_box", {{"q", ljung_box_q}, {"lags", ljung_box_lags}, {"dof", ljung_box_dof}, {"p_value", ljung_box_p}}},
-          {"long_run_sigma_dph", long_run_sigma_dph},
+          {"noise_model", noise.to_json()},
           {"channels", ch},
           {"time_windows", {{"threshold_z", window_threshold}, {"windows", win}}},
           {"grid", {{"threshold_z", cell_threshold}, {"cells", cl}}}};

@@ -2,11 +2,13 @@
 // channel, structure in time and over (T, omega), and the residual's noise terms.
 //
 //   Ljung-Box   Q = n (n + 2) sum_{k<=h} r_k^2 / (n - k) on the whitened residual, chi-square with h - p dof
-//               (p the AR order: the fitted noise parameters are accounted for);
+//               (p the noise model's parameters: the fitted noise is accounted for);
 //   channels    correlation of the whitened residual with each channel through the same filter, at lags; with a
 //               white residual its standard error is 1/sqrt(n) whatever the channel's own correlation;
-//   time        binary segmentation by CUSUM with the AR model's long-run variance (Kolmogorov p-values);
-//   (T, omega)  mean residual per cell, heating and cooling apart, against the long-run standard error;
+//   time        binary segmentation by CUSUM of the whitened residual (Kolmogorov p-values); each segment's mean
+//               against the noise model's Allan variance at its length;
+//   (T, omega)  mean residual per cell, heating and cooling apart, against the noise model's Allan variance at
+//               the cell's length (conservative for cells spread over the record);
 //   noise       overlapping Allan deviation of the residual and its IEEE Std 952 terms.
 // Thresholds are Bonferroni-corrected over the lags, channels, segments or cells tested.
 #pragma once
@@ -59,11 +61,11 @@ struct Diagnostics {
   std::vector<AllanPoint> allan;            // deg/h; empty if no uniformly sampled stretch is long enough
   AllanCoefficients allan_fit;
   std::vector<NoiseTerm> noise_terms;
-  double long_run_sigma_dph = 0.0;
+  NoiseModel noise;                         // the whitening model the tests assume
   nlohmann::json to_json() const;
 };
 
 // `residual_dph` on every sample; `noise` the whitening model.
-Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual_dph, const ArNoiseModel& noise, double alpha);
+Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual_dph, const NoiseModel& noise, double alpha);
 
 }  // namespace gyrosid::explain

@@ -53,6 +53,8 @@ std::string_view describe(EffectId id) {
     case EffectId::cross_axis_coupling:
       return "The gyro senses part of the rates about the other axes (cross-axis coupling: its input axis is "
              "misaligned).";
+    case EffectId::auxiliary_channel:
+      return "The residual follows a recorded channel that no named physics accounts for.";
   }
   return "";
 }
@@ -336,6 +338,8 @@ std::vector<Candidate> make_candidates(const std::vector<Term>& base, double bas
   const auto mag = channels(in.magnetic, 1e-3);
   if (!mag.empty()) out.push_back(candidate(EffectId::magnetic_sensitivity, Term::on_channels(mag)));
   else note(EffectId::magnetic_sensitivity, in.magnetic.empty() ? "no magnetic channel recorded (name it mag..._ut)" : "the field does not vary");
+  // Every auxiliary channel (a supply voltage, ...) on its own: not physics, but where a residual may live.
+  for (const auto& aux : channels(in.aux, 0.0)) out.push_back(candidate(EffectId::auxiliary_channel, Term::on_channels({aux})));
   const auto cross = channels(in.cross_axis, rate_floor);
   if (!cross.empty()) out.push_back(candidate(EffectId::cross_axis_coupling, Term::on_channels(cross)));
   else note(EffectId::cross_axis_coupling, in.cross_axis.empty() ? "not a triad recording" : "the other axes do not turn");

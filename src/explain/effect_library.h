@@ -37,6 +37,7 @@ enum class EffectId {
   g2_sensitivity,
   magnetic_sensitivity,
   cross_axis_coupling,
+  auxiliary_channel,  // not physics: a recorded channel the residual follows, reported as unexplained
 };
 
 }  // namespace gyrosid::explain
@@ -53,7 +54,7 @@ template <>
 struct EnumNames<explain::EffectId> {
   using E = explain::EffectId;
   static constexpr std::string_view kNoun = "effect";
-  static constexpr std::array<std::pair<E, std::string_view>, 13> kTable{{{E::temperature_bias, "temperature_bias"},
+  static constexpr std::array<std::pair<E, std::string_view>, 14> kTable{{{E::temperature_bias, "temperature_bias"},
                                                                          {E::shupe, "shupe"},
                                                                          {E::thermal_lag, "thermal_lag"},
                                                                          {E::thermal_hysteresis, "thermal_hysteresis"},
@@ -65,7 +66,8 @@ struct EnumNames<explain::EffectId> {
                                                                          {E::g_sensitivity, "g_sensitivity"},
                                                                          {E::g2_sensitivity, "g2_sensitivity"},
                                                                          {E::magnetic_sensitivity, "magnetic_sensitivity"},
-                                                                         {E::cross_axis_coupling, "cross_axis_coupling"}}};
+                                                                         {E::cross_axis_coupling, "cross_axis_coupling"},
+                                                                         {E::auxiliary_channel, "auxiliary_channel"}}};
 };
 }  // namespace gyrosid
 

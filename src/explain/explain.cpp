@@ -61,7 +61,7 @@ RowFit gls(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Whitener& w
   return {f.beta, f.rss, static_cast<std::size_t>(f.residual.size()), f.rank};
 }
 
-Whitener rows_whitener(const ExplainInput& in, const ArNoiseModel& noise, const std::function<bool(Eigen::Index)>& keep) {
+Whitener rows_whitener(const ExplainInput& in, const NoiseModel& noise, const std::function<bool(Eigen::Index)>& keep) {
   std::vector<Eigen::Index> rows;
   for (Eigen::Index i = 0; i < in.size(); ++i) {
     if (keep(i)) rows.push_back(i);
@@ -89,20 +89,6 @@ double rms(const Eigen::VectorXd& r, const ExplainInput& in, bool heldout) {
     if ((in.heldout[static_cast<std::size_t>(i)] != 0) == heldout) s += r(i) * r(i), ++n;
   }
   return n ? std::sqrt(s / n) : 0.0;
-}
-
-// Standard deviation of the AR process itself (the residual expected from the noise model alone).
-double ar_process_sigma(const ArNoiseModel& m) {
-  std::vector<double> psi{1.0};
-  double sum = 1.0;
-  for (int k = 1; k < 20000; ++k) {
-    double v = 0.0;
-    for (int j = 1; j <= m.order() && j <= k; ++j) v -= m.a[static_cast<std::size_t>(j - 1)] * psi[static_cast<std::size_t>(k - j)];
-    psi.push_back(v);
-    sum += v * v;
-    if (k > 50 && std::abs(v) < 1e-9) break;
-  }
-  return std::sqrt(m.innovation_variance * sum);
 }
 
 std::string axis_of(const std::string& channel) {
@@ -170,6 +156,12 @@ void physical_parameters(EffectId id, const Term& t, const Eigen::VectorXd& beta
             1e3 * sigma(static_cast<Eigen::Index>(c)) * to_ratio);
       }
       break;
+    case EffectId::auxiliary_channel: {
+      const std::string& c = term->channels[0];
+      const auto underscore = c.rfind('_');
+      put("k_dph_per_" + (underscore == std::string::npos ? std::string("unit") : c.substr(underscore + 1)), beta(0), sigma(0));
+      break;
+    }
     case EffectId::thermal_lag: break;
   }
 }
@@ -179,7 +171,12 @@ struct Judged {
   std::optional<Term> term;      // the effect's term in the selected model; none for the thermal lag
   double stability = 1.0;        // fraction of leave-one-training-block-out refits with dBIC > 0
   double heldout_gain = 0.0;     // held-out sum of squares without the effect minus with it, (deg/h)^2
+  double heldout_z = 0.0;        // that gain in the whitened held-out samples over its standard error
   bool heldout_testable = false; // the held-out blocks see the effect (the two predictions differ there)
+
+  // Kept if it survives the leave-one-block-out refits and, where the held-out blocks can judge it, improves
+  // them significantly (z > 2: the gain |d|^2 + 2 r'd against its noise 2 sigma |d|).
+  bool accepted(double min_stability) const { return stability >= min_stability && (!heldout_testable || heldout_z > 2.0); }
 };
 
 std::vector<Judged> judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const SelectionResult& sel,
@@ -195,6 +192,7 @@ std::vector<Judged> judge_effects(const ExplainInput& in, const Eigen::VectorXd&
   const RowFit fit_full = gls(x_full, y, w);
   const Eigen::VectorXd residual_full = y - x_full * fit_full.beta;
   const double sigma = std::sqrt(fit_full.rss / std::max<double>(1.0, static_cast<double>(fit_full.n) - fit_full.rank));
+  const Whitener heldout_w = rows_whitener(in, sel.noise, [&](Eigen::Index i) { return in.heldout[static_cast<std::size_t>(i)] != 0; });
   std::vector<Judged> out;
   std::size_t term = base.terms.size();
   for (std::size_t e = 0; e < sel.effects.size(); ++e) {
@@ -208,12 +206,10 @@ std::vector<Judged> judge_effects(const ExplainInput& in, const Eigen::VectorXd&
     const RowFit fit_minus = gls(x_minus, y, w);
     const Eigen::VectorXd residual_minus = y - x_minus * fit_minus.beta;
     j.heldout_gain = heldout_rss(residual_minus, in) - heldout_rss(residual_full, in);
-    double diff = 0.0;
-    int nh = 0;
-    for (Eigen::Index i = 0; i < in.size(); ++i) {
-      if (in.heldout[static_cast<std::size_t>(i)]) diff += std::pow(residual_minus(i) - residual_full(i), 2), ++nh;
-    }
-    j.heldout_testable = nh > 0 && std::sqrt(diff / nh) > 0.05 * sigma;
+    const Eigen::VectorXd r = heldout_w.apply(residual_full), d = heldout_w.apply(residual_minus - residual_full);
+    const double sigma_h = std::sqrt(r.squaredNorm() / std::max<double>(1.0, static_cast<double>(r.size())));
+    j.heldout_testable = d.norm() / std::sqrt(static_cast<double>(std::max<Eigen::Index>(1, d.size()))) > 0.05 * sigma;
+    j.heldout_z = d.norm() > 0 ? (d.squaredNorm() + 2.0 * r.dot(d)) / (2.0 * sigma_h * d.norm()) : 0.0;
     int kept = 0, tried = 0;
     for (int b : training_blocks) {
       if (tried == 8) break;
@@ -240,7 +236,10 @@ std::vector<Candidate> restrict_to(std::vector<Candidate> all, const std::string
   while (std::getline(ss, item, ',')) {
     if (!item.empty()) keep.push_back(parse_enum<EffectId>(item, "--effects"));
   }
-  std::erase_if(all, [&](const Candidate& c) { return std::find(keep.begin(), keep.end(), c.id) == keep.end(); });
+  // Auxiliary channels stay: they localise what no effect explains.
+  std::erase_if(all, [&](const Candidate& c) {
+    return c.id != EffectId::auxiliary_channel && std::find(keep.begin(), keep.end(), c.id) == keep.end();
+  });
   return all;
 }
 
@@ -327,19 +326,16 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
   bool lag_selected = false;
   nlohmann::json dropped = nlohmann::json::array();
   for (const auto& j : judged) {
-    const bool accept = j.stability >= o.min_stability && !(j.heldout_testable && j.heldout_gain <= 0);
-    if (!accept) {
+    if (!j.accepted(o.min_stability)) {
       dropped.push_back({{"id", std::string(to_string(j.effect.candidate.id))}, {"stability", j.stability},
-                         {"heldout_gain_dph2", j.heldout_gain},
-                         {"reason", j.stability < o.min_stability ? "unstable across training blocks" : "made the held-out blocks worse"}});
+                         {"heldout_gain_dph2", j.heldout_gain}, {"heldout_z", j.heldout_z},
+                         {"reason", j.stability < o.min_stability ? "unstable across training blocks" : "not confirmed on the held-out blocks"}});
       continue;
     }
     if (j.term) model.terms.push_back(*j.term);
     else model.lag_tau_s = sel.model.lag_tau_s, lag_selected = true;
   }
-  std::erase_if(judged, [&](const Judged& j) {
-    return j.stability < o.min_stability || (j.heldout_testable && j.heldout_gain <= 0);
-  });
+  std::erase_if(judged, [&](const Judged& j) { return !j.accepted(o.min_stability); });
 
   // 4. Joint refit (Ceres) with intervals; residuals before and after.
   const RefitResult final_fit = refit(in, y, model, lag_selected, scaling, w);
@@ -354,8 +350,8 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
     if (!in.heldout[static_cast<std::size_t>(i)]) training_rows.push_back(i);
   }
   const auto runs = contiguous_runs(training_rows, in.segment);
-  const ArNoiseModel final_noise = fit_ar(result.residual_after_dph, runs, o.selection.max_ar_order);
-  result.before = diagnose(in, result.residual_before_dph, fit_ar(result.residual_before_dph, runs, o.selection.max_ar_order), o.selection.alpha);
+  const NoiseModel final_noise = fit_noise_model(result.residual_after_dph, runs, in.dt_s);
+  result.before = diagnose(in, result.residual_before_dph, fit_noise_model(result.residual_before_dph, runs, in.dt_s), o.selection.alpha);
   result.after = diagnose(in, result.residual_after_dph, final_noise, o.selection.alpha);
 
   // 5. The refitted model (SI coefficients; the prior's column becomes its gain) and the effects' report.
@@ -374,7 +370,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
     }
     at += t.size();
   }
-  nlohmann::json effects = nlohmann::json::array();
+  nlohmann::json effects = nlohmann::json::array(), found_channels = nlohmann::json::array();
   std::size_t term = base_terms;
   for (const auto& j : judged) {
     const SelectedEffect& s = j.effect;
@@ -393,6 +389,13 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
       alternatives.push_back(std::string(to_string(a)));
       separating.push_back({{"alternative", std::string(to_string(a))}, {"experiment", separating_experiment(s.candidate.id, a)}});
     }
+    if (s.candidate.id == EffectId::auxiliary_channel) {
+      // Not physics: the structure is unexplained, localised to the channel (and modelled on it).
+      found_channels.push_back({{"channel", s.candidate.term.channels[0]}, {"t_start_s", in.signals.t_s.front()}, {"t_end_s", in.signals.t_s.back()},
+                                {"statistic", s.score.delta_bic}, {"kind", "follows_channel"}, {"p_value", s.score.p_value},
+                                {"parameters", params}, {"confidence", ci}});
+      continue;
+    }
     effects.push_back({{"id", std::string(to_string(s.candidate.id))},
                        {"description", std::string(describe(s.candidate.id))},
                        {"parameters", params},
@@ -402,7 +405,8 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
                        {"alternatives", alternatives},
                        {"separating_experiments", separating},
                        {"stability", j.stability},
-                       {"heldout_confirmed", j.heldout_testable ? nlohmann::json(j.heldout_gain > 0) : nlohmann::json()}});
+                       {"heldout_z", j.heldout_testable ? nlohmann::json(j.heldout_z) : nlohmann::json()},
+                       {"heldout_confirmed", j.heldout_testable ? nlohmann::json(j.heldout_z > 2.0) : nlohmann::json()}});
   }
   std::unique_ptr<CalibrationModel> model_prior;
   if (!o.model_path.empty()) model_prior = load_model(o.model_path);
@@ -412,7 +416,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
                                                   std::move(model_prior), prior_gain);
 
   // 6. Unexplained structure after the refit, and the verdict.
-  nlohmann::json unexplained = nlohmann::json::array();
+  nlohmann::json unexplained = found_channels;
   const double t0 = in.signals.t_s.front(), t1 = in.signals.t_s.back();
   for (const auto& c : result.after.channels) {
     if (c.significant) unexplained.push_back({{"channel", c.channel}, {"t_start_s", t0}, {"t_end_s", t1}, {"statistic", c.peak_r},
@@ -444,6 +448,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
     for (const auto& s : step) {
       nlohmann::json j = {{"id", std::string(to_string(s.id))}, {"columns", s.columns}, {"delta_bic", s.columns ? nlohmann::json(s.delta_bic) : nlohmann::json()},
                           {"p_value", s.p_value}, {"significant", s.significant}};
+      if (!std::isnan(s.ml_delta_bic)) j["ml_delta_bic"] = s.ml_delta_bic;
       if (!std::isnan(s.tau_s)) j["tau_s"] = s.tau_s;
       row.push_back(j);
     }
@@ -453,7 +458,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
   result.summary = {
       {"verdict", verdict},
       {"effects", effects},
-      {"noise", {{"terms", noise_terms}, {"ar_order", final_noise.order()}, {"noise_floor_dph", ar_process_sigma(final_noise)}}},
+      {"noise", {{"terms", noise_terms}, {"whitening_model", final_noise.to_json()}, {"noise_floor_dph", final_noise.stationary_sigma()}}},
       {"unexplained", unexplained},
       {"fit",
        {{"rms_simulation_dph", rms(result.simulation_residual_dph, in, false)},
@@ -468,7 +473,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
                      {"axis", o.input.axis}, {"skipped_channels", in.skipped}}},
       {"simulation", simulation},
       {"selection", {{"alpha", o.selection.alpha}, {"bootstrap", o.selection.bootstrap}, {"seed", o.selection.seed},
-                     {"steps", steps}, {"untestable", untestable}, {"dropped", dropped}, {"whitening_ar_order", sel.noise.order()}}},
+                     {"steps", steps}, {"untestable", untestable}, {"dropped", dropped}, {"whitening_model", sel.noise.to_json()}}},
       {"diagnostics", {{"before", result.before.to_json()}, {"after", result.after.to_json()}}},
       {"run_time_s", seconds}};
   return result;

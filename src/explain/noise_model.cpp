@@ -1,11 +1,30 @@
 #include "explain/noise_model.h"
 
+#include <Eigen/Dense>
+
+#include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "core/error.h"
+#include "sensor/allan.h"
+#include "sensor/noise.h"
 
 namespace gyrosid::explain {
+
+double NoiseModel::allan_variance(double tau) const {
+  double v = white_var * dt_s / tau + rw_q / dt_s * tau / 3.0;
+  if (gm_var > 0) v += gauss_markov_allan_variance(std::sqrt(gm_var), gm_tau_s, tau);
+  return v;
+}
+
+double NoiseModel::stationary_sigma() const { return std::sqrt(white_var + gm_var); }
+
+nlohmann::json NoiseModel::to_json() const {
+  nlohmann::json j = {{"white_sigma", std::sqrt(white_var)}, {"dt_s", dt_s}};
+  if (rw_q > 0) j["rate_random_walk_per_rt_h"] = std::sqrt(rw_q / dt_s) * 60.0;
+  if (gm_var > 0) j["gauss_markov"] = {{"sigma", std::sqrt(gm_var)}, {"tau_s", gm_tau_s}};
+  return j;
+}
 
 std::vector<std::vector<Eigen::Index>> contiguous_runs(const std::vector<Eigen::Index>& rows, const std::vector<int>& segment) {
   std::vector<std::vector<Eigen::Index>> runs;
@@ -19,69 +38,65 @@ std::vector<std::vector<Eigen::Index>> contiguous_runs(const std::vector<Eigen::
   return runs;
 }
 
-ArNoiseModel fit_ar(const Eigen::VectorXd& x, const std::vector<std::vector<Eigen::Index>>& runs, int max_order) {
-  // Burg recursion on every run at once: f and b are the forward and backward prediction errors.
-  std::vector<std::vector<double>> f, b;
-  std::size_t total = 0;
-  double energy = 0.0;
-  for (const auto& run : runs) {
-    std::vector<double> v;
-    v.reserve(run.size());
-    for (Eigen::Index i : run) v.push_back(x(i));
-    for (double e : v) energy += e * e;
-    total += v.size();
-    f.push_back(v);
-    b.push_back(v);
-  }
-  if (total < 10) fail("noise model: too few samples (", total, ")");
-  const double n = static_cast<double>(total);
-  std::vector<double> a;
-  double variance = energy / n;
-  ArNoiseModel best{{}, variance};
-  double best_bic = n * std::log(variance);
-  for (int m = 1; m <= max_order; ++m) {
-    double num = 0.0, den = 0.0;
-    for (std::size_t r = 0; r < f.size(); ++r) {
-      for (std::size_t i = static_cast<std::size_t>(m); i < f[r].size(); ++i) {
-        num += f[r][i] * b[r][i - 1];
-        den += f[r][i] * f[r][i] + b[r][i - 1] * b[r][i - 1];
-      }
+NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vector<Eigen::Index>>& runs, double dt) {
+  NoiseModel m;
+  m.dt_s = dt;
+  const auto longest = std::max_element(runs.begin(), runs.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
+  if (longest == runs.end()) fail("noise model: no samples");
+  if (longest->size() < 500) {
+    double ss = 0.0, n = 0.0;
+    for (const auto& run : runs) {
+      for (Eigen::Index i : run) ss += x(i) * x(i), n += 1.0;
     }
-    if (!(den > 0)) break;
-    const double k = -2.0 * num / den;
-    // Levinson update of the coefficients and of the errors.
-    std::vector<double> next(static_cast<std::size_t>(m));
-    for (int j = 0; j < m - 1; ++j) next[static_cast<std::size_t>(j)] = a[static_cast<std::size_t>(j)] + k * a[static_cast<std::size_t>(m - 2 - j)];
-    next[static_cast<std::size_t>(m - 1)] = k;
-    a = next;
-    for (std::size_t r = 0; r < f.size(); ++r) {
-      for (std::size_t i = f[r].size(); i-- > static_cast<std::size_t>(m);) {
-        const double fi = f[r][i], bi = b[r][i - 1];
-        f[r][i] = fi + k * bi;
-        b[r][i] = bi + k * fi;
-      }
-    }
-    variance *= (1.0 - k * k);
-    const double bic = n * std::log(variance) + m * std::log(n);
-    if (bic < best_bic) best_bic = bic, best = {a, variance};
+    m.white_var = ss / std::max(1.0, n);
+    return m;
   }
-  return best;
+  std::vector<double> v;
+  v.reserve(longest->size());
+  for (Eigen::Index i : *longest) v.push_back(x(i));
+  const GaussMarkovFit fit = fit_gauss_markov(overlapping_allan_deviation(v, dt), true, true);
+  m.white_var = fit.angle_random_walk * fit.angle_random_walk / dt;
+  m.rw_q = fit.rate_random_walk * fit.rate_random_walk * dt;
+  m.gm_var = fit.sigma * fit.sigma;
+  m.gm_tau_s = fit.tau_s;
+  if (!(m.white_var > 0)) m.white_var = 1e-12 * (m.gm_var + 1.0);
+  return m;
 }
 
-Whitener::Whitener(ArNoiseModel model, const std::vector<std::vector<Eigen::Index>>& runs) : model_(std::move(model)) {
-  const std::size_t p = static_cast<std::size_t>(model_.order());
+Whitener::Whitener(NoiseModel model, const std::vector<std::vector<Eigen::Index>>& runs) : model_(model) {
+  // The Kalman filter's gains and innovation variances depend on the model and the run lengths only.
+  const double phi = model_.gm_var > 0 ? std::exp(-model_.dt_s / model_.gm_tau_s) : 0.0;
+  const Eigen::Matrix2d f = Eigen::Vector2d(1.0, phi).asDiagonal();
+  const Eigen::Matrix2d q = Eigen::Vector2d(model_.rw_q, model_.gm_var * (1.0 - phi * phi)).asDiagonal();
+  const double diffuse = 1e6 * (model_.white_var + model_.gm_var);
   for (const auto& run : runs) {
-    for (std::size_t k = p; k < run.size(); ++k) rows_.push_back(run[k]);
+    Eigen::Matrix2d p = Eigen::Vector2d(model_.rw_q > 0 ? diffuse : 0.0, model_.gm_var).asDiagonal();
+    for (std::size_t k = 0; k < run.size(); ++k) {
+      if (k > 0) p = f * p * f.transpose() + q;
+      const double s = p.sum() + model_.white_var;  // H = [1 1]
+      const Eigen::Vector2d gain = p.rowwise().sum() / s;
+      p -= gain * p.colwise().sum();
+      rows_.push_back(run[k]);
+      starts_.push_back(k == 0);
+      inv_sd_.push_back(1.0 / std::sqrt(s));
+      log_det_ += std::log(s);
+      gain_.push_back(gain);
+    }
   }
-  if (rows_.empty()) fail("noise model: no sample has the AR history of order ", p);
+  if (rows_.empty()) fail("noise model: nothing to whiten");
 }
 
 Eigen::MatrixXd Whitener::apply(const Eigen::MatrixXd& x) const {
+  const double phi = model_.gm_var > 0 ? std::exp(-model_.dt_s / model_.gm_tau_s) : 0.0;
   Eigen::MatrixXd out(static_cast<Eigen::Index>(rows_.size()), x.cols());
+  Eigen::MatrixXd state(2, x.cols());
   for (std::size_t r = 0; r < rows_.size(); ++r) {
-    const Eigen::Index i = rows_[r];
-    out.row(static_cast<Eigen::Index>(r)) = x.row(i);
-    for (std::size_t k = 0; k < model_.a.size(); ++k) out.row(static_cast<Eigen::Index>(r)) += model_.a[k] * x.row(i - 1 - static_cast<Eigen::Index>(k));
+    if (starts_[r]) state.setZero();
+    else state.row(1) *= phi;
+    const Eigen::RowVectorXd innovation = x.row(rows_[r]) - state.row(0) - state.row(1);
+    out.row(static_cast<Eigen::Index>(r)) = innovation * inv_sd_[r];
+    state.row(0) += gain_[r](0) * innovation;
+    state.row(1) += gain_[r](1) * innovation;
   }
   return out;
 }

@@ -1,42 +1,60 @@
-// The residual's noise model for whitening: an autoregressive process
+// The residual's noise model for whitening: white noise plus a rate random walk plus a Gauss-Markov process
+// (the shapes of an Allan-deviation curve: slope -1/2, +1/2, and a bump standing in for bias instability or
+// any correlated drift), as a state-space model
 //
-//   x_t + a_1 x_{t-1} + ... + a_p x_{t-p} = e_t,   e_t white with variance s^2,
+//   e_t = w_t + g_t + v_t,   w_t = w_{t-1} + eta_t (var q),   g_t = phi g_{t-1} + zeta_t,   v_t white (var r),
 //
-// fitted by Burg's method over several runs of uniformly spaced samples at once (the forward and backward
-// prediction-error energies summed over runs), the order chosen by BIC. Coloured gyro noise - bias
-// instability, Gauss-Markov, rate random walk - is approximated well enough by a low order that the
-// whitened residual supports least-squares statistics; white noise gives order 0.
+// fitted to the Allan deviation of a residual (quasi-likelihood NNLS, sensor/allan.h). The whitener runs the
+// Kalman filter along every run of uniform samples: the standardised innovations of the data (and, with the
+// same data-independent gains, of every regressor column) are white with unit variance under the model -
+// generalised least squares without an N x N covariance. The random walk starts diffuse, so a run's level is
+// never information. Coloured noise is thereby noise: a slow wander is not mistaken for ageing or a
+// temperature effect, and structure that is real must show beyond it.
 #pragma once
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include <vector>
 
 namespace gyrosid::explain {
 
-struct ArNoiseModel {
-  std::vector<double> a;         // a_1..a_p
-  double innovation_variance = 0.0;
-  int order() const { return static_cast<int>(a.size()); }
+struct NoiseModel {
+  double dt_s = 1.0;
+  double white_var = 1.0;  // per-sample variance of the white part
+  double rw_q = 0.0;       // per-sample increment variance of the random walk
+  double gm_var = 0.0;     // stationary variance of the Gauss-Markov part
+  double gm_tau_s = 0.0;   // its correlation time
+
+  int parameters() const { return 1 + (rw_q > 0 ? 1 : 0) + (gm_var > 0 ? 2 : 0); }
+  double allan_variance(double tau_s) const;   // the model's Allan variance at averaging time tau
+  double stationary_sigma() const;             // sqrt(white + Gauss-Markov variance), per sample
+  nlohmann::json to_json() const;              // in the residual's units (deg/h)
 };
 
 // Runs: the rows (sample indices, ascending) split wherever the index jumps or the segment id changes.
 std::vector<std::vector<Eigen::Index>> contiguous_runs(const std::vector<Eigen::Index>& rows, const std::vector<int>& segment);
 
-ArNoiseModel fit_ar(const Eigen::VectorXd& x, const std::vector<std::vector<Eigen::Index>>& runs, int max_order);
+// Fits the model to the Allan deviation of x over its longest run (white noise only when no run has 500
+// samples: the variance over all runs).
+NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vector<Eigen::Index>>& runs, double dt_s);
 
-// Applies the AR filter along each run; the first p samples of every run have no full history and are
-// dropped. The whitened rows keep their sample indices (rows()).
 class Whitener {
  public:
-  Whitener(ArNoiseModel model, const std::vector<std::vector<Eigen::Index>>& runs);
+  Whitener(NoiseModel model, const std::vector<std::vector<Eigen::Index>>& runs);
   Eigen::MatrixXd apply(const Eigen::MatrixXd& x) const;  // x has one row per sample of the recording
   const std::vector<Eigen::Index>& rows() const { return rows_; }
-  const ArNoiseModel& model() const { return model_; }
+  const NoiseModel& model() const { return model_; }
+  // sum_t log S_t (innovation variances): the determinant term of the Gaussian log-likelihood.
+  double log_determinant() const { return log_det_; }
 
  private:
-  ArNoiseModel model_;
+  NoiseModel model_;
   std::vector<Eigen::Index> rows_;
+  std::vector<char> starts_;      // per row: first of its run (the state restarts)
+  std::vector<double> inv_sd_;    // per row: 1 / sqrt(innovation variance)
+  std::vector<Eigen::Vector2d> gain_;
+  double log_det_ = 0.0;
 };
 
 }  // namespace gyrosid::explain

@@ -10,18 +10,19 @@
 #include "core/random.h"
 #include "explain/linear_fit.h"
 
+#include <nlopt.hpp>
+
 namespace gyrosid::explain {
 
 std::string SelectionOptions::validate() const {
   if (!(alpha > 0 && alpha < 0.5)) return str_cat("alpha = ", alpha, " must be in (0, 0.5)");
   if (bootstrap < 99) return str_cat("bootstrap = ", bootstrap, " resamples: need at least 99");
   if (max_effects < 0 || max_effects > 13) return "max_effects must be in [0, 13]";
-  if (max_ar_order < 0 || max_ar_order > 50) return "max_ar_order must be in [0, 50]";
   if (!(ambiguity_bic >= 0)) return "ambiguity_bic must be >= 0";
   return "";
 }
 
-Whitener training_whitener(const ExplainInput& in, const ArNoiseModel& noise) {
+Whitener training_whitener(const ExplainInput& in, const NoiseModel& noise) {
   std::vector<Eigen::Index> rows;
   for (Eigen::Index i = 0; i < in.size(); ++i) {
     if (!in.heldout[static_cast<std::size_t>(i)]) rows.push_back(i);
@@ -59,8 +60,8 @@ Eigen::MatrixXd training_rows(const Eigen::MatrixXd& x, const std::vector<Eigen:
   return out;
 }
 
-ArNoiseModel full_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const TermScaling& sc,
-                              const std::vector<Candidate>& candidates, int max_order) {
+NoiseModel full_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const TermScaling& sc,
+                            const std::vector<Candidate>& candidates) {
   std::vector<Eigen::Index> rows;
   for (Eigen::Index i = 0; i < in.size(); ++i) {
     if (!in.heldout[static_cast<std::size_t>(i)]) rows.push_back(i);
@@ -86,7 +87,7 @@ ArNoiseModel full_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, 
   const WhitenedFit f = fit_whitened(training_rows(x, rows), yt);
   Eigen::VectorXd residual = Eigen::VectorXd::Zero(in.size());
   for (std::size_t r = 0; r < rows.size(); ++r) residual(rows[r]) = f.residual(static_cast<Eigen::Index>(r));
-  return fit_ar(residual, contiguous_runs(rows, in.segment), max_order);
+  return fit_noise_model(residual, contiguous_runs(rows, in.segment), in.dt_s);
 }
 
 // Circular block bootstrap of r: `count` resamples side by side (n x count).
@@ -141,6 +142,45 @@ Evaluated evaluate(const Candidate& c, const ModelSpec& model, const ExplainInpu
   return e;
 }
 
+// The Gaussian log-likelihood of y under a model's columns, maximised over the noise: random-walk and
+// Gauss-Markov variances relative to the white one (BOBYQA over their logarithms; the Gauss-Markov time
+// constant held at the Allan fit's), the linear coefficients and the white variance concentrated out.
+// Comparing it with and without a candidate tells a deterministic effect from coloured noise that mimics it:
+// a true trend takes the random walk's place, a wander is not bettered by a trend.
+double max_log_likelihood(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::vector<std::vector<Eigen::Index>>& runs,
+                          const NoiseModel& start) {
+  const double tau_g = start.gm_var > 0 ? start.gm_tau_s : 100.0 * start.dt_s;
+  std::function<double(const std::vector<double>&)> negative = [&](const std::vector<double>& v) {
+    NoiseModel m;
+    m.dt_s = start.dt_s;
+    m.white_var = 1.0;
+    m.rw_q = std::exp(v[0]);
+    m.gm_var = std::exp(v[1]);
+    m.gm_tau_s = tau_g;
+    const Whitener w(m, runs);
+    const WhitenedFit f = fit_whitened(w.apply(x), w.apply(y));
+    const double n = static_cast<double>(f.residual.size());
+    return 0.5 * n * std::log(f.rss / n) + 0.5 * w.log_determinant();
+  };
+  std::vector<double> v{std::log(std::max(start.rw_q / start.white_var, 1e-9)), std::log(std::max(start.gm_var / start.white_var, 1e-6))};
+  for (double& x0 : v) x0 = std::clamp(x0, -24.0, 2.0);
+  nlopt::opt opt(nlopt::LN_BOBYQA, 2);
+  opt.set_lower_bounds(std::vector<double>{-25.0, -25.0});
+  opt.set_upper_bounds(std::vector<double>{3.0, 3.0});
+  opt.set_xtol_abs(1e-3);
+  opt.set_maxeval(80);
+  opt.set_min_objective([](const std::vector<double>& x0, std::vector<double>&, void* f) {
+    return (*static_cast<std::function<double(const std::vector<double>&)>*>(f))(x0);
+  }, &negative);
+  double value = negative(v);
+  try {
+    opt.optimize(v, value);
+  } catch (const std::exception&) {
+    // BOBYQA may stop on roundoff; value holds its best.
+  }
+  return -value;
+}
+
 WhitenedFit fit_model(const ModelSpec& m, const ExplainInput& in, const Eigen::VectorXd& yw, const TermScaling& sc, const Whitener& w) {
   return fit_whitened(w.apply(model_columns(m, in.signals, sc)), yw);
 }
@@ -152,15 +192,28 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
   if (auto p = o.validate(); !p.empty()) fail("explain: ", p);
   SelectionResult result;
   result.model = base;
-  result.noise = full_model_noise(in, y, base, sc, candidates, o.max_ar_order);
-  const Whitener w = training_whitener(in, result.noise);
-  const Eigen::VectorXd yw = w.apply(y);
-  result.whitened_samples = static_cast<std::size_t>(yw.size());
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index i = 0; i < in.size(); ++i) {
+    if (!in.heldout[static_cast<std::size_t>(i)]) rows.push_back(i);
+  }
+  const auto runs = contiguous_runs(rows, in.segment);
+  if (o.noise_model == NoiseModelSource::full) result.noise = full_model_noise(in, y, base, sc, candidates);
 
   std::vector<Candidate> open = candidates;
   Progress progress("explain: selecting effects", static_cast<std::size_t>(std::max(1, o.max_effects)));
   for (int step = 0; step < o.max_effects && !open.empty(); ++step) {
     progress.update(static_cast<std::size_t>(step));
+    if (o.noise_model == NoiseModelSource::current) {
+      // The noise model from what the current model leaves (ordinary least squares on the training rows).
+      const Eigen::MatrixXd x = model_columns(result.model, in.signals, sc);
+      const WhitenedFit ols = fit_whitened(training_rows(x, rows), training_rows(y, rows));
+      Eigen::VectorXd residual = Eigen::VectorXd::Zero(in.size());
+      for (std::size_t r = 0; r < rows.size(); ++r) residual(rows[r]) = ols.residual(static_cast<Eigen::Index>(r));
+      result.noise = fit_noise_model(residual, runs, in.dt_s);
+    }
+    const Whitener w(result.noise, runs);
+    const Eigen::VectorXd yw = w.apply(y);
+    result.whitened_samples = static_cast<std::size_t>(yw.size());
     const WhitenedFit fit = fit_model(result.model, in, yw, sc, w);
     std::vector<Evaluated> ev(open.size());
     parallel_for(static_cast<std::ptrdiff_t>(open.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
@@ -193,14 +246,32 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
     }
     std::vector<CandidateScore> scores;
     for (const auto& e : ev) scores.push_back(e.score);
-    result.steps.push_back(scores);
 
-    std::ptrdiff_t best = -1;
+    // The strongest significant candidate that also wins when the noise is re-estimated by maximum
+    // likelihood with and without it.
+    std::vector<std::size_t> order_bic;
     for (std::size_t i = 0; i < ev.size(); ++i) {
-      if (ev[i].score.significant && ev[i].score.delta_bic > 0 && (best < 0 || ev[i].score.delta_bic > ev[static_cast<std::size_t>(best)].score.delta_bic)) {
-        best = static_cast<std::ptrdiff_t>(i);
+      if (ev[i].score.significant && ev[i].score.delta_bic > 0) order_bic.push_back(i);
+    }
+    std::sort(order_bic.begin(), order_bic.end(), [&](std::size_t a, std::size_t b) { return ev[a].score.delta_bic > ev[b].score.delta_bic; });
+    std::ptrdiff_t best = -1;
+    if (!order_bic.empty()) {
+      const Eigen::MatrixXd x0 = model_columns(result.model, in.signals, sc);
+      const double l0 = max_log_likelihood(x0, y, runs, result.noise);
+      const double n = static_cast<double>(yw.size());
+      for (std::size_t i : order_bic) {
+        const ModelSpec with = with_effect(result.model, open[i], ev[i].score.tau_s);
+        const double l1 = max_log_likelihood(model_columns(with, in.signals, sc), y, runs, result.noise);
+        const int q = open[i].nonlinear == NonlinearParameter::none ? 0 : 1;
+        ev[i].score.ml_delta_bic = 2.0 * (l1 - l0) - (ev[i].score.columns + q) * std::log(n);
+        scores[i].ml_delta_bic = ev[i].score.ml_delta_bic;
+        if (ev[i].score.ml_delta_bic > 0) {
+          best = static_cast<std::ptrdiff_t>(i);
+          break;
+        }
       }
     }
+    result.steps.push_back(scores);
     if (best < 0) break;
     const auto b = static_cast<std::size_t>(best);
     SelectedEffect chosen{open[b], ev[b].score, {}};

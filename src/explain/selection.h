@@ -1,8 +1,9 @@
 // Detection and ranking of missing effects by forward selection in the whitened space.
 //
-// The noise model (an AR process, noise_model.h) is estimated once from the residual of the full model -
-// the base plus every candidate - so that deterministic structure the base lacks is not mistaken for
-// coloured noise, then held fixed. At every step, on the training samples:
+// The noise model (white + random walk + Gauss-Markov, noise_model.h) is estimated once from the residual of
+// the full model - the base plus every candidate - so that structure the base lacks is not taken for noise
+// (NoiseModelSource::current re-estimates it from the current model at every step: conservative, blind to
+// slow effects). At every step, on the training samples:
 //   1. the current model's whitened columns span Q; its whitened residual is r;
 //   2. each candidate's whitened columns (at each value of its nonlinear parameter) are projected off Q
 //      (what the base can already absorb) and orthonormalised to Z; its statistic is |Z' r|^2, the drop
@@ -12,7 +13,10 @@
 //   4. its p-value comes from a circular block bootstrap of r - the same maximisation over the parameter
 //      grid on every resample, so a lag search is not judged by a plain chi-square;
 //   5. Holm's step-down procedure over the candidates controls the family-wise error at alpha;
-//   6. the significant candidate with the largest dBIC is added; every other candidate within
+//   6. the significant candidate with the largest dBIC whose dBIC stays positive when the noise model (its
+//      random-walk and Gauss-Markov variances) is re-estimated by maximum likelihood with and without it -
+//      coloured noise can mimic a trend, but a wander is not explained better by one - is added; every
+//      other candidate within
 //      `ambiguity_bic` of it that it makes redundant - and that makes it redundant - is reported as an
 //      alternative the data cannot tell apart.
 #pragma once
@@ -26,14 +30,30 @@
 #include "explain/noise_model.h"
 
 namespace gyrosid::explain {
+enum class NoiseModelSource { full, current };
+}  // namespace gyrosid::explain
+
+namespace gyrosid {
+template <>
+struct EnumNames<explain::NoiseModelSource> {
+  static constexpr std::string_view kNoun = "noise-model source";
+  static constexpr std::array<std::pair<explain::NoiseModelSource, std::string_view>, 2> kTable{
+      {{explain::NoiseModelSource::full, "full"}, {explain::NoiseModelSource::current, "current"}}};
+};
+}  // namespace gyrosid
+
+namespace gyrosid::explain {
+
+// Where the whitening model comes from: the residual of the full model (base plus every candidate) once,
+// or the current model's residual at every step (conservative: unexplained structure counts as noise).
 
 struct SelectionOptions {
   double alpha = 0.05;
   int bootstrap = 999;
   int max_effects = 6;
-  int max_ar_order = 10;
   double ambiguity_bic = 10.0;  // Kass & Raftery: 2 ln BF above 10 is very strong evidence
   std::uint64_t seed = 1;
+  NoiseModelSource noise_model = NoiseModelSource::full;
   std::string validate() const;
 };
 
@@ -52,6 +72,8 @@ struct CandidateScore {
   double delta_bic = 0.0;
   double p_value = 1.0;
   bool significant = false;   // after Holm
+  // dBIC with the noise re-estimated by maximum likelihood with and without the candidate (NaN if not tried)
+  double ml_delta_bic = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct SelectedEffect {
@@ -64,12 +86,12 @@ struct SelectionResult {
   ModelSpec model;                               // base plus the selected effects
   std::vector<SelectedEffect> effects;
   std::vector<std::vector<CandidateScore>> steps;  // every candidate's score at every step
-  ArNoiseModel noise;                            // the whitening model
+  NoiseModel noise;                              // the whitening model
   std::size_t whitened_samples = 0;
 };
 
 // The whitener of the training samples for a noise model.
-Whitener training_whitener(const ExplainInput& in, const ArNoiseModel& noise);
+Whitener training_whitener(const ExplainInput& in, const NoiseModel& noise);
 // The model with a candidate added at parameter tau (thermal_lag sets the coil lag; others add a term).
 ModelSpec with_effect(const ModelSpec& model, const Candidate& c, double tau_s);
 

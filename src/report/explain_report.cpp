@@ -150,8 +150,10 @@ std::string report_markdown(const ExplainResult& r) {
   }
   md << "\n## Noise terms of the residual\n\n";
   for (const auto& t : j["noise"]["terms"]) md << "- " << t["id"].get<std::string>() << ": " << t["coefficients"].dump() << " - " << t["description"].get<std::string>() << "\n";
-  md << "\nWhiteness after (Ljung-Box, " << j["diagnostics"]["after"]["ljung_box"]["lags"].get<int>() << " lags on the AR(" << j["noise"]["ar_order"].get<int>()
-     << ")-whitened residual): p = " << format_significant(j["diagnostics"]["after"]["ljung_box"]["p_value"].get<double>(), 3) << ".\n\n";
+  md << "\nWhitening model of the residual (white + random walk + Gauss-Markov, from its Allan deviation): "
+     << j["noise"]["whitening_model"].dump() << ". Whiteness after whitening (Ljung-Box, "
+     << j["diagnostics"]["after"]["ljung_box"]["lags"].get<int>() << " lags): p = "
+     << format_significant(j["diagnostics"]["after"]["ljung_box"]["p_value"].get<double>(), 3) << ".\n\n";
   md << "## Selection\n\nEvery candidate at every forward step (dBIC, bootstrap p; * significant after Holm):\n\n";
   int step = 0;
   for (const auto& row : j["selection"]["steps"]) {

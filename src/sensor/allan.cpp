@@ -240,7 +240,7 @@ AllanCoefficients fit_allan(const std::vector<AllanPoint>& curve, AllanFitTerms 
   return c;
 }
 
-GaussMarkovFit fit_gauss_markov(const std::vector<AllanPoint>& curve, bool with_white_noise) {
+GaussMarkovFit fit_gauss_markov(const std::vector<AllanPoint>& curve, bool with_white_noise, bool with_random_walk) {
   const auto points = usable(curve);
   if (points.size() < 3) fail("Gauss-Markov fit: need at least 3 Allan points, got ", points.size());
   // For a given tau_c the model is linear in (sigma^2, N^2): the weighted fit above; tau_c by a log-grid
@@ -248,15 +248,17 @@ GaussMarkovFit fit_gauss_markov(const std::vector<AllanPoint>& curve, bool with_
   auto solve = [&](double tau_c, GaussMarkovFit* out) {
     double cost = 0.0;
     const Eigen::VectorXd x = fit_variance_terms(points, [&](double tau) {
-      Eigen::VectorXd v(with_white_noise ? 2 : 1);
+      Eigen::VectorXd v(1 + (with_white_noise ? 1 : 0) + (with_random_walk ? 1 : 0));
       v(0) = gauss_markov_allan_variance(1.0, tau_c, tau);
       if (with_white_noise) v(1) = 1.0 / tau;
+      if (with_random_walk) v(v.size() - 1) = tau / 3.0;
       return v;
     }, &cost);
     if (out) {
       out->sigma = std::sqrt(std::max(0.0, x(0)));
       out->tau_s = tau_c;
       out->angle_random_walk = with_white_noise ? std::sqrt(std::max(0.0, x(1))) : 0.0;
+      out->rate_random_walk = with_random_walk ? std::sqrt(std::max(0.0, x(x.size() - 1))) : 0.0;
     }
     return cost;
   };
@@ -285,7 +287,8 @@ GaussMarkovFit fit_gauss_markov(const std::vector<AllanPoint>& curve, bool with_
   GaussMarkovFit fit;
   solve(std::exp(0.5 * (a + b)), &fit);
   fit.relative_rms_residual = relative_rms(points, [&](double tau) {
-    return gauss_markov_allan_variance(fit.sigma, fit.tau_s, tau) + fit.angle_random_walk * fit.angle_random_walk / tau;
+    return gauss_markov_allan_variance(fit.sigma, fit.tau_s, tau) + fit.angle_random_walk * fit.angle_random_walk / tau +
+           fit.rate_random_walk * fit.rate_random_walk * tau / 3.0;
   });
   return fit;
 }

@@ -61,14 +61,15 @@ struct AllanFitTerms {
 AllanCoefficients fit_allan(const std::vector<AllanPoint>& curve, AllanFitTerms terms = {});
 double allan_model_variance(const AllanCoefficients& c, double tau_s);
 
-// A single Gauss-Markov process (sigma, tau_c), optionally plus white noise, fitted to a curve: log-grid
-// search over tau_c with the variances solved by NNLS, refined by golden section.
+// A single Gauss-Markov process (sigma, tau_c), optionally plus white noise and a rate random walk, fitted
+// to a curve: log-grid search over tau_c with the variances solved by NNLS, refined by golden section.
 struct GaussMarkovFit {
   double sigma = 0.0;
   double tau_s = 0.0;
   double angle_random_walk = 0.0;
+  double rate_random_walk = 0.0;  // K, u/sqrt(s)
   double relative_rms_residual = 0.0;
 };
-GaussMarkovFit fit_gauss_markov(const std::vector<AllanPoint>& curve, bool with_white_noise);
+GaussMarkovFit fit_gauss_markov(const std::vector<AllanPoint>& curve, bool with_white_noise, bool with_random_walk = false);
 
 }  // namespace gyrosid
