@@ -48,7 +48,7 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
   Diagnostics d;
   std::vector<Eigen::Index> all(static_cast<std::size_t>(in.size()));
   for (Eigen::Index i = 0; i < in.size(); ++i) all[static_cast<std::size_t>(i)] = i;
-  const Whitener w(noise, contiguous_runs(all, in.segment));
+  const Whitener w(noise, all, in.signals.t_s);
   const Eigen::VectorXd e_raw = w.apply(residual);
   const Eigen::VectorXd e = standardized(e_raw);
   const auto n = static_cast<double>(e.size());

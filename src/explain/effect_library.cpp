@@ -100,6 +100,14 @@ std::string separating_experiment(EffectId a, EffectId b) {
     return "change the tilt at constant temperature (a multi-position sequence on one plateau): g-sensitivity "
            "follows the tilt, a temperature bias does not";
   }
+  if (is(E::warmup_transient, E::temperature_bias)) {
+    return "hold the chamber at one temperature for an hour after turn-on: a warm-up transient still decays, a "
+           "temperature bias does not move";
+  }
+  if (is(E::magnetic_sensitivity, E::temperature_bias) || is(E::magnetic_sensitivity, E::aging_trend)) {
+    return "change the magnetic field at constant temperature (turn the unit in the Earth's field or drive a "
+           "Helmholtz coil): a magnetic sensitivity follows the field";
+  }
   if (is(E::aging_trend, E::temperature_bias)) {
     return "return to an earlier temperature later in the recording: ageing has moved on, a temperature bias "
            "returns to its value";
@@ -122,9 +130,13 @@ std::vector<double> grid_within(const std::vector<double>& nodes, double lo, dou
 }  // namespace
 
 std::vector<Term> baseline_family(BaselineForm form, const Signals& s) {
-  std::vector<Term> out{Term::of(TermKind::bias), Term::temperature_orders({1, 2, 3})};
+  // Terms the data's ranges can support: temperature terms need a few degrees, scale-factor terms some rate
+  // (a calibration at one temperature must not extrapolate a cubic fitted to the probe's quantisation).
   const double w_lo = units::radps_to_dps(s.rate.minCoeff()), w_hi = units::radps_to_dps(s.rate.maxCoeff());
   const double t_lo = s.temp_c.minCoeff(), t_hi = s.temp_c.maxCoeff();
+  std::vector<Term> out{Term::of(TermKind::bias)};
+  if (t_hi - t_lo >= 2.0) out.push_back(Term::temperature_orders({1, 2, 3}));
+  if (w_hi - w_lo < 2.0) return out;
   if (form == BaselineForm::surface && w_hi - w_lo >= 40.0 && t_hi - t_lo >= 10.0) {
     // The thesis's grid (figs 3.5/3.6) with the reference sensor's -60 and 80 C rows.
     const std::vector<double> temps{-60, -20, 0, 20, 25, 40, 60, 80};

@@ -66,7 +66,7 @@ Whitener rows_whitener(const ExplainInput& in, const NoiseModel& noise, const st
   for (Eigen::Index i = 0; i < in.size(); ++i) {
     if (keep(i)) rows.push_back(i);
   }
-  return Whitener(noise, contiguous_runs(rows, in.segment));
+  return Whitener(noise, rows, in.signals.t_s);
 }
 
 Eigen::MatrixXd columns(const ModelSpec& m, const ExplainInput& in, const TermScaling& sc) {
@@ -384,9 +384,13 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
     for (const auto& tc : final_fit.time_constants) {
       if (tc.term == this_term) params["tau_s"] = tc.tau_s, ci["tau_s"] = {tc.low_s, tc.high_s};
     }
-    nlohmann::json alternatives = nlohmann::json::array(), separating = nlohmann::json::array();
+    nlohmann::json alternatives = nlohmann::json::array(), weaker = nlohmann::json::array(), separating = nlohmann::json::array();
     for (EffectId a : s.alternatives) {
       alternatives.push_back(std::string(to_string(a)));
+      separating.push_back({{"alternative", std::string(to_string(a))}, {"experiment", separating_experiment(s.candidate.id, a)}});
+    }
+    for (EffectId a : s.weaker_alternatives) {
+      weaker.push_back(std::string(to_string(a)));
       separating.push_back({{"alternative", std::string(to_string(a))}, {"experiment", separating_experiment(s.candidate.id, a)}});
     }
     if (s.candidate.id == EffectId::auxiliary_channel) {
@@ -403,6 +407,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
                        {"delta_bic", s.score.delta_bic},
                        {"p_value", s.score.p_value},
                        {"alternatives", alternatives},
+                       {"weaker_alternatives", weaker},
                        {"separating_experiments", separating},
                        {"stability", j.stability},
                        {"heldout_z", j.heldout_testable ? nlohmann::json(j.heldout_z) : nlohmann::json()},

@@ -63,36 +63,37 @@ NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vect
   return m;
 }
 
-Whitener::Whitener(NoiseModel model, const std::vector<std::vector<Eigen::Index>>& runs) : model_(model) {
-  // The Kalman filter's gains and innovation variances depend on the model and the run lengths only.
-  const double phi = model_.gm_var > 0 ? std::exp(-model_.dt_s / model_.gm_tau_s) : 0.0;
-  const Eigen::Matrix2d f = Eigen::Vector2d(1.0, phi).asDiagonal();
-  const Eigen::Matrix2d q = Eigen::Vector2d(model_.rw_q, model_.gm_var * (1.0 - phi * phi)).asDiagonal();
-  const double diffuse = 1e6 * (model_.white_var + model_.gm_var);
-  for (const auto& run : runs) {
-    Eigen::Matrix2d p = Eigen::Vector2d(model_.rw_q > 0 ? diffuse : 0.0, model_.gm_var).asDiagonal();
-    for (std::size_t k = 0; k < run.size(); ++k) {
-      if (k > 0) p = f * p * f.transpose() + q;
-      const double s = p.sum() + model_.white_var;  // H = [1 1]
-      const Eigen::Vector2d gain = p.rowwise().sum() / s;
-      p -= gain * p.colwise().sum();
-      rows_.push_back(run[k]);
-      starts_.push_back(k == 0);
-      inv_sd_.push_back(1.0 / std::sqrt(s));
-      log_det_ += std::log(s);
-      gain_.push_back(gain);
-    }
-  }
+Whitener::Whitener(NoiseModel model, std::vector<Eigen::Index> rows, const std::vector<double>& t_s)
+    : model_(model), rows_(std::move(rows)) {
   if (rows_.empty()) fail("noise model: nothing to whiten");
+  // The Kalman filter's gains and innovation variances depend on the model and the sample times only.
+  const double diffuse = 1e6 * (model_.white_var + model_.gm_var);
+  Eigen::Matrix2d p = Eigen::Vector2d(model_.rw_q > 0 ? diffuse : 0.0, model_.gm_var).asDiagonal();
+  for (std::size_t k = 0; k < rows_.size(); ++k) {
+    double phi = 0.0;
+    if (k > 0) {
+      const double steps = (t_s[static_cast<std::size_t>(rows_[k])] - t_s[static_cast<std::size_t>(rows_[k - 1])]) / model_.dt_s;
+      phi = model_.gm_var > 0 ? std::exp(-steps * model_.dt_s / model_.gm_tau_s) : 0.0;
+      const Eigen::Matrix2d f = Eigen::Vector2d(1.0, phi).asDiagonal();
+      p = f * p * f.transpose();
+      p(0, 0) += model_.rw_q * steps;
+      p(1, 1) += model_.gm_var * (1.0 - phi * phi);
+    }
+    const double s = p.sum() + model_.white_var;  // H = [1 1]
+    const Eigen::Vector2d gain = p.rowwise().sum() / s;
+    p -= gain * p.colwise().sum();
+    decay_.push_back(phi);
+    inv_sd_.push_back(1.0 / std::sqrt(s));
+    gain_.push_back(gain);
+    log_det_ += std::log(s);
+  }
 }
 
 Eigen::MatrixXd Whitener::apply(const Eigen::MatrixXd& x) const {
-  const double phi = model_.gm_var > 0 ? std::exp(-model_.dt_s / model_.gm_tau_s) : 0.0;
   Eigen::MatrixXd out(static_cast<Eigen::Index>(rows_.size()), x.cols());
-  Eigen::MatrixXd state(2, x.cols());
+  Eigen::MatrixXd state = Eigen::MatrixXd::Zero(2, x.cols());
   for (std::size_t r = 0; r < rows_.size(); ++r) {
-    if (starts_[r]) state.setZero();
-    else state.row(1) *= phi;
+    state.row(1) *= decay_[r];
     const Eigen::RowVectorXd innovation = x.row(rows_[r]) - state.row(0) - state.row(1);
     out.row(static_cast<Eigen::Index>(r)) = innovation * inv_sd_[r];
     state.row(0) += gain_[r](0) * innovation;

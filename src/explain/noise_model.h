@@ -5,10 +5,11 @@
 //   e_t = w_t + g_t + v_t,   w_t = w_{t-1} + eta_t (var q),   g_t = phi g_{t-1} + zeta_t,   v_t white (var r),
 //
 // fitted to the Allan deviation of a residual (quasi-likelihood NNLS, sensor/allan.h). The whitener runs the
-// Kalman filter along every run of uniform samples: the standardised innovations of the data (and, with the
-// same data-independent gains, of every regressor column) are white with unit variance under the model -
-// generalised least squares without an N x N covariance. The random walk starts diffuse, so a run's level is
-// never information. Coloured noise is thereby noise: a slow wander is not mistaken for ageing or a
+// Kalman filter along the chosen samples in time order, propagating the state over each interval - gaps in
+// the sampling (bursts, held-out blocks) included: the random walk grows and the Gauss-Markov process decays
+// over them. The standardised innovations of the data (and, with the same data-independent gains, of every
+// regressor column) are white with unit variance under the model - generalised least squares without an
+// N x N covariance. The random walk starts diffuse: the overall level is never information. Coloured noise is thereby noise: a slow wander is not mistaken for ageing or a
 // temperature effect, and structure that is real must show beyond it.
 #pragma once
 
@@ -41,7 +42,8 @@ NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vect
 
 class Whitener {
  public:
-  Whitener(NoiseModel model, const std::vector<std::vector<Eigen::Index>>& runs);
+  // rows: the samples to whiten, ascending; t_s: every sample's time.
+  Whitener(NoiseModel model, std::vector<Eigen::Index> rows, const std::vector<double>& t_s);
   Eigen::MatrixXd apply(const Eigen::MatrixXd& x) const;  // x has one row per sample of the recording
   const std::vector<Eigen::Index>& rows() const { return rows_; }
   const NoiseModel& model() const { return model_; }
@@ -51,7 +53,7 @@ class Whitener {
  private:
   NoiseModel model_;
   std::vector<Eigen::Index> rows_;
-  std::vector<char> starts_;      // per row: first of its run (the state restarts)
+  std::vector<double> decay_;     // per row: the Gauss-Markov decay since the previous row
   std::vector<double> inv_sd_;    // per row: 1 / sqrt(innovation variance)
   std::vector<Eigen::Vector2d> gain_;
   double log_det_ = 0.0;

@@ -27,7 +27,7 @@ Whitener training_whitener(const ExplainInput& in, const NoiseModel& noise) {
   for (Eigen::Index i = 0; i < in.size(); ++i) {
     if (!in.heldout[static_cast<std::size_t>(i)]) rows.push_back(i);
   }
-  return Whitener(noise, contiguous_runs(rows, in.segment));
+  return Whitener(noise, rows, in.signals.t_s);
 }
 
 ModelSpec with_effect(const ModelSpec& model, const Candidate& c, double tau) {
@@ -147,8 +147,8 @@ Evaluated evaluate(const Candidate& c, const ModelSpec& model, const ExplainInpu
 // constant held at the Allan fit's), the linear coefficients and the white variance concentrated out.
 // Comparing it with and without a candidate tells a deterministic effect from coloured noise that mimics it:
 // a true trend takes the random walk's place, a wander is not bettered by a trend.
-double max_log_likelihood(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::vector<std::vector<Eigen::Index>>& runs,
-                          const NoiseModel& start) {
+double max_log_likelihood(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::vector<Eigen::Index>& rows,
+                          const std::vector<double>& t_s, const NoiseModel& start) {
   const double tau_g = start.gm_var > 0 ? start.gm_tau_s : 100.0 * start.dt_s;
   std::function<double(const std::vector<double>&)> negative = [&](const std::vector<double>& v) {
     NoiseModel m;
@@ -157,7 +157,7 @@ double max_log_likelihood(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, co
     m.rw_q = std::exp(v[0]);
     m.gm_var = std::exp(v[1]);
     m.gm_tau_s = tau_g;
-    const Whitener w(m, runs);
+    const Whitener w(m, rows, t_s);
     const WhitenedFit f = fit_whitened(w.apply(x), w.apply(y));
     const double n = static_cast<double>(f.residual.size());
     return 0.5 * n * std::log(f.rss / n) + 0.5 * w.log_determinant();
@@ -211,7 +211,7 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
       for (std::size_t r = 0; r < rows.size(); ++r) residual(rows[r]) = ols.residual(static_cast<Eigen::Index>(r));
       result.noise = fit_noise_model(residual, runs, in.dt_s);
     }
-    const Whitener w(result.noise, runs);
+    const Whitener w(result.noise, rows, in.signals.t_s);
     const Eigen::VectorXd yw = w.apply(y);
     result.whitened_samples = static_cast<std::size_t>(yw.size());
     const WhitenedFit fit = fit_model(result.model, in, yw, sc, w);
@@ -257,11 +257,11 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
     std::ptrdiff_t best = -1;
     if (!order_bic.empty()) {
       const Eigen::MatrixXd x0 = model_columns(result.model, in.signals, sc);
-      const double l0 = max_log_likelihood(x0, y, runs, result.noise);
+      const double l0 = max_log_likelihood(x0, y, rows, in.signals.t_s, result.noise);
       const double n = static_cast<double>(yw.size());
       for (std::size_t i : order_bic) {
         const ModelSpec with = with_effect(result.model, open[i], ev[i].score.tau_s);
-        const double l1 = max_log_likelihood(model_columns(with, in.signals, sc), y, runs, result.noise);
+        const double l1 = max_log_likelihood(model_columns(with, in.signals, sc), y, rows, in.signals.t_s, result.noise);
         const int q = open[i].nonlinear == NonlinearParameter::none ? 0 : 1;
         ev[i].score.ml_delta_bic = 2.0 * (l1 - l0) - (ev[i].score.columns + q) * std::log(n);
         scores[i].ml_delta_bic = ev[i].score.ml_delta_bic;
@@ -274,14 +274,20 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
     result.steps.push_back(scores);
     if (best < 0) break;
     const auto b = static_cast<std::size_t>(best);
-    SelectedEffect chosen{open[b], ev[b].score, {}};
+    SelectedEffect chosen{open[b], ev[b].score, {}, {}};
     const ModelSpec next = with_effect(result.model, open[b], ev[b].score.tau_s);
     const WhitenedFit next_fit = fit_model(next, in, yw, sc, w);
 
-    // Alternatives: close in dBIC, and each makes the other redundant.
+    // Alternatives: close in dBIC, and each makes the other redundant. Weaker alternatives: explain at least
+    // half as much on their own and nothing once the chosen effect is in - the data prefer the chosen one,
+    // but this recording alone does not make them impossible.
     for (std::size_t i = 0; i < ev.size(); ++i) {
-      if (i == b || !(ev[i].score.delta_bic > 0) || ev[i].score.delta_bic < ev[b].score.delta_bic - o.ambiguity_bic) continue;
+      if (i == b || !(ev[i].score.delta_bic > o.ambiguity_bic) || ev[i].score.delta_bic < 0.5 * ev[b].score.delta_bic) continue;
       const double other_given_best = evaluate(open[i], next, in, sc, w, next_fit).score.delta_bic;
+      if (ev[i].score.delta_bic < ev[b].score.delta_bic - o.ambiguity_bic) {
+        if (other_given_best < o.ambiguity_bic) chosen.weaker_alternatives.push_back(open[i].id);
+        continue;
+      }
       const ModelSpec swapped = with_effect(result.model, open[i], ev[i].score.tau_s);
       Candidate fixed = open[b];
       if (fixed.nonlinear != NonlinearParameter::none) fixed.tau_grid_s = {ev[b].score.tau_s};

@@ -79,7 +79,8 @@ struct CandidateScore {
 struct SelectedEffect {
   Candidate candidate;
   CandidateScore score;
-  std::vector<EffectId> alternatives;
+  std::vector<EffectId> alternatives;         // the data cannot tell these apart from it
+  std::vector<EffectId> weaker_alternatives;  // explain much of the same, but clearly less well
 };
 
 struct SelectionResult {

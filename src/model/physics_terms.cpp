@@ -43,7 +43,7 @@ TermScaling TermScaling::of(const Signals& s) {
   if (s.size() == 0) return out;
   const double lo = s.temp_c.minCoeff(), hi = s.temp_c.maxCoeff();
   out.t_ref_c = 0.5 * (lo + hi);
-  out.t_scale_c = hi > lo ? 0.5 * (hi - lo) : 1.0;
+  out.t_scale_c = std::max(1.0, 0.5 * (hi - lo));  // a probe's quantisation is no temperature range
   const double peak = s.rate.cwiseAbs().maxCoeff();
   out.rate_scale_radps = peak > units::dps_to_radps(1.0) ? peak : 1.0;
   return out;

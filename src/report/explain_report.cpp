@@ -134,7 +134,10 @@ std::string report_markdown(const ExplainResult& r) {
        << ", stability " << format_significant(e["stability"].get<double>(), 2) << ", held-out: "
        << (e["heldout_confirmed"].is_null() ? "not testable there" : e["heldout_confirmed"].get<bool>() ? "confirmed" : "not confirmed") << "\n";
     for (const auto& s : e["separating_experiments"]) {
-      md << "- **cannot be told apart from " << s["alternative"].get<std::string>() << "** by this recording; to separate them: "
+      const std::string a = s["alternative"].get<std::string>();
+      const bool weaker = std::find(e["weaker_alternatives"].begin(), e["weaker_alternatives"].end(), a) != e["weaker_alternatives"].end();
+      md << (weaker ? "- a weaker alternative explanation is " + a + " (clearly less likely here); to rule it out: "
+                    : "- **cannot be told apart from " + a + "** by this recording; to separate them: ")
          << s["experiment"].get<std::string>() << "\n";
     }
     md << "\n";

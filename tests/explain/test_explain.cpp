@@ -95,7 +95,9 @@ TEST(NoiseModel, FitsWhiteNoisePlusRandomWalkAndWhitensIt) {
     const double truth = sigma * sigma / tau + q * tau / 3.0;
     EXPECT_NEAR(m.allan_variance(tau) / truth, 1.0, 0.3) << tau;
   }
-  const Eigen::VectorXd whitened = Whitener(m, runs).apply(x);
+  std::vector<double> t(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < t.size(); ++i) t[i] = static_cast<double>(i);
+  const Eigen::VectorXd whitened = Whitener(m, rows, t).apply(x);
   const Eigen::VectorXd w = whitened.tail(n - 10);
   EXPECT_NEAR(w.squaredNorm() / static_cast<double>(w.size()), 1.0, 0.03);
   const double r1 = w.head(w.size() - 1).dot(w.tail(w.size() - 1)) / w.squaredNorm();
