@@ -1,4 +1,5 @@
 // gyrosid allan: overlapping Allan deviation of a recording column, fitted noise coefficients, plot.
+#include <algorithm>
 #include <iostream>
 #include <memory>
 
@@ -26,6 +27,15 @@ void run_allan(const AllanCommandOptions& o) {
   if (!o.subtract.empty()) {
     const std::vector<double> reference = rate_column_dph(rec, o.subtract);
     for (std::size_t i = 0; i < rate.size(); ++i) rate[i] -= reference[i];
+  } else if (rec.has("ref_rate_dps") && o.column != "ref_rate_dps") {
+    // The Allan deviation of a rotating gyro's output is the table's motion, not the sensor's noise.
+    const std::vector<double> reference = rate_column_dph(rec, "ref_rate_dps");
+    const auto [lo, hi] = std::minmax_element(reference.begin(), reference.end());
+    if (*hi - *lo > 1.0) {
+      std::cerr << "warning: " << o.recording << ": ref_rate_dps varies over " << (*hi - *lo) / 3600.0
+                << " deg/s; the Allan deviation of " << o.column
+                << " then measures the motion - pass --subtract ref_rate_dps to analyse the sensor's noise\n";
+    }
   }
   nlohmann::json provenance = {{"recording", o.recording}, {"column", o.column}, {"unit", "deg/h"}};
   if (!o.subtract.empty()) provenance["subtract"] = o.subtract;

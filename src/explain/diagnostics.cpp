@@ -213,6 +213,11 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
     else if (f.bias_instability > 0) d.noise_terms.push_back({"bias_instability", {{"b_dph", f.bias_instability}}});
     if (f.rate_random_walk > 0) d.noise_terms.push_back({"rate_random_walk", {{"k_dph_per_rt_h", f.rate_random_walk * 60.0}}});
     if (f.rate_ramp > 0) d.noise_terms.push_back({"rate_ramp", {{"r_dph_per_h", f.rate_ramp * 3600.0}}});
+  } else {
+    // Too short for an Allan fit (bursts): the whitening model's own terms, in the same units.
+    d.noise_terms.push_back({"white", {{"arw_deg_per_rt_h", std::sqrt(noise.white_var * noise.dt_s) / 60.0}}});
+    if (noise.gm_var > 0) d.noise_terms.push_back({"gauss_markov", {{"sigma_dph", std::sqrt(noise.gm_var)}, {"tau_s", noise.gm_tau_s}}});
+    if (noise.rw_q > 0) d.noise_terms.push_back({"rate_random_walk", {{"k_dph_per_rt_h", std::sqrt(noise.rw_q / noise.dt_s) * 60.0}}});
   }
   return d;
 }

@@ -16,6 +16,7 @@ namespace gyrosid {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 namespace fs = std::filesystem;
 
 struct Result {
@@ -89,6 +90,12 @@ TEST_F(Cli, AllanRecoversTheReferenceSensorsWhiteNoise) {
   EXPECT_NEAR(j["coefficients"]["arw_deg_rt_h"].get<double>(), 10.0 / 60.0, 0.1 * 10.0 / 60.0);
   EXPECT_TRUE(fs::exists(dir_ / "allan" / "allan.png"));
   EXPECT_THAT(read_text(dir_ / "allan" / "allan.csv"), HasSubstr("tau_s,adev_dph,ci_low_dph,ci_high_dph"));
+  EXPECT_THAT(r.output, Not(HasSubstr("warning")));
+  // Without --subtract on a rate-table recording the curve is the table's motion: the command says so.
+  ASSERT_EQ(run("simulate --trajectory builtin:trajectories/dual_scan.yaml --samples 1111 --out " + path("scan.csv")).status, 0);
+  const Result w = run("allan --recording " + path("scan.csv") + " --out " + path("allan_scan"));
+  EXPECT_EQ(w.status, 0);
+  EXPECT_THAT(w.output, HasSubstr("pass --subtract ref_rate_dps"));
 }
 
 TEST_F(Cli, BadInputsAreClearErrorsAndLeaveNothingBehind) {

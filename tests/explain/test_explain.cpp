@@ -250,6 +250,40 @@ TEST(Explain, AnAuxiliaryChannelOutsideTheLibraryIsReportedAsUnexplained) {
   EXPECT_NE(r.summary["verdict"], "no_missing_physics");
 }
 
+TEST(Explain, PlantedCrossAxisCouplingIsFoundWithItsAngle) {
+  // A triad where the x gyro's input axis leans 0.2 mrad towards y: it sees 0.2e-3 of the y rate.
+  const Recording single = simulate_with("", 15);
+  const auto& t = single.column("t_s");
+  std::vector<double> wy(single.rows()), wz(single.rows()), gx = single.column("gyro_dps"), gy(single.rows()), gz(single.rows());
+  RandomStream rng(15, "other axes");
+  for (std::size_t i = 0; i < single.rows(); ++i) {
+    wy[i] = 80.0 * std::sin(2 * units::kPi * t[i] / 97.0);
+    wz[i] = 60.0 * std::cos(2 * units::kPi * t[i] / 151.0);
+    gx[i] += 0.2e-3 * wy[i];
+    gy[i] = wy[i] + 10.0 / 3600.0 * rng.normal();
+    gz[i] = wz[i] + 10.0 / 3600.0 * rng.normal();
+  }
+  Recording rec("triad test");
+  rec.set_column("t_s", t);
+  rec.set_column("ref_rate_x_dps", single.column("ref_rate_dps"));
+  rec.set_column("ref_rate_y_dps", wy);
+  rec.set_column("ref_rate_z_dps", wz);
+  rec.set_column("temp_c", single.column("temp_c"));
+  rec.set_column("gyro_x_dps", gx);
+  rec.set_column("gyro_y_dps", gy);
+  rec.set_column("gyro_z_dps", gz);
+  ExplainOptions o = fast();
+  o.input.axis = "x";
+  const ExplainResult r = explain_recording(rec, o);
+  const nlohmann::json* e = effect(r.summary, "cross_axis_coupling");
+  ASSERT_NE(e, nullptr) << r.summary["effects"].dump();
+  EXPECT_NEAR((*e)["parameters"]["k_y_mrad"].get<double>(), 0.2, 0.02);
+  const auto ci = (*e)["confidence"]["k_z_mrad"];  // no coupling planted towards z
+  EXPECT_LT(ci[0].get<double>(), 0.0);
+  EXPECT_GT(ci[1].get<double>(), 0.0);
+  EXPECT_LT(r.summary["fit"]["heldout_rms_after_dph"].get<double>(), 10.5);
+}
+
 TEST(Explain, OptionsAndInputsAreValidated) {
   ExplainOptions o = fast();
   o.model_path = "a.json", o.baseline_path = "b.csv";
