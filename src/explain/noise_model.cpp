@@ -59,6 +59,14 @@ NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vect
   m.rw_q = fit.rate_random_walk * fit.rate_random_walk * dt;
   m.gm_var = fit.sigma * fit.sigma;
   m.gm_tau_s = fit.tau_s;
+  if (m.gm_var > 0 && m.gm_tau_s < dt) {
+    // Correlated over less than a sample: white noise at this sampling. Its continuous-time Allan variance
+    // (fitted) tends to 2 sigma^2 tau_c / tau, that of white noise of per-sample variance v to v dt / tau -
+    // fold it in with that v; keeping it as a separate point-sampled state would count it at sigma^2.
+    const double tau = 1e3 * dt;
+    m.white_var += gauss_markov_allan_variance(fit.sigma, m.gm_tau_s, tau) * tau / dt;
+    m.gm_var = 0.0, m.gm_tau_s = 0.0;
+  }
   if (!(m.white_var > 0)) m.white_var = 1e-12 * (m.gm_var + 1.0);
   return m;
 }

@@ -250,6 +250,26 @@ TEST(Explain, AnAuxiliaryChannelOutsideTheLibraryIsReportedAsUnexplained) {
   EXPECT_NE(r.summary["verdict"], "no_missing_physics");
 }
 
+TEST(Explain, ShupeFromOneRampRateWithoutLagIsReportedWithItsAmbiguity) {
+  // No thermal lag and a zig-zag at one ramp rate: dT/dt is +-5 C/min on every sample but the few at each
+  // turnaround, so a Shupe bias (k dT/dt; here 2.5 deg/h, a quarter of the noise) and a heating/cooling offset
+  // (hysteresis) are the same signal to within a BIC of about 1. The finder must name the planted effect or
+  // its twin and list the other as an alternative - never one of them alone. (At k = 2 the turnaround samples
+  // alone favour Shupe by a BIC of about 10, and hysteresis is reported as a weaker alternative instead.)
+  SensorSpec sensor = load_sensor(ConfigNode::parse(std::string(kSensor) + "shupe_dph_per_c_per_min: 0.5\n", "test sensor"));
+  std::get<GyroSensor>(sensor).thermal.tau_s = 0.0;  // the probe follows the chamber's zig-zag
+  std::get<GyroSensor>(sensor).thermal.coil_tau_s = 0.0;
+  const ExplainResult r = explain_recording(simulate_sensor(sensor, 16), fast());
+  ASSERT_EQ(r.summary["verdict"], "missing_physics");
+  const auto& first = r.summary["effects"][0];
+  const std::string id = first["id"];
+  ASSERT_TRUE(id == "shupe" || id == "thermal_hysteresis") << r.summary["effects"].dump();
+  const std::string twin = id == "shupe" ? "thermal_hysteresis" : "shupe";
+  bool listed = false;
+  for (const auto& a : first["alternatives"]) listed = listed || a == twin;
+  EXPECT_TRUE(listed) << first.dump();
+}
+
 TEST(Explain, PlantedCrossAxisCouplingIsFoundWithItsAngle) {
   // A triad where the x gyro's input axis leans 0.2 mrad towards y: it sees 0.2e-3 of the y rate.
   const Recording single = simulate_with("", 15);
