@@ -103,37 +103,41 @@ class RbfNlp : public Ipopt::TNLP {
     return true;
   }
 
+  // The network's output at sample i (eq 4.1 with per-input widths r = exp(log r)) and, if `row` is given,
+  // its derivatives with respect to every parameter [centre, log width, weight] of every node.
+  double output_at(Eigen::Index i, const Number* x, double* row) const {
+    double out = 0.0;
+    for (Eigen::Index j = 0; j < m_; ++j) {
+      const Number* b = x + j * block_;
+      double z = 0.0;
+      for (Eigen::Index k = 0; k < d_; ++k) {
+        const double uk = (p_.x(i, k) - b[k]) / std::exp(b[d_ + k]);
+        z += uk * uk;
+      }
+      const double ph = std::exp(-z), w = b[2 * d_];
+      out += w * ph;
+      if (!row) continue;
+      double* g = row + j * block_;
+      for (Eigen::Index k = 0; k < d_; ++k) {
+        const double r = std::exp(b[d_ + k]), uk = (p_.x(i, k) - b[k]) / r;
+        g[k] = w * ph * 2.0 * uk / r;
+        g[d_ + k] = w * ph * 2.0 * uk * uk;
+      }
+      g[2 * d_] = ph;
+    }
+    return out;
+  }
+
   // Residuals (cached per x) and, on request, the gradient J'r + lambda w.
   void evaluate(const Number* x, Number* gradient) {
-    const Eigen::Index n = p_.size();
+    const Eigen::Index n = p_.size(), params = m_ * block_;
     residual_.resize(n);
-    if (gradient) std::fill(gradient, gradient + m_ * block_, 0.0);
-    std::vector<double> u(static_cast<std::size_t>(d_)), phi(static_cast<std::size_t>(m_));
+    Eigen::VectorXd row(gradient ? params : 0);
+    Eigen::Map<Eigen::VectorXd> grad(gradient, gradient ? params : 0);
+    if (gradient) grad.setZero();
     for (Eigen::Index i = 0; i < n; ++i) {
-      double f = -p_.y(i);
-      for (Eigen::Index j = 0; j < m_; ++j) {
-        const Number* b = x + j * block_;
-        double z = 0.0;
-        for (Eigen::Index k = 0; k < d_; ++k) {
-          const double uk = (p_.x(i, k) - b[k]) / std::exp(b[d_ + k]);
-          z += uk * uk;
-        }
-        phi[static_cast<std::size_t>(j)] = std::exp(-z);
-        f += b[2 * d_] * phi[static_cast<std::size_t>(j)];
-      }
-      residual_(i) = f;
-      if (!gradient) continue;
-      for (Eigen::Index j = 0; j < m_; ++j) {
-        const Number* b = x + j * block_;
-        Number* g = gradient + j * block_;
-        const double w = b[2 * d_], ph = phi[static_cast<std::size_t>(j)];
-        for (Eigen::Index k = 0; k < d_; ++k) {
-          const double r = std::exp(b[d_ + k]), uk = (p_.x(i, k) - b[k]) / r;
-          g[k] += f * w * ph * 2.0 * uk / r;
-          g[d_ + k] += f * w * ph * 2.0 * uk * uk;
-        }
-        g[2 * d_] += f * ph;
-      }
+      residual_(i) = output_at(i, x, gradient ? row.data() : nullptr) - p_.y(i);
+      if (gradient) grad += residual_(i) * row;
     }
     if (gradient) {
       for (Eigen::Index j = 0; j < m_; ++j) gradient[j * block_ + 2 * d_] += o_.lambda * x[j * block_ + 2 * d_];
@@ -209,24 +213,12 @@ class RbfNlp : public Ipopt::TNLP {
   }
 
   Eigen::MatrixXd jacobian(const Number* x) const {
-    const Eigen::Index n = p_.size();
-    Eigen::MatrixXd jac(n, m_ * block_);
+    const Eigen::Index n = p_.size(), params = m_ * block_;
+    Eigen::MatrixXd jac(n, params);
+    Eigen::VectorXd row(params);
     for (Eigen::Index i = 0; i < n; ++i) {
-      for (Eigen::Index j = 0; j < m_; ++j) {
-        const Number* b = x + j * block_;
-        double z = 0.0;
-        for (Eigen::Index k = 0; k < d_; ++k) {
-          const double uk = (p_.x(i, k) - b[k]) / std::exp(b[d_ + k]);
-          z += uk * uk;
-        }
-        const double ph = std::exp(-z), w = b[2 * d_];
-        for (Eigen::Index k = 0; k < d_; ++k) {
-          const double r = std::exp(b[d_ + k]), uk = (p_.x(i, k) - b[k]) / r;
-          jac(i, j * block_ + k) = w * ph * 2.0 * uk / r;
-          jac(i, j * block_ + d_ + k) = w * ph * 2.0 * uk * uk;
-        }
-        jac(i, j * block_ + 2 * d_) = ph;
-      }
+      output_at(i, x, row.data());
+      jac.row(i) = row.transpose();
     }
     return jac;
   }
