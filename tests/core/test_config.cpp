@@ -3,20 +3,14 @@
 
 #include "core/config.h"
 #include "core/error.h"
+#include "error_of.h"
 
 namespace gyrosid {
 namespace {
 
 using ::testing::HasSubstr;
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using testing_support::error_of;
 
 const char* kYaml =
     "name: test\n"

@@ -9,6 +9,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/recording.h"
+#include "error_of.h"
 
 namespace gyrosid {
 namespace {
@@ -16,12 +17,7 @@ namespace {
 using ::testing::HasSubstr;
 
 std::string error_of(const std::string& text, const std::string& source = "rec.csv") {
-  try {
-    parse_recording(text, source);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return testing_support::error_of([&] { parse_recording(text, source); });
 }
 
 // The example of RECORDING_FORMAT.md, verbatim.

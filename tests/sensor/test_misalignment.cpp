@@ -40,7 +40,9 @@ TEST(Misalignment, ExactChainAgreesWithEquation372ToSecondOrder) {
   for (double eps : {4e-3, 2e-3, 1e-3, 5e-4}) {
     const double err = (measurement_matrix(scaled(eps)) - measurement_matrix_small_angle(scaled(eps))).cwiseAbs().maxCoeff();
     EXPECT_LT(err, 2.0 * eps * eps) << "eps " << eps;
-    if (previous > 0) EXPECT_NEAR(previous / err, 4.0, 0.1);
+    if (previous > 0) {
+      EXPECT_NEAR(previous / err, 4.0, 0.1);
+    }
     previous = err;
     // And the first-order terms are really there: M_small - I is of order eps.
     EXPECT_GT((measurement_matrix_small_angle(scaled(eps)) - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 0.5 * eps);

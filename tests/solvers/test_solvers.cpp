@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "solvers/ols/forward_selection.h"
 #include "solvers/solver.h"
+#include "error_of.h"
 
 namespace gyrosid {
 namespace {
@@ -83,7 +84,9 @@ void expect_planted_nodes(const RbfNetwork& net, double tolerance) {
     EXPECT_TRUE(found) << "planted node " << j << " not recovered";
   }
   for (Eigen::Index n = 0; n < net.nodes(); ++n) {
-    if (!matched[static_cast<std::size_t>(n)]) EXPECT_NEAR(net.weights(n), 0.0, tolerance);
+    if (!matched[static_cast<std::size_t>(n)]) {
+      EXPECT_NEAR(net.weights(n), 0.0, tolerance);
+    }
   }
 }
 
@@ -201,14 +204,7 @@ TEST(Solvers, RecursiveLeaveOneOutEqualsBruteForceRefits) {
   }
 }
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using testing_support::error_of;
 
 TEST(Solvers, InvalidOptionsAreRejectedWithTheOptionAndItsRange) {
   EXPECT_THAT(error_of([] { make_solver("ols", {{"widht", "0.3"}}); }), HasSubstr("unknown option 'widht'; known: criterion, width"));
