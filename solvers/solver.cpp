@@ -1,7 +1,5 @@
 #include "solvers/solver.h"
 
-#include <sys/resource.h>
-
 #include <cmath>
 
 #include "core/error.h"
@@ -37,12 +35,6 @@ nlohmann::json SolverSummary::to_json() const {
   return {{"solver", solver},   {"termination", termination}, {"iterations", iterations},
           {"cost_history", cost_history}, {"nodes", nodes}, {"time_s", time_s},
           {"peak_rss_mb", peak_rss_mb}, {"details", details}};
-}
-
-double peak_rss_mb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux reports KiB
 }
 
 std::vector<std::string> solver_names() { return {"ols", "lrols_loo", "ofs_loo", "ceres", "nlopt", "ipopt"}; }

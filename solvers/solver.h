@@ -17,6 +17,7 @@
 
 #include "model/dataset.h"
 #include "model/normalizer.h"
+#include "core/solve_summary.h"
 #include "model/rbf_network.h"
 #include "solvers/common/options.h"
 
@@ -63,8 +64,5 @@ class RbfSolver {
 std::unique_ptr<RbfSolver> make_solver(const std::string& name, const OptionMap& options);
 std::vector<std::string> solver_names();
 std::string solver_help(const std::string& name);  // the solver's options with defaults, ranges, meanings
-
-// Peak resident memory of this process so far, MB (getrusage).
-double peak_rss_mb();
 
 }  // namespace gyrosid
