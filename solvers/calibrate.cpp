@@ -77,17 +77,17 @@ CalibrationResult calibrate(const Recording& recording, const CalibrationRequest
     classical_table(o).apply(r.options);
     const auto features = r.features.empty() ? default_features() : r.features;
     const Dataset data = make_dataset(recording, features, ModelTarget::error);
-    ClassicalFitSummary s;
-    result.model = fit_classical(data, o, &s);
-    result.summary = s.to_json();
+    result.model = fit_classical(data, o, &result.summary);
     result.training = request_json(r, features);
   } else if (r.model == "greybox") {
     const GreyboxOptions o = greybox_options(r.options);
     const auto features = r.features.empty() ? greybox_features(o) : r.features;
     const Dataset data = make_dataset(recording, features, ModelTarget::error);
-    GreyboxFitSummary s;
-    result.model = fit_greybox(data, o, &s);
-    result.summary = s.to_json();
+    result.summary = timed_solve("greybox", [&](SolveMonitor&) {
+      GreyboxFitSummary s;
+      result.model = fit_greybox(data, o, &s);
+      return SolveOutcome{Termination::converged, "", s.to_json()};  // (the fit's own termination: issue 14, explain stream)
+    });
     result.training = request_json(r, features);
   } else if (r.model == "rbf") {
     const auto features = r.features.empty() ? default_features() : r.features;
@@ -95,10 +95,9 @@ CalibrationResult calibrate(const Recording& recording, const CalibrationRequest
     auto solver = make_solver(r.solver, r.options);
     const RbfProblem problem = make_rbf_problem(data, r.normalization);
     auto net = std::make_unique<RbfNetwork>(problem.empty_network());
-    SolverSummary s = solver->train(problem, *net);
+    result.summary = train(*solver, problem, *net);
     problem.unscale(*net);
     result.model = std::move(net);
-    result.summary = s.to_json();
     result.training = request_json(r, features);
   } else {
     fail("unknown model '", r.model, "'; known: rbf, classical, greybox");

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/recording.h"
+#include "core/solve_summary.h"
 #include "model/calibration_model.h"
 #include "model/normalizer.h"
 #include "solvers/common/options.h"
@@ -26,7 +27,7 @@ struct CalibrationRequest {
 
 struct CalibrationResult {
   std::unique_ptr<CalibrationModel> model;
-  nlohmann::json summary;   // termination, iterations, cost history, nodes, time, peak memory, ...
+  SolveSummary summary;     // termination, iterations, cost history, time, peak memory; details (nodes, ...)
   nlohmann::json training;  // provenance: recording, samples, request
 };
 

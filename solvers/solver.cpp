@@ -31,34 +31,28 @@ RbfProblem make_rbf_problem(const Dataset& data, NormalizationKind normalization
   return p;
 }
 
-nlohmann::json SolverSummary::to_json() const {
-  return {{"solver", solver},   {"termination", termination}, {"iterations", iterations},
-          {"cost_history", cost_history}, {"nodes", nodes}, {"time_s", time_s},
-          {"peak_rss_mb", peak_rss_mb}, {"details", details}};
+SolveSummary train(RbfSolver& solver, const RbfProblem& problem, RbfNetwork& net) {
+  SolveSummary s = timed_solve(std::string(solver.name()), [&](SolveMonitor& monitor) { return solver.fit(problem, net, monitor); });
+  s.details["nodes"] = net.nodes();
+  return s;
 }
 
-std::vector<std::string> solver_names() { return {"ols", "lrols_loo", "ofs_loo", "ceres", "nlopt", "ipopt"}; }
-
-std::unique_ptr<RbfSolver> make_solver(const std::string& name, const OptionMap& options) {
-  if (name == "ols") return std::make_unique<OlsSolver>(options);
-  if (name == "lrols_loo") return std::make_unique<LrolsLooSolver>(options);
-  if (name == "ofs_loo") return std::make_unique<OfsLooSolver>(options);
-  if (name == "ceres") return std::make_unique<CeresRbfSolver>(options);
-  if (name == "nlopt") return std::make_unique<NloptRbfSolver>(options);
-  if (name == "ipopt") return std::make_unique<IpoptRbfSolver>(options);
-  std::string known;
-  for (const auto& n : solver_names()) known += (known.empty() ? "" : ", ") + n;
-  fail("unknown solver '", name, "'; known: ", known);
+const RbfSolverRegistry& rbf_solvers() {
+  static const RbfSolverRegistry registry = [] {
+    RbfSolverRegistry r("solver");
+    r.add(solver_entry<OlsSolver>("ols", "orthogonal least-squares forward selection (Chen 1991) with Orr's regularisation"))
+        .add(solver_entry<LrolsLooSolver>("lrols_loo", "locally regularised OLS with leave-one-out selection (Chen et al. 2004)"))
+        .add(solver_entry<OfsLooSolver>("ofs_loo", "orthogonal forward selection of tunable nodes by leave-one-out (Chen et al. 2009)"))
+        .add(solver_entry<CeresRbfSolver>("ceres", "joint Levenberg-Marquardt over centres, log-widths and weights (Ceres Solver)"))
+        .add(solver_entry<NloptRbfSolver>("nlopt", "widths and ridge tuned by NLopt on the LOO/GCV error of the inner OLS fit"))
+        .add(solver_entry<IpoptRbfSolver>("ipopt", "bounded/constrained joint optimisation with a node budget (Ipopt)"));
+    return r;
+  }();
+  return registry;
 }
 
-std::string solver_help(const std::string& name) {
-  if (name == "ols") return OlsSolver::help();
-  if (name == "lrols_loo") return LrolsLooSolver::help();
-  if (name == "ofs_loo") return OfsLooSolver::help();
-  if (name == "ceres") return CeresRbfSolver::help();
-  if (name == "nlopt") return NloptRbfSolver::help();
-  if (name == "ipopt") return IpoptRbfSolver::help();
-  fail("unknown solver '", name, "'");
-}
+std::unique_ptr<RbfSolver> make_solver(const std::string& name, const OptionMap& options) { return rbf_solvers().make(name, options); }
+std::vector<std::string> solver_names() { return rbf_solvers().names(); }
+std::string solver_help(const std::string& name) { return rbf_solvers().at(name).help(); }
 
 }  // namespace gyrosid

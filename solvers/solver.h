@@ -1,23 +1,27 @@
-// One interface for every RBF training back-end (solvers/<name>/), chosen by name, compared on equal terms.
+// One interface for every RBF training back-end (solvers/<name>/), chosen by name from one registry and
+// compared on equal terms:
 //
-//   auto solver = make_solver("ols", {{"criterion", "bic"}, {"width", "0.3"}});
-//   RbfNetwork net = ...;  SolverSummary s = solver->train(problem, net);
+//   auto solver = make_solver("ols", {{"criterion", "bic"}, {"width", "0.3"}});   // options validated here
+//   RbfNetwork net = problem.empty_network();
+//   SolveSummary s = train(*solver, problem, net);          // time, peak memory, cost history recorded
 //
-// Every solve returns a SolverSummary (termination, iterations, cost history, nodes, time) that is written
-// with the model.
+// A solver's options are a struct with defaults, an OptionTable binding their key=value names, and
+// validate() for what the table's ranges cannot say (cross-field rules); make_solver checks both before any
+// solve. Every solve returns the shared SolveSummary (core/solve_summary.h); details["nodes"] is the size of
+// the fitted network.
 #pragma once
 
 #include <Eigen/Core>
-#include <nlohmann/json.hpp>
 
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "core/registry.h"
+#include "core/solve_summary.h"
 #include "model/dataset.h"
 #include "model/normalizer.h"
-#include "core/solve_summary.h"
 #include "model/rbf_network.h"
 #include "solvers/common/options.h"
 
@@ -41,28 +45,41 @@ struct RbfProblem {
 
 RbfProblem make_rbf_problem(const Dataset& data, NormalizationKind normalization);
 
-struct SolverSummary {
-  std::string solver;
-  std::string termination;
-  int iterations = 0;
-  std::vector<double> cost_history;  // per selection step (criterion) or per iteration (cost)
-  int nodes = 0;
-  double time_s = 0.0;
-  double peak_rss_mb = 0.0;
-  nlohmann::json details = nlohmann::json::object();
-  nlohmann::json to_json() const;
-};
-
 class RbfSolver {
  public:
   virtual ~RbfSolver() = default;
   virtual std::string_view name() const = 0;
-  // Fits `net` to the problem (net arrives empty, with the problem's normaliser).
-  virtual SolverSummary train(const RbfProblem& problem, RbfNetwork& net) = 0;
+  // Fits `net` (it arrives empty, with the problem's normaliser), reporting each iteration of the solver's
+  // outer loop to the monitor.
+  virtual SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) = 0;
 };
+
+// Runs the solver through timed_solve; the summary's details gain "nodes".
+SolveSummary train(RbfSolver& solver, const RbfProblem& problem, RbfNetwork& net);
+
+using RbfSolverRegistry = Registry<RbfSolver, const OptionMap&>;
+// Every RBF solver, in the order listings show them.
+const RbfSolverRegistry& rbf_solvers();
 
 std::unique_ptr<RbfSolver> make_solver(const std::string& name, const OptionMap& options);
 std::vector<std::string> solver_names();
 std::string solver_help(const std::string& name);  // the solver's options with defaults, ranges, meanings
+
+// A registry entry for a solver class S with `using Options = ...;` (defaults, table(), validate()) and a
+// constructor S(Options). Options are applied and validated when the solver is made.
+template <typename S>
+RbfSolverRegistry::Entry solver_entry(std::string name, std::string summary) {
+  return {name, summary,
+          [name, summary] {
+            typename S::Options o;
+            return name + " - " + summary + ":\n" + o.table().help();
+          },
+          [name](const OptionMap& map) -> std::unique_ptr<RbfSolver> {
+            typename S::Options o;
+            o.table().apply(map);
+            if (const std::string problem = o.validate(); !problem.empty()) fail(name, ": ", problem);
+            return std::make_unique<S>(std::move(o));
+          }};
+}
 
 }  // namespace gyrosid

@@ -5,12 +5,12 @@
 
 #include <Eigen/Dense>
 
-#include <chrono>
 #include <cmath>
 
 #include "core/error.h"
 #include "core/parallel.h"
 #include "solvers/ceres/gaussian_sum_cost.h"
+#include "solvers/common/terminations.h"
 
 namespace gyrosid {
 
@@ -27,21 +27,35 @@ OptionTable CeresOptions::table() {
       .real("function_tolerance", &function_tolerance, 0.0, 1.0, "relative cost change to stop")
       .real("gradient_tolerance", &gradient_tolerance, 0.0, 1.0, "gradient norm to stop")
       .real("parameter_tolerance", &parameter_tolerance, 0.0, 1.0, "relative step to stop")
-      .integer("chunk", &chunk, 1, 100000, "samples per residual block");
+      .integer("chunk", &chunk, 1, 100000, "samples per residual block")
+      .passthrough("init.", &init_options, "an option of the init solver");
   return t;
 }
 
-CeresRbfSolver::CeresRbfSolver(const OptionMap& options) { init_options_ = options_.table().apply(options, "init."); }
-
-std::string CeresRbfSolver::help() {
-  CeresOptions o;
-  return "ceres - joint Levenberg-Marquardt over centres, log-widths and weights (Ceres Solver):\n" + o.table().help();
+std::string check_init(const std::string& init, const OptionMap& init_options) {
+  try {
+    make_solver(init, init_options);
+  } catch (const Error& e) {
+    return str_cat("init solver: ", e.what());
+  }
+  return "";
 }
 
-SolverSummary initial_network(const std::string& init, const OptionMap& init_options, const RbfProblem& problem,
-                              RbfNetwork& net) {
+std::string CeresOptions::validate() const {
+  if (covariance && variable_projection) {
+    return "covariance=true is not available with variable_projection=true (the weights are not iterated); "
+           "drop one of them";
+  }
+  if (truncation != CeresOptions{}.truncation && linear_solver != "sparse_cholesky") {
+    return "truncation applies only to linear_solver=sparse_cholesky";
+  }
+  return check_init(init, init_options);
+}
+
+SolveSummary initial_network(const std::string& init, const OptionMap& init_options, const RbfProblem& problem,
+                             RbfNetwork& net) {
   auto solver = make_solver(init, init_options);
-  return solver->train(problem, net);
+  return train(*solver, problem, net);
 }
 
 namespace {
@@ -62,7 +76,8 @@ ceres::Solver::Options solver_options(const CeresOptions& o) {
 }
 
 // Variable projection: residual (N + m) = [y; 0] - [Phi; sqrt(lambda) I] a(theta), a the ridge solution,
-// over the node blocks [c, rho] only. Kaufman's approximation of the Jacobian: J_p = -P_perp dPhi/dtheta_p a.
+// over the node blocks [c, rho] only (the first 2d entries of each NodeBlock). Kaufman's approximation of
+// the Jacobian: J_p = -P_perp dPhi/dtheta_p a.
 class VarProCost : public ceres::CostFunction {
  public:
   VarProCost(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, int nodes, double lambda)
@@ -79,17 +94,12 @@ class VarProCost : public ceres::CostFunction {
   };
   Linear solve(double const* const* p) const {
     const Eigen::Index n = x_.rows(), m = nodes_;
+    Eigen::MatrixXd centres(m, dim_), widths(m, dim_);
+    for (int j = 0; j < nodes_; ++j) {
+      for (int k = 0; k < dim_; ++k) centres(j, k) = p[j][k], widths(j, k) = std::exp(p[j][dim_ + k]);
+    }
     Linear l;
-    l.phi.resize(n, m);
-    for (int j = 0; j < nodes_; ++j)
-      for (Eigen::Index i = 0; i < n; ++i) {
-        double z = 0.0;
-        for (int k = 0; k < dim_; ++k) {
-          const double u = (x_(i, k) - p[j][k]) / std::exp(p[j][dim_ + k]);
-          z += u * u;
-        }
-        l.phi(i, j) = std::exp(-z);
-      }
+    l.phi = gaussian_columns(x_, centres, widths);
     Eigen::MatrixXd aug(n + m, m);
     aug.topRows(n) = l.phi;
     aug.bottomRows(m) = sqrt_lambda_ * Eigen::MatrixXd::Identity(m, m);
@@ -109,21 +119,22 @@ class VarProCost : public ceres::CostFunction {
     r.tail(m) = sqrt_lambda_ * l.a;
     if (!jacobians) return true;
     const int block = 2 * dim_;
-    Eigen::VectorXd v(n + m);
+    // d(Phi a)/dtheta for node j is a_j times the gradient of phi_j: node_output on the block with weight 1.
+    Eigen::MatrixXd dphi_a(n + m, block);
+    std::vector<double> node(static_cast<std::size_t>(NodeBlock<double>::size(dim_))), grad(node.size());
+    std::vector<double> row(static_cast<std::size_t>(dim_));
     for (int j = 0; j < nodes_; ++j) {
       if (!jacobians[j]) continue;
-      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jac(jacobians[j], n + m, block);
-      for (int c = 0; c < block; ++c) {
-        v.setZero();
-        const int k = c % dim_;
-        const double rk = std::exp(p[j][dim_ + k]);
-        for (Eigen::Index i = 0; i < n; ++i) {
-          const double u = (x_(i, k) - p[j][k]) / rk;
-          const double dphi = c < dim_ ? l.phi(i, j) * 2.0 * u / rk : l.phi(i, j) * 2.0 * u * u;
-          v(i) = dphi * l.a(j);
-        }
-        jac.col(c) = v - l.q1 * (l.q1.transpose() * v);  // residual derivative: +P_perp dPhi a
+      std::copy(p[j], p[j] + block, node.begin());
+      node.back() = 1.0;
+      dphi_a.setZero();
+      for (Eigen::Index i = 0; i < n; ++i) {
+        for (int k = 0; k < dim_; ++k) row[static_cast<std::size_t>(k)] = x_(i, k);
+        node_output(row.data(), {node.data(), dim_}, grad.data());
+        for (int c = 0; c < block; ++c) dphi_a(i, c) = grad[static_cast<std::size_t>(c)] * l.a(j);
       }
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jac(jacobians[j], n + m, block);
+      jac = dphi_a - l.q1 * (l.q1.transpose() * dphi_a);  // residual derivative: +P_perp dPhi a
     }
     return true;
   }
@@ -135,132 +146,136 @@ class VarProCost : public ceres::CostFunction {
   double sqrt_lambda_;
 };
 
+// Reports every Levenberg-Marquardt iteration's cost to the monitor.
+class MonitorCallback : public ceres::IterationCallback {
+ public:
+  explicit MonitorCallback(SolveMonitor& monitor) : monitor_(monitor) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    monitor_.iteration(s.cost);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  SolveMonitor& monitor_;
+};
+
+// Whether node j is seen above the truncation by any sample of rows [begin, begin + len) (at twice its
+// width: a margin for centres and widths to move during the solve).
+bool node_near_chunk(const RbfProblem& problem, const RbfNetwork& net, Eigen::Index j, Eigen::Index begin, Eigen::Index len,
+                     double truncation) {
+  const Eigen::RowVectorXd wide = 2.0 * net.widths.row(j);
+  const Eigen::RowVectorXd c = net.centres.row(j);
+  for (Eigen::Index i = begin; i < begin + len; ++i) {
+    const Eigen::RowVectorXd xi = problem.x.row(i);
+    if (-std::log(gaussian(xi.data(), c.data(), wide.data(), xi.size())) < truncation) return true;
+  }
+  return false;
+}
+
+// The packed blocks, one per node (NodeBlock layout), and the optional constant.
+struct PackedNetwork {
+  std::vector<std::vector<double>> nodes;
+  double bias = 0.0;
+  explicit PackedNetwork(const RbfNetwork& net) : bias(net.bias) {
+    const auto size = static_cast<std::size_t>(NodeBlock<double>::size(net.dimension()));
+    for (Eigen::Index j = 0; j < net.nodes(); ++j) {
+      nodes.emplace_back(size);
+      net.pack_node(j, nodes.back().data());
+    }
+  }
+  void unpack(RbfNetwork& net, bool with_bias) const {
+    for (Eigen::Index j = 0; j < net.nodes(); ++j) net.unpack_node(j, nodes[static_cast<std::size_t>(j)].data());
+    net.bias = with_bias ? bias : 0.0;
+  }
+};
+
+// Residual blocks of chunks of samples over the nodes each chunk sees (all, unless sparse), plus the ridge.
+void add_sample_blocks(const CeresOptions& o, const RbfProblem& problem, const RbfNetwork& net, PackedNetwork& packed,
+                       const Baseline* constant, ceres::Problem& cp) {
+  const bool sparse = o.linear_solver == "sparse_cholesky";
+  for (Eigen::Index begin = 0; begin < problem.size(); begin += o.chunk) {
+    const Eigen::Index len = std::min<Eigen::Index>(o.chunk, problem.size() - begin);
+    std::vector<double*> blocks;
+    for (Eigen::Index j = 0; j < net.nodes(); ++j) {
+      if (sparse && !node_near_chunk(problem, net, j, begin, len, o.truncation)) continue;
+      blocks.push_back(packed.nodes[static_cast<std::size_t>(j)].data());
+    }
+    if (constant) blocks.push_back(&packed.bias);
+    const int nodes_here = static_cast<int>(blocks.size()) - (constant ? 1 : 0);
+    cp.AddResidualBlock(new GaussianSumCost(problem.x.middleRows(begin, len), problem.y.segment(begin, len), nodes_here, constant),
+                        nullptr, blocks);
+  }
+  if (o.lambda > 0) {
+    const int block = static_cast<int>(NodeBlock<double>::size(problem.dimension()));
+    for (auto& b : packed.nodes) cp.AddResidualBlock(new WeightPrior(block, std::sqrt(o.lambda)), nullptr, b.data());
+  }
+}
+
+// Standard deviations of every node's parameters from ceres::Covariance, scaled by the residual variance.
+nlohmann::json parameter_sigmas(PackedNetwork& packed, ceres::Problem& cp, double final_cost, Eigen::Index n) {
+  ceres::Covariance::Options co;
+  co.algorithm_type = ceres::DENSE_SVD;
+  co.null_space_rank = -1;
+  co.min_reciprocal_condition_number = 1e-14;
+  ceres::Covariance covariance(co);
+  std::vector<std::pair<const double*, const double*>> pairs;
+  for (auto& b : packed.nodes) pairs.emplace_back(b.data(), b.data());
+  if (!covariance.Compute(pairs, &cp)) return {{"parameter_sigma", "rank-deficient Jacobian: covariance not computable"}};
+  const auto block = static_cast<int>(packed.nodes.empty() ? 0 : packed.nodes.front().size());
+  const double params = static_cast<double>(packed.nodes.size()) * block;
+  const double sigma2 = 2.0 * final_cost / std::max(1.0, static_cast<double>(n) - params);  // residual variance
+  nlohmann::json sig = nlohmann::json::array();
+  std::vector<double> cov(static_cast<std::size_t>(block * block));
+  for (auto& b : packed.nodes) {
+    covariance.GetCovarianceBlock(b.data(), b.data(), cov.data());
+    std::vector<double> sd(static_cast<std::size_t>(block));
+    for (int k = 0; k < block; ++k) sd[static_cast<std::size_t>(k)] = std::sqrt(std::max(0.0, sigma2 * cov[static_cast<std::size_t>(k * block + k)]));
+    sig.push_back(sd);
+  }
+  return {{"parameter_sigma", sig}, {"residual_sigma", std::sqrt(sigma2)}};
+}
+
 }  // namespace
 
-SolverSummary CeresRbfSolver::train(const RbfProblem& problem, RbfNetwork& net) {
-  const auto start = std::chrono::steady_clock::now();
+SolveOutcome CeresRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) {
   const CeresOptions& o = options_;
-  const SolverSummary init = initial_network(o.init, init_options_, problem, net);
-  const Eigen::Index n = problem.size(), m = net.nodes(), d = problem.dimension();
-  const int block = static_cast<int>(2 * d + 1);
-
-  // Parameter blocks [c, log r, w] per node (+ bias).
-  std::vector<std::vector<double>> params(static_cast<std::size_t>(m), std::vector<double>(static_cast<std::size_t>(block)));
-  for (Eigen::Index j = 0; j < m; ++j) {
-    auto& b = params[static_cast<std::size_t>(j)];
-    for (Eigen::Index k = 0; k < d; ++k) {
-      b[static_cast<std::size_t>(k)] = net.centres(j, k);
-      b[static_cast<std::size_t>(d + k)] = std::log(net.widths(j, k));
-    }
-    b[static_cast<std::size_t>(2 * d)] = net.weights(j);
-  }
-  double bias = net.bias;
-  Baseline constant{1, [](const double*, const double* beta, double* g) {
-                      if (g) g[0] = 1.0;
-                      return beta[0];
-                    }};
-
-  ceres::Problem::Options problem_options;
-  ceres::Problem ceres_problem(problem_options);
+  const SolveSummary init = initial_network(o.init, o.init_options, problem, net);
+  PackedNetwork packed(net);
+  const Baseline constant{1, [](const double*, const double* beta, double* g) {
+                            if (g) g[0] = 1.0;
+                            return beta[0];
+                          }};
+  MonitorCallback callback(monitor);
+  ceres::Solver::Options solve_options = solver_options(o);
+  solve_options.callbacks.push_back(&callback);
+  ceres::Problem cp;
   ceres::Solver::Summary summary;
-  const ceres::Solver::Options solve_options = solver_options(o);
   if (o.variable_projection) {
-    // Only [c, log r] are iterated; the block layout keeps w last, so pass the first 2d entries.
     std::vector<double*> blocks;
-    for (auto& b : params) blocks.push_back(b.data());
-    auto* cost = new VarProCost(problem.x, problem.y, static_cast<int>(m), o.lambda);
-    ceres_problem.AddResidualBlock(cost, nullptr, blocks);
-    ceres::Solve(solve_options, &ceres_problem, &summary);
+    for (auto& b : packed.nodes) blocks.push_back(b.data());
+    auto* cost = new VarProCost(problem.x, problem.y, static_cast<int>(net.nodes()), o.lambda);
+    cp.AddResidualBlock(cost, nullptr, blocks);
+    ceres::Solve(solve_options, &cp, &summary);
     const VarProCost::Linear l = cost->solve(blocks.data());
-    for (Eigen::Index j = 0; j < m; ++j) params[static_cast<std::size_t>(j)][static_cast<std::size_t>(2 * d)] = l.a(j);
+    for (Eigen::Index j = 0; j < net.nodes(); ++j) NodeBlock<double>{packed.nodes[static_cast<std::size_t>(j)].data(), problem.dimension()}.weight() = l.a(j);
   } else {
-    const bool sparse = o.linear_solver == "sparse_cholesky";
-    for (Eigen::Index begin = 0; begin < n; begin += o.chunk) {
-      const Eigen::Index len = std::min<Eigen::Index>(o.chunk, n - begin);
-      std::vector<double*> blocks;
-      for (Eigen::Index j = 0; j < m; ++j) {
-        if (sparse) {
-          // Keep node j if any sample of the chunk sees it above the truncation (at 2x the width, a margin
-          // for the centres and widths to move during the solve).
-          bool near = false;
-          for (Eigen::Index i = begin; i < begin + len && !near; ++i) {
-            double z = 0.0;
-            for (Eigen::Index k = 0; k < d; ++k) {
-              const double u = (problem.x(i, k) - net.centres(j, k)) / (2.0 * net.widths(j, k));
-              z += u * u;
-            }
-            near = z < o.truncation;
-          }
-          if (!near) continue;
-        }
-        blocks.push_back(params[static_cast<std::size_t>(j)].data());
-      }
-      if (o.bias) blocks.push_back(&bias);
-      const int nodes_here = static_cast<int>(blocks.size()) - (o.bias ? 1 : 0);
-      ceres_problem.AddResidualBlock(
-          new GaussianSumCost(problem.x.middleRows(begin, len), problem.y.segment(begin, len), nodes_here, o.bias ? &constant : nullptr),
-          nullptr, blocks);
-    }
-    if (o.lambda > 0) {
-      for (auto& b : params) ceres_problem.AddResidualBlock(new WeightPrior(block, std::sqrt(o.lambda)), nullptr, b.data());
-    }
-    ceres::Solve(solve_options, &ceres_problem, &summary);
+    add_sample_blocks(o, problem, net, packed, o.bias ? &constant : nullptr, cp);
+    ceres::Solve(solve_options, &cp, &summary);
   }
+  packed.unpack(net, o.bias);
+  monitor.evaluation(summary.num_residual_evaluations);
 
-  for (Eigen::Index j = 0; j < m; ++j) {
-    const auto& b = params[static_cast<std::size_t>(j)];
-    for (Eigen::Index k = 0; k < d; ++k) {
-      net.centres(j, k) = b[static_cast<std::size_t>(k)];
-      net.widths(j, k) = std::exp(b[static_cast<std::size_t>(d + k)]);
-    }
-    net.weights(j) = b[static_cast<std::size_t>(2 * d)];
-  }
-  net.bias = o.bias ? bias : 0.0;
-
-  SolverSummary s;
-  s.solver = "ceres";
-  s.termination = ceres::TerminationTypeToString(summary.termination_type);
-  s.iterations = static_cast<int>(summary.iterations.size());
-  for (const auto& it : summary.iterations) s.cost_history.push_back(it.cost);
-  s.nodes = static_cast<int>(m);
-  s.details = {{"init", init.to_json()},
-               {"initial_cost", summary.initial_cost},
-               {"final_cost", summary.final_cost},
-               {"linear_solver", o.linear_solver},
-               {"variable_projection", o.variable_projection},
-               {"message", summary.message},
-               {"residual_blocks", summary.num_residual_blocks},
-               {"jacobian_seconds", summary.jacobian_evaluation_time_in_seconds},
-               {"linear_solver_seconds", summary.linear_solver_time_in_seconds}};
-
-  if (o.covariance && !o.variable_projection) {
-    ceres::Covariance::Options co;
-    co.algorithm_type = ceres::DENSE_SVD;
-    co.null_space_rank = -1;
-    co.min_reciprocal_condition_number = 1e-14;
-    ceres::Covariance covariance(co);
-    std::vector<std::pair<const double*, const double*>> pairs;
-    for (auto& b : params) pairs.emplace_back(b.data(), b.data());
-    if (covariance.Compute(pairs, &ceres_problem)) {
-      const double dof = std::max<double>(1.0, static_cast<double>(n) - static_cast<double>(m * block));
-      const double sigma2 = 2.0 * summary.final_cost / dof;  // residual variance (scaled target units)
-      nlohmann::json sig = nlohmann::json::array();
-      std::vector<double> cov(static_cast<std::size_t>(block * block));
-      for (auto& b : params) {
-        covariance.GetCovarianceBlock(b.data(), b.data(), cov.data());
-        std::vector<double> sd(static_cast<std::size_t>(block));
-        for (int k = 0; k < block; ++k) sd[static_cast<std::size_t>(k)] = std::sqrt(std::max(0.0, sigma2 * cov[static_cast<std::size_t>(k * block + k)]));
-        sig.push_back(sd);
-      }
-      s.details["parameter_sigma"] = sig;  // per node: centre, log width, weight (weights in target units)
-      s.details["residual_sigma"] = std::sqrt(sigma2);
-    } else {
-      s.details["parameter_sigma"] = "rank-deficient Jacobian: covariance not computable";
-    }
-  }
-  s.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  s.peak_rss_mb = peak_rss_mb();
-  return s;
+  SolveOutcome out{termination_of(summary.termination_type), summary.message,
+                   {{"init", init},
+                    {"initial_cost", summary.initial_cost},
+                    {"final_cost", summary.final_cost},
+                    {"linear_solver", o.linear_solver},
+                    {"variable_projection", o.variable_projection},
+                    {"residual_blocks", summary.num_residual_blocks},
+                    {"jacobian_seconds", summary.jacobian_evaluation_time_in_seconds},
+                    {"linear_solver_seconds", summary.linear_solver_time_in_seconds}}};
+  if (o.covariance) out.details.update(parameter_sigmas(packed, cp, summary.final_cost, problem.size()));
+  return out;
 }
 
 }  // namespace gyrosid

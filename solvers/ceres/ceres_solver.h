@@ -6,6 +6,7 @@
 // truncated (exp(-z) taken as 0 beyond z = truncation, chunks of samples then touch only nearby nodes).
 // Variable projection (Golub-Pereyra with Kaufman's Jacobian): the weights are solved linearly inside each
 // evaluation and only centres and widths are iterated. Parameter covariance on request (ceres::Covariance).
+// An iteration is one Levenberg-Marquardt step (Ceres's IterationSummary); its cost is Ceres's 1/2 |r|^2.
 #pragma once
 
 #include "solvers/solver.h"
@@ -14,6 +15,7 @@ namespace gyrosid {
 
 struct CeresOptions {
   std::string init = "ols";
+  OptionMap init_options;      // init.<key>=<value>
   int max_iterations = 100;
   std::string linear_solver = "dense_qr";  // dense_qr | sparse_cholesky
   bool variable_projection = false;
@@ -26,22 +28,25 @@ struct CeresOptions {
   double parameter_tolerance = 1e-10;
   int chunk = 16;              // samples per residual block
   OptionTable table();
+  std::string validate() const;
 };
 
 class CeresRbfSolver : public RbfSolver {
  public:
-  explicit CeresRbfSolver(const OptionMap& options);
+  using Options = CeresOptions;
+  explicit CeresRbfSolver(Options options) : options_(std::move(options)) {}
   std::string_view name() const override { return "ceres"; }
-  SolverSummary train(const RbfProblem& problem, RbfNetwork& net) override;
-  static std::string help();
+  SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
 
  private:
-  CeresOptions options_;
-  OptionMap init_options_;
+  Options options_;
 };
 
-// Runs the `init` solver named in options, with its own options, on the problem (shared by ceres, ipopt).
-SolverSummary initial_network(const std::string& init, const OptionMap& init_options, const RbfProblem& problem,
-                              RbfNetwork& net);
+// Trains `net` with the `init` solver and its own options (shared by ceres and ipopt); the init options are
+// validated like any solver's. Returns the init solve's summary.
+SolveSummary initial_network(const std::string& init, const OptionMap& init_options, const RbfProblem& problem,
+                             RbfNetwork& net);
+// Validates an init solver name and its options without solving (for validate()); "" when valid.
+std::string check_init(const std::string& init, const OptionMap& init_options);
 
 }  // namespace gyrosid

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "model/gaussian_node.h"
+
 namespace gyrosid {
 
 GaussianSumCost::GaussianSumCost(Eigen::MatrixXd x, Eigen::VectorXd y, int node_count, const Baseline* baseline)
@@ -13,8 +15,8 @@ GaussianSumCost::GaussianSumCost(Eigen::MatrixXd x, Eigen::VectorXd y, int node_
 }
 
 bool GaussianSumCost::Evaluate(double const* const* p, double* residuals, double** jacobians) const {
-  const int n = static_cast<int>(y_.size()), d = dim_, block = 2 * d + 1;
-  std::vector<double> row(static_cast<std::size_t>(d)), u(static_cast<std::size_t>(d)), grad;
+  const int n = static_cast<int>(y_.size()), d = dim_, block = static_cast<int>(NodeBlock<double>::size(d));
+  std::vector<double> row(static_cast<std::size_t>(d)), grad;
   if (baseline_) grad.resize(static_cast<std::size_t>(baseline_->parameters));
   for (int i = 0; i < n; ++i) {
     for (int k = 0; k < d; ++k) row[static_cast<std::size_t>(k)] = x_(i, k);
@@ -27,26 +29,7 @@ bool GaussianSumCost::Evaluate(double const* const* p, double* residuals, double
       }
     }
     for (int j = 0; j < nodes_; ++j) {
-      const double* c = p[j];
-      const double* rho = p[j] + d;
-      const double w = p[j][2 * d];
-      double z = 0.0;
-      for (int k = 0; k < d; ++k) {
-        const double uk = (row[static_cast<std::size_t>(k)] - c[k]) / std::exp(rho[k]);
-        u[static_cast<std::size_t>(k)] = uk;
-        z += uk * uk;
-      }
-      const double phi = std::exp(-z);
-      f += w * phi;
-      if (jacobians && jacobians[j]) {
-        double* jr = jacobians[j] + i * block;
-        for (int k = 0; k < d; ++k) {
-          const double uk = u[static_cast<std::size_t>(k)];
-          jr[k] = w * phi * 2.0 * uk / std::exp(rho[k]);
-          jr[d + k] = w * phi * 2.0 * uk * uk;
-        }
-        jr[2 * d] = phi;
-      }
+      f += node_output(row.data(), {p[j], d}, jacobians && jacobians[j] ? jacobians[j] + i * block : nullptr);
     }
     residuals[i] = f;
   }

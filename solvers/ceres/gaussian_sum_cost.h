@@ -2,10 +2,9 @@
 //
 //   r_i = b(x_i; beta) + sum_{j in nodes} w_j exp(-sum_k ((x_ik - c_jk) / exp(rho_jk))^2) - y_i
 //
-// with one parameter block per node, [c_1..c_d, rho_1..rho_d, w] (rho = log width, so widths stay
-// positive), and an optional parametric baseline b with its own block (e.g. a constant, or the exponential
-// decay of NIST StRD Gauss1/2). Jacobians are analytic:
-//   dr/dw = phi,   dr/dc_k = w phi 2 u_k / r_k,   dr/drho_k = w phi 2 u_k^2,   u_k = (x_k - c_k) / r_k.
+// with one parameter block per node, [c_1..c_d, rho_1..rho_d, w] (model/gaussian_node.h: NodeBlock, rho =
+// log width), and an optional parametric baseline b with its own block (e.g. a constant, or the exponential
+// decay of NIST StRD Gauss1/2). Jacobians are analytic (node_output).
 // A chunk lists only the nodes it depends on, so truncated Gaussians give a sparse Jacobian.
 #pragma once
 
@@ -47,7 +46,7 @@ class WeightPrior : public ceres::CostFunction {
     mutable_parameter_block_sizes()->assign(1, block_size);
   }
   bool Evaluate(double const* const* p, double* r, double** j) const override {
-    r[0] = sqrt_lambda_ * p[0][block_size_ - 1];
+    r[0] = sqrt_lambda_ * p[0][block_size_ - 1];  // the weight is the block's last entry (NodeBlock)
     if (j && j[0]) {
       for (int k = 0; k < block_size_; ++k) j[0][k] = 0.0;
       j[0][block_size_ - 1] = sqrt_lambda_;

@@ -38,6 +38,12 @@ std::vector<Eigen::Index> select_candidates(const Eigen::MatrixXd& x, int count)
   return out;
 }
 
+Eigen::MatrixXd rows_of(const Eigen::MatrixXd& x, const std::vector<Eigen::Index>& rows) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), x.cols());
+  for (std::size_t j = 0; j < rows.size(); ++j) out.row(static_cast<Eigen::Index>(j)) = x.row(rows[j]);
+  return out;
+}
+
 Eigen::RowVectorXd node_widths(double width, const std::vector<double>& per_input, Eigen::Index d) {
   Eigen::RowVectorXd r = Eigen::RowVectorXd::Constant(d, width);
   if (!per_input.empty()) {

@@ -6,6 +6,9 @@
 
 #include <Eigen/Core>
 
+#include "model/gaussian_node.h"
+
+#include <string>
 #include <vector>
 
 namespace gyrosid {
@@ -13,6 +16,9 @@ namespace gyrosid {
 // Row indices of x (normalised inputs) to use as candidates; count <= 0 or >= N selects every distinct row.
 // Duplicate rows are never returned twice.
 std::vector<Eigen::Index> select_candidates(const Eigen::MatrixXd& x, int count);
+
+// The rows `rows` of x, as a matrix.
+Eigen::MatrixXd rows_of(const Eigen::MatrixXd& x, const std::vector<Eigen::Index>& rows);
 
 // Widths of every node: `width` for all inputs, or `per_input` when given (one per input).
 Eigen::RowVectorXd node_widths(double width, const std::vector<double>& per_input, Eigen::Index dimension);

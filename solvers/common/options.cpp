@@ -76,14 +76,21 @@ OptionTable& OptionTable::text(const std::string& key, std::string* field, std::
   return *this;
 }
 
-OptionMap OptionTable::apply(const OptionMap& options, const std::string& pass_prefix) const {
-  OptionMap passed;
+OptionTable& OptionTable::passthrough(const std::string& prefix, OptionMap* field, std::string help) {
+  passthroughs_.push_back({prefix, std::move(help), field});
+  return *this;
+}
+
+void OptionTable::apply(const OptionMap& options) const {
   for (const auto& [key, value] : options) {
-    if (!pass_prefix.empty() && key.rfind(pass_prefix, 0) == 0) {
-      passed[key.substr(pass_prefix.size())] = value;
-      continue;
-    }
     bool found = false;
+    for (const auto& p : passthroughs_) {
+      if (key.size() > p.prefix.size() && key.rfind(p.prefix, 0) == 0) {
+        (*p.field)[key.substr(p.prefix.size())] = value;
+        found = true;
+      }
+    }
+    if (found) continue;
     for (const auto& e : entries_) {
       if (e.key == key) {
         e.set(value);
@@ -93,15 +100,16 @@ OptionMap OptionTable::apply(const OptionMap& options, const std::string& pass_p
     if (!found) {
       std::string keys;
       for (const auto& e : entries_) keys += (keys.empty() ? "" : ", ") + e.key;
+      for (const auto& p : passthroughs_) keys += ", " + p.prefix + "<key>";
       fail(owner_, ": unknown option '", key, "'; known: ", keys);
     }
   }
-  return passed;
 }
 
 std::string OptionTable::help() const {
   std::ostringstream out;
   for (const auto& e : entries_) out << "    " << e.key << "=" << e.current() << "  " << e.range << "  " << e.help << "\n";
+  for (const auto& p : passthroughs_) out << "    " << p.prefix << "<key>=<value>  " << p.help << "\n";
   return out.str();
 }
 

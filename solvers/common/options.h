@@ -23,9 +23,12 @@ class OptionTable {
   OptionTable& flag(const std::string& key, bool* field, std::string help);
   OptionTable& choice(const std::string& key, std::string* field, std::vector<std::string> allowed, std::string help);
   OptionTable& text(const std::string& key, std::string* field, std::string help);
+  // Keys "<prefix><key>" are collected, prefix stripped, into `field` for another component (e.g. the
+  // options of the solver that starts this one: "init.width=0.3").
+  OptionTable& passthrough(const std::string& prefix, OptionMap* field, std::string help);
 
-  // Applies every entry; keys starting with `pass_prefix` (e.g. "init.") are returned untouched.
-  OptionMap apply(const OptionMap& options, const std::string& pass_prefix = "") const;
+  // Applies every entry; an unknown key is an Error listing the known ones.
+  void apply(const OptionMap& options) const;
   std::string help() const;  // one line per option: key, default/range, description
 
  private:
@@ -36,6 +39,11 @@ class OptionTable {
   };
   std::string owner_;
   std::vector<Entry> entries_;
+  struct Passthrough {
+    std::string prefix, help;
+    OptionMap* field;
+  };
+  std::vector<Passthrough> passthroughs_;
 };
 
 // "key=value" -> {key, value}; Error naming the text when there is no '='.

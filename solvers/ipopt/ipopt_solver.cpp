@@ -3,12 +3,11 @@
 #include <coin/IpIpoptApplication.hpp>
 #include <coin/IpTNLP.hpp>
 
-#include <chrono>
 #include <cmath>
-#include <cstdlib>
 
 #include "core/error.h"
 #include "solvers/ceres/ceres_solver.h"
+#include "solvers/common/terminations.h"
 
 namespace gyrosid {
 
@@ -24,19 +23,20 @@ OptionTable IpoptOptions::table() {
       .choice("hessian", &hessian, {"gauss_newton", "limited_memory"}, "Hessian of the Lagrangian: J'J or L-BFGS")
       .real("damping", &damping, 0.0, 1e6, "Levenberg-Marquardt damping of the Gauss-Newton Hessian (relative to its diagonal)")
       .integer("max_iterations", &max_iterations, 1, 100000, "Ipopt iterations")
-      .real("tolerance", &tolerance, 0.0, 1.0, "Ipopt convergence tolerance", true);
+      .real("tolerance", &tolerance, 0.0, 1.0, "Ipopt convergence tolerance", true)
+      .integer("print_level", &print_level, 0, 12, "Ipopt's own console output (0: silent)")
+      .passthrough("init.", &init_options, "an option of the init solver (max_nodes defaults to nodes)");
   return t;
 }
 
-IpoptRbfSolver::IpoptRbfSolver(const OptionMap& options) {
-  init_options_ = options_.table().apply(options, "init.");
-  if (!(options_.min_width < options_.max_width)) fail("ipopt: min_width must be below max_width");
-  if (!init_options_.count("max_nodes")) init_options_["max_nodes"] = std::to_string(options_.nodes);
+std::string IpoptOptions::validate() const {
+  if (!(min_width < max_width)) return "min_width must be below max_width";
+  if (bound > 0 && constraint == "none") return "bound is set but constraint=none";
+  return check_init(init, init_options);
 }
 
-std::string IpoptRbfSolver::help() {
-  IpoptOptions o;
-  return "ipopt - bounded/constrained joint optimisation with a node budget (Ipopt):\n" + o.table().help();
+IpoptRbfSolver::IpoptRbfSolver(Options options) : options_(std::move(options)) {
+  if (!options_.init_options.count("max_nodes")) options_.init_options["max_nodes"] = std::to_string(options_.nodes);
 }
 
 namespace {
@@ -46,26 +46,32 @@ using Ipopt::Number;
 
 class RbfNlp : public Ipopt::TNLP {
  public:
-  RbfNlp(const RbfProblem& problem, RbfNetwork& net, const IpoptOptions& o)
-      : p_(problem), net_(net), o_(o), m_(net.nodes()), d_(problem.dimension()), block_(2 * d_ + 1) {
+  RbfNlp(const RbfProblem& problem, RbfNetwork& net, const IpoptOptions& o, SolveMonitor& monitor)
+      : p_(problem), net_(net), o_(o), monitor_(monitor), m_(net.nodes()), d_(problem.dimension()),
+        block_(NodeBlock<double>::size(d_)) {
     lo_ = problem.x.colwise().minCoeff();
     hi_ = problem.x.colwise().maxCoeff();
   }
 
-  std::vector<double> objective_history;
-  std::string status = "not run";
+  Ipopt::SolverReturn status = Ipopt::UNASSIGNED;
+  double bound_ = 0.0;
 
+  // Node j's packed block inside Ipopt's variable vector x (NodeBlock layout [c, log r, w]).
+  NodeBlock<const double> node(const Number* x, Eigen::Index j) const { return {x + j * block_, d_}; }
+  NodeBlock<double> node(Number* x, Eigen::Index j) const { return {x + j * block_, d_}; }
+  Index weight_index(Eigen::Index j) const { return static_cast<Index>(j * block_ + 2 * d_); }
+  Index log_width_index(Eigen::Index j, Eigen::Index k) const { return static_cast<Index>(j * block_ + d_ + k); }
+
+  // The constraint's per-node factor: 1 (weight norm) or sum_k 1/r_k^2 (roughness).
+  double roughness_factor(NodeBlock<const double> b) const {
+    if (o_.constraint != "roughness") return 1.0;
+    double factor = 0.0;
+    for (Eigen::Index k = 0; k < d_; ++k) factor += std::exp(-2.0 * b.log_width()[k]);
+    return factor;
+  }
   double constraint_value(const Number* x) const {
     double g = 0.0;
-    for (Eigen::Index j = 0; j < m_; ++j) {
-      const double w = x[j * block_ + 2 * d_];
-      double factor = 1.0;
-      if (o_.constraint == "roughness") {
-        factor = 0.0;
-        for (Eigen::Index k = 0; k < d_; ++k) factor += std::exp(-2.0 * x[j * block_ + d_ + k]);
-      }
-      g += w * w * factor;
-    }
+    for (Eigen::Index j = 0; j < m_; ++j) g += node(x, j).weight() * node(x, j).weight() * roughness_factor(node(x, j));
     return g;
   }
 
@@ -78,53 +84,36 @@ class RbfNlp : public Ipopt::TNLP {
     return true;
   }
 
-  bool get_bounds_info(Index n, Number* xl, Number* xu, Index m, Number* gl, Number* gu) override {
+  bool get_bounds_info(Index, Number* xl, Number* xu, Index m, Number* gl, Number* gu) override {
     for (Eigen::Index j = 0; j < m_; ++j) {
+      const NodeBlock<double> lower = node(xl, j), upper = node(xu, j);
       for (Eigen::Index k = 0; k < d_; ++k) {
         const double margin = 0.1 * (hi_(k) - lo_(k));
-        xl[j * block_ + k] = lo_(k) - margin, xu[j * block_ + k] = hi_(k) + margin;
-        xl[j * block_ + d_ + k] = std::log(o_.min_width), xu[j * block_ + d_ + k] = std::log(o_.max_width);
+        lower.centre()[k] = lo_(k) - margin, upper.centre()[k] = hi_(k) + margin;
+        lower.log_width()[k] = std::log(o_.min_width), upper.log_width()[k] = std::log(o_.max_width);
       }
-      xl[j * block_ + 2 * d_] = -2e19, xu[j * block_ + 2 * d_] = 2e19;
+      lower.weight() = -2e19, upper.weight() = 2e19;
     }
-    (void)n;
     if (m > 0) gl[0] = -2e19, gu[0] = bound_;
     return true;
   }
 
   bool get_starting_point(Index, bool, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
     for (Eigen::Index j = 0; j < m_; ++j) {
+      net_.pack_node(j, node(x, j).data);
       for (Eigen::Index k = 0; k < d_; ++k) {
-        x[j * block_ + k] = net_.centres(j, k);
-        x[j * block_ + d_ + k] = std::clamp(std::log(net_.widths(j, k)), std::log(o_.min_width), std::log(o_.max_width));
+        double& rho = node(x, j).log_width()[k];
+        rho = std::clamp(rho, std::log(o_.min_width), std::log(o_.max_width));
       }
-      x[j * block_ + 2 * d_] = net_.weights(j);
     }
     return true;
   }
 
-  // The network's output at sample i (eq 4.1 with per-input widths r = exp(log r)) and, if `row` is given,
-  // its derivatives with respect to every parameter [centre, log width, weight] of every node.
+  // The network's output at sample i (eq 4.1) and, if `row` is given, its gradient by every parameter.
   double output_at(Eigen::Index i, const Number* x, double* row) const {
+    const Eigen::RowVectorXd xi = p_.x.row(i);
     double out = 0.0;
-    for (Eigen::Index j = 0; j < m_; ++j) {
-      const Number* b = x + j * block_;
-      double z = 0.0;
-      for (Eigen::Index k = 0; k < d_; ++k) {
-        const double uk = (p_.x(i, k) - b[k]) / std::exp(b[d_ + k]);
-        z += uk * uk;
-      }
-      const double ph = std::exp(-z), w = b[2 * d_];
-      out += w * ph;
-      if (!row) continue;
-      double* g = row + j * block_;
-      for (Eigen::Index k = 0; k < d_; ++k) {
-        const double r = std::exp(b[d_ + k]), uk = (p_.x(i, k) - b[k]) / r;
-        g[k] = w * ph * 2.0 * uk / r;
-        g[d_ + k] = w * ph * 2.0 * uk * uk;
-      }
-      g[2 * d_] = ph;
-    }
+    for (Eigen::Index j = 0; j < m_; ++j) out += node_output(xi.data(), node(x, j), row ? row + j * block_ : nullptr);
     return out;
   }
 
@@ -140,14 +129,15 @@ class RbfNlp : public Ipopt::TNLP {
       if (gradient) grad += residual_(i) * row;
     }
     if (gradient) {
-      for (Eigen::Index j = 0; j < m_; ++j) gradient[j * block_ + 2 * d_] += o_.lambda * x[j * block_ + 2 * d_];
+      for (Eigen::Index j = 0; j < m_; ++j) gradient[weight_index(j)] += o_.lambda * node(x, j).weight();
     }
   }
 
   bool eval_f(Index, const Number* x, bool, Number& obj) override {
     evaluate(x, nullptr);
+    monitor_.evaluation();
     double w2 = 0.0;
-    for (Eigen::Index j = 0; j < m_; ++j) w2 += x[j * block_ + 2 * d_] * x[j * block_ + 2 * d_];
+    for (Eigen::Index j = 0; j < m_; ++j) w2 += node(x, j).weight() * node(x, j).weight();
     obj = 0.5 * residual_.squaredNorm() + 0.5 * o_.lambda * w2;
     return true;
   }
@@ -164,22 +154,16 @@ class RbfNlp : public Ipopt::TNLP {
     const bool rough = o_.constraint == "roughness";
     Index at = 0;
     for (Eigen::Index j = 0; j < m_; ++j) {
-      const Index w_index = static_cast<Index>(j * block_ + 2 * d_);
       if (!values) {
-        row[at] = 0, col[at++] = w_index;
+        row[at] = 0, col[at++] = weight_index(j);
         if (rough)
-          for (Eigen::Index k = 0; k < d_; ++k) row[at] = 0, col[at++] = static_cast<Index>(j * block_ + d_ + k);
+          for (Eigen::Index k = 0; k < d_; ++k) row[at] = 0, col[at++] = log_width_index(j, k);
         continue;
       }
-      const double w = x[w_index];
-      double factor = 1.0;
-      if (rough) {
-        factor = 0.0;
-        for (Eigen::Index k = 0; k < d_; ++k) factor += std::exp(-2.0 * x[j * block_ + d_ + k]);
-      }
-      values[at++] = 2.0 * w * factor;
+      const NodeBlock<const double> b = node(x, j);
+      values[at++] = 2.0 * b.weight() * roughness_factor(b);
       if (rough)
-        for (Eigen::Index k = 0; k < d_; ++k) values[at++] = -2.0 * w * w * std::exp(-2.0 * x[j * block_ + d_ + k]);
+        for (Eigen::Index k = 0; k < d_; ++k) values[at++] = -2.0 * b.weight() * b.weight() * std::exp(-2.0 * b.log_width()[k]);
     }
     return true;
   }
@@ -202,10 +186,7 @@ class RbfNlp : public Ipopt::TNLP {
     h.diagonal() += o_.damping * diag + Eigen::VectorXd::Constant(n, 1e-10 * diag.maxCoeff());
     h *= obj_factor;
     const double constraint_curvature = (m > 0 && o_.constraint == "weight_norm") ? 2.0 * multipliers[0] : 0.0;
-    for (Eigen::Index j = 0; j < m_; ++j) {
-      const Eigen::Index w = j * block_ + 2 * d_;
-      h(w, w) += obj_factor * o_.lambda + constraint_curvature;
-    }
+    for (Eigen::Index j = 0; j < m_; ++j) h(weight_index(j), weight_index(j)) += obj_factor * o_.lambda + constraint_curvature;
     Index at = 0;
     for (Index i = 0; i < n; ++i)
       for (Index j = 0; j <= i; ++j) values[at++] = h(i, j);
@@ -225,28 +206,21 @@ class RbfNlp : public Ipopt::TNLP {
 
   bool intermediate_callback(Ipopt::AlgorithmMode, Index, Number obj, Number, Number, Number, Number, Number, Number,
                              Number, Index, const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
-    objective_history.push_back(obj);
+    monitor_.iteration(obj);
     return true;
   }
   void finalize_solution(Ipopt::SolverReturn s, Index, const Number* x, const Number*, const Number*, Index,
                          const Number*, const Number*, Number, const Ipopt::IpoptData*,
                          Ipopt::IpoptCalculatedQuantities*) override {
-    status = s == Ipopt::SUCCESS ? "success" : s == Ipopt::MAXITER_EXCEEDED ? "max_iterations" : "ipopt_status_" + std::to_string(static_cast<int>(s));
-    for (Eigen::Index j = 0; j < m_; ++j) {
-      for (Eigen::Index k = 0; k < d_; ++k) {
-        net_.centres(j, k) = x[j * block_ + k];
-        net_.widths(j, k) = std::exp(x[j * block_ + d_ + k]);
-      }
-      net_.weights(j) = x[j * block_ + 2 * d_];
-    }
+    status = s;
+    for (Eigen::Index j = 0; j < m_; ++j) net_.unpack_node(j, node(x, j).data);
   }
-
-  double bound_ = 0.0;
 
  private:
   const RbfProblem& p_;
   RbfNetwork& net_;
   const IpoptOptions& o_;
+  SolveMonitor& monitor_;
   Eigen::Index m_, d_, block_;
   Eigen::RowVectorXd lo_, hi_;
   Eigen::VectorXd residual_;
@@ -254,23 +228,21 @@ class RbfNlp : public Ipopt::TNLP {
 
 }  // namespace
 
-SolverSummary IpoptRbfSolver::train(const RbfProblem& problem, RbfNetwork& net) {
-  const auto start = std::chrono::steady_clock::now();
-  const SolverSummary init = initial_network(options_.init, init_options_, problem, net);
+SolveOutcome IpoptRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) {
+  const SolveSummary init = initial_network(options_.init, options_.init_options, problem, net);
   if (net.nodes() > options_.nodes) {  // keep the budget (forward selection orders nodes by importance)
     net.centres.conservativeResize(options_.nodes, Eigen::NoChange);
     net.widths.conservativeResize(options_.nodes, Eigen::NoChange);
     net.weights.conservativeResize(options_.nodes);
   }
-  Ipopt::SmartPtr<RbfNlp> nlp = new RbfNlp(problem, net, options_);
+  Ipopt::SmartPtr<RbfNlp> nlp = new RbfNlp(problem, net, options_, monitor);
   if (options_.constraint != "none") {
-    std::vector<double> x0(static_cast<std::size_t>(net.nodes() * (2 * problem.dimension() + 1)));
-    Ipopt::Index dummy = 0;
-    nlp->get_starting_point(dummy, true, x0.data(), false, nullptr, nullptr, 0, false, nullptr);
+    std::vector<double> x0(static_cast<std::size_t>(net.nodes() * NodeBlock<double>::size(problem.dimension())));
+    nlp->get_starting_point(0, true, x0.data(), false, nullptr, nullptr, 0, false, nullptr);
     nlp->bound_ = options_.bound > 0 ? options_.bound : 1.5 * nlp->constraint_value(x0.data());
   }
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-  app->Options()->SetIntegerValue("print_level", std::getenv("GYROSID_IPOPT_PRINT") ? std::atoi(std::getenv("GYROSID_IPOPT_PRINT")) : 0);
+  app->Options()->SetIntegerValue("print_level", options_.print_level);
   app->Options()->SetStringValue("sb", "yes");
   app->Options()->SetStringValue("hessian_approximation", options_.hessian == "gauss_newton" ? "exact" : "limited-memory");
   app->Options()->SetIntegerValue("max_iter", options_.max_iterations);
@@ -280,18 +252,9 @@ SolverSummary IpoptRbfSolver::train(const RbfProblem& problem, RbfNetwork& net) 
   app->Options()->SetStringValue("mu_strategy", "monotone");
   app->Options()->SetNumericValue("mu_init", 1e-8);
   if (app->Initialize() != Ipopt::Solve_Succeeded) fail("ipopt: initialisation failed");
-  app->OptimizeTNLP(nlp);
-
-  SolverSummary s;
-  s.solver = "ipopt";
-  s.termination = nlp->status;
-  s.iterations = static_cast<int>(nlp->objective_history.size());
-  s.cost_history = nlp->objective_history;
-  s.nodes = static_cast<int>(net.nodes());
-  s.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  s.peak_rss_mb = peak_rss_mb();
-  s.details = {{"init", init.to_json()}, {"constraint", options_.constraint}, {"bound", nlp->bound_}};
-  return s;
+  const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(nlp);
+  return {termination_of(nlp->status), str_cat("Ipopt application status ", static_cast<int>(status)),
+          {{"init", init}, {"constraint", options_.constraint}, {"bound", nlp->bound_}}};
 }
 
 }  // namespace gyrosid

@@ -4,6 +4,7 @@
 //   s.t. r_min <= r_jk <= r_max (as log-width bounds), centres within the data range plus a margin,
 //        optionally sum_j w_j^2 <= bound (weight norm) or sum_j w_j^2 sum_k 1/r_jk^2 <= bound (roughness),
 // with a fixed node budget: the network of the `init` solver cut at `nodes`.
+// An iteration is one interior-point iteration; its cost is Ipopt's objective.
 #pragma once
 
 #include "solvers/solver.h"
@@ -12,6 +13,7 @@ namespace gyrosid {
 
 struct IpoptOptions {
   std::string init = "ols";
+  OptionMap init_options;         // init.<key>=<value>
   int nodes = 80;                 // node budget (passed to the init solver as max_nodes)
   double min_width = 0.02, max_width = 3.0;
   std::string constraint = "none";  // none | weight_norm | roughness
@@ -21,19 +23,20 @@ struct IpoptOptions {
   double damping = 1e-2;
   int max_iterations = 200;
   double tolerance = 1e-9;
+  int print_level = 0;            // Ipopt's own console output, 0 (silent) to 12
   OptionTable table();
+  std::string validate() const;
 };
 
 class IpoptRbfSolver : public RbfSolver {
  public:
-  explicit IpoptRbfSolver(const OptionMap& options);
+  using Options = IpoptOptions;
+  explicit IpoptRbfSolver(Options options);
   std::string_view name() const override { return "ipopt"; }
-  SolverSummary train(const RbfProblem& problem, RbfNetwork& net) override;
-  static std::string help();
+  SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
 
  private:
-  IpoptOptions options_;
-  OptionMap init_options_;
+  Options options_;
 };
 
 }  // namespace gyrosid

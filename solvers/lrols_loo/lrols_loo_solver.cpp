@@ -2,13 +2,13 @@
 
 #include <Eigen/Dense>
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 
 #include "core/error.h"
 #include "core/parallel.h"
 #include "solvers/common/candidates.h"
+#include "solvers/common/recursive_loo.h"
 
 namespace gyrosid {
 
@@ -23,11 +23,13 @@ OptionTable LrolsLooOptions::table() {
   return t;
 }
 
-LrolsLooSolver::LrolsLooSolver(const OptionMap& options) { options_.table().apply(options); }
-
-std::string LrolsLooSolver::help() {
-  LrolsLooOptions o;
-  return "lrols_loo - locally regularised OLS with leave-one-out selection (Chen et al. 2004):\n" + o.table().help();
+std::string LrolsLooOptions::validate() const {
+  try {
+    parse_list(widths, "option 'widths'");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
 }
 
 namespace {
@@ -39,14 +41,14 @@ struct Selection {
   std::vector<double> loo_history;
   double loo = 0.0;
   double rss = 0.0;
-  std::string termination;
+  std::string stop_reason;
 };
 
 // One forward-selection pass with fixed per-candidate lambdas. h: N x M candidate matrix.
 Selection select_pass(const Eigen::MatrixXd& h, const Eigen::VectorXd& y, const Eigen::VectorXd& lambda, int max_nodes) {
   const Eigen::Index n = h.rows(), m = h.cols();
   Eigen::MatrixXd w = h;  // candidates, orthogonalised against the selected set as it grows
-  Eigen::VectorXd e = y, eta = Eigen::VectorXd::Ones(n);
+  RecursiveLoo loo(y);
   std::vector<bool> alive(static_cast<std::size_t>(m), true);
   const Eigen::VectorXd norm2 = h.colwise().squaredNorm().transpose();
   const int cap = std::min<int>(max_nodes, static_cast<int>(m));
@@ -54,8 +56,8 @@ Selection select_pass(const Eigen::MatrixXd& h, const Eigen::VectorXd& y, const 
   s.d.resize(cap), s.g.resize(cap), s.qy.resize(cap);
   s.r_tilde = Eigen::MatrixXd::Zero(cap, cap);
   Eigen::MatrixXd q(n, cap);
-  double current = y.squaredNorm() / static_cast<double>(n);  // LOO of the empty model
-  s.termination = "max_nodes";
+  double current = loo.mse();  // LOO of the empty model
+  s.stop_reason = "max_nodes";
   Eigen::VectorXd score(m);
   while (static_cast<int>(s.nodes.size()) < cap) {
     // LOO after adding each live candidate.
@@ -63,11 +65,8 @@ Selection select_pass(const Eigen::MatrixXd& h, const Eigen::VectorXd& y, const 
       for (Eigen::Index j = begin; j < end; ++j) {
         score(j) = std::numeric_limits<double>::infinity();
         if (!alive[static_cast<std::size_t>(j)]) continue;
-        const auto col = w.col(j);
-        const double dj = col.squaredNorm();
-        if (!(dj > 1e-9 * norm2(j))) continue;
-        const double a = dj + lambda(j), g = col.dot(y) / a;
-        score(j) = ((e - g * col).array() / (eta - col.cwiseAbs2() / a).array().max(1e-12)).square().mean();
+        if (!(w.col(j).squaredNorm() > 1e-9 * norm2(j))) continue;
+        score(j) = loo.mse_after(w.col(j), y, lambda(j));
       }
     }, 16);
     Eigen::Index pick = -1;
@@ -76,11 +75,11 @@ Selection select_pass(const Eigen::MatrixXd& h, const Eigen::VectorXd& y, const 
       if (score(j) < best) best = score(j), pick = j;
     }
     if (pick < 0) {
-      s.termination = "loo_minimum";
+      s.stop_reason = "loo_minimum";
       break;
     }
     const Eigen::Index k = static_cast<Eigen::Index>(s.nodes.size());
-    const double dk = w.col(pick).squaredNorm(), a = dk + lambda(pick);
+    const double dk = w.col(pick).squaredNorm();
     const double sk = std::sqrt(dk);
     q.col(k) = w.col(pick) / sk;
     // Coefficients of the chosen raw column on the unit vectors (re-orthogonalised for stability).
@@ -89,9 +88,7 @@ Selection select_pass(const Eigen::MatrixXd& h, const Eigen::VectorXd& y, const 
     s.r_tilde(k, k) = sk;
     s.d(k) = dk;
     s.qy(k) = w.col(pick).dot(y);
-    s.g(k) = s.qy(k) / a;  // weight on the unnormalised w_k
-    e -= s.g(k) * w.col(pick);
-    eta -= w.col(pick).cwiseAbs2() / a;
+    s.g(k) = loo.add(w.col(pick), y, lambda(pick));  // weight on the unnormalised w_k
     s.nodes.push_back(pick);
     s.loo_history.push_back(best);
     current = best;
@@ -108,40 +105,28 @@ Selection select_pass(const Eigen::MatrixXd& h, const Eigen::VectorXd& y, const 
   s.d.conservativeResize(kk), s.g.conservativeResize(kk), s.qy.conservativeResize(kk);
   s.r_tilde.conservativeResize(kk, kk);
   s.loo = current;
-  s.rss = e.squaredNorm();
+  s.rss = loo.residuals().squaredNorm();
   return s;
 }
 
 }  // namespace
 
-SolverSummary LrolsLooSolver::train(const RbfProblem& problem, RbfNetwork& net) {
-  const auto start = std::chrono::steady_clock::now();
+SolveOutcome LrolsLooSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) {
   const Eigen::Index n = problem.size(), dim = problem.dimension();
   const Eigen::RowVectorXd r = node_widths(options_.width, parse_list(options_.widths, "lrols_loo option 'widths'"), dim);
   const std::vector<Eigen::Index> cand = select_candidates(problem.x, options_.candidates);
   const Eigen::Index m = static_cast<Eigen::Index>(cand.size());
-  Eigen::MatrixXd h(n, m);
-  parallel_for(m, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-    std::vector<double> row(static_cast<std::size_t>(dim)), c(static_cast<std::size_t>(dim));
-    for (Eigen::Index j = begin; j < end; ++j) {
-      for (Eigen::Index k = 0; k < dim; ++k) c[static_cast<std::size_t>(k)] = problem.x(cand[static_cast<std::size_t>(j)], k);
-      for (Eigen::Index i = 0; i < n; ++i) {
-        for (Eigen::Index k = 0; k < dim; ++k) row[static_cast<std::size_t>(k)] = problem.x(i, k);
-        h(i, j) = gaussian(row.data(), c.data(), r.data(), dim, 1);
-      }
-    }
-  }, 16);
+  const Eigen::MatrixXd h = gaussian_columns(problem.x, rows_of(problem.x, cand), r);
 
   Eigen::VectorXd lambda = Eigen::VectorXd::Constant(m, options_.lambda);
   Selection s;
-  std::vector<double> loo_per_pass;
   std::vector<Eigen::Index> previous;
   int pass = 0;
-  std::string termination = "passes";
+  bool settled = false;
   for (; pass < options_.passes; ++pass) {
     s = select_pass(h, problem.y, lambda, options_.max_nodes);
     if (s.nodes.empty()) fail("lrols_loo: no node lowers the leave-one-out error (target constant or zero?)");
-    loo_per_pass.push_back(s.loo);
+    monitor.iteration(s.loo);
     // Evidence update of the selected lambdas (the others keep theirs).
     const Eigen::VectorXd a = s.d + Eigen::VectorXd(Eigen::VectorXd::NullaryExpr(s.d.size(), [&](Eigen::Index k) {
                                 return lambda(s.nodes[static_cast<std::size_t>(k)]);
@@ -156,7 +141,7 @@ SolverSummary LrolsLooSolver::train(const RbfProblem& problem, RbfNetwork& net) 
       }
     }
     if (s.nodes == previous) {
-      termination = "selection_converged";
+      settled = true;
       ++pass;
       break;
     }
@@ -171,18 +156,13 @@ SolverSummary LrolsLooSolver::train(const RbfProblem& problem, RbfNetwork& net) 
   net.widths = r.replicate(k, 1);
   net.bias = 0.0;
 
-  SolverSummary summary;
-  summary.solver = "lrols_loo";
-  summary.termination = termination + "/" + s.termination;
-  summary.iterations = pass;
-  summary.cost_history = s.loo_history;
-  summary.nodes = static_cast<int>(k);
-  summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  summary.peak_rss_mb = peak_rss_mb();
   std::vector<double> used;
   for (Eigen::Index i = 0; i < k; ++i) used.push_back(lambda(s.nodes[static_cast<std::size_t>(i)]));
-  summary.details = {{"loo", s.loo}, {"loo_per_pass", loo_per_pass}, {"rss", s.rss}, {"candidates", m}, {"lambdas", used}};
-  return summary;
+  // Converged when the selected set stopped changing and the last pass stopped at its LOO minimum.
+  const bool converged = settled && s.stop_reason == "loo_minimum";
+  return {converged ? Termination::converged : Termination::iteration_limit,
+          (settled ? "selection settled after " : "passes exhausted after ") + std::to_string(pass) + " passes; last pass: " + s.stop_reason,
+          {{"loo", s.loo}, {"loo_history", s.loo_history}, {"rss", s.rss}, {"candidates", m}, {"lambdas", used}}};
 }
 
 }  // namespace gyrosid

@@ -9,6 +9,7 @@
 // itself when it no longer decreases. After each selection pass the lambda_k are updated by the evidence
 // (Bayesian) rule lambda_k = gamma_k / (N - gamma) e'e / g_k^2, gamma_k = d_k/(d_k + lambda_k), and the
 // selection is repeated until the set stops changing. O(N M) time per step, N x M memory.
+// An iteration is one selection pass; its cost is the pass's leave-one-out mean square error.
 #pragma once
 
 #include "solvers/solver.h"
@@ -23,17 +24,18 @@ struct LrolsLooOptions {
   double lambda = 1e-6;   // initial lambda_k
   int passes = 4;         // selection + evidence-update passes
   OptionTable table();
+  std::string validate() const;
 };
 
 class LrolsLooSolver : public RbfSolver {
  public:
-  explicit LrolsLooSolver(const OptionMap& options);
+  using Options = LrolsLooOptions;
+  explicit LrolsLooSolver(Options options) : options_(std::move(options)) {}
   std::string_view name() const override { return "lrols_loo"; }
-  SolverSummary train(const RbfProblem& problem, RbfNetwork& net) override;
-  static std::string help();
+  SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
 
  private:
-  LrolsLooOptions options_;
+  Options options_;
 };
 
 }  // namespace gyrosid

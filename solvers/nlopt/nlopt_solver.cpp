@@ -2,11 +2,11 @@
 
 #include <nlopt.hpp>
 
-#include <chrono>
 #include <cmath>
 
 #include "core/error.h"
 #include "solvers/ols/forward_selection.h"
+#include "solvers/common/terminations.h"
 #include "solvers/ols/ols_solver.h"
 
 namespace gyrosid {
@@ -29,27 +29,20 @@ OptionTable NloptOptions::table() {
   return t;
 }
 
-NloptRbfSolver::NloptRbfSolver(const OptionMap& options) {
-  options_.table().apply(options);
-  const auto& o = options_;
-  const nlopt_algorithm a = nlopt_algorithm_from_string(o.algorithm.c_str());
+std::string NloptOptions::validate() const {
+  const nlopt_algorithm a = nlopt_algorithm_from_string(algorithm.c_str());
   if (static_cast<int>(a) < 0 || a >= NLOPT_NUM_ALGORITHMS) {
-    fail("nlopt option 'algorithm' = '", o.algorithm, "' is not an NLopt algorithm (e.g. LN_BOBYQA, GN_DIRECT_L)");
+    return str_cat("option 'algorithm' = '", algorithm, "' is not an NLopt algorithm (e.g. LN_BOBYQA, GN_DIRECT_L)");
   }
-  if (o.algorithm.size() < 2 || o.algorithm[1] != 'N') {
-    fail("nlopt option 'algorithm' = '", o.algorithm, "' needs gradients; the inner selection has none - use an LN_* or GN_* algorithm");
+  if (algorithm.size() < 2 || algorithm[1] != 'N') {
+    return str_cat("option 'algorithm' = '", algorithm, "' needs gradients; the inner selection has none - use an LN_* or GN_* algorithm");
   }
-  if (!(o.min_width < o.max_width) || o.width < o.min_width || o.width > o.max_width) fail("nlopt: need min_width <= width <= max_width");
-  if (!(o.min_lambda < o.max_lambda) || o.lambda < o.min_lambda || o.lambda > o.max_lambda) fail("nlopt: need min_lambda <= lambda <= max_lambda");
+  if (!(min_width < max_width) || width < min_width || width > max_width) return "need min_width <= width <= max_width";
+  if (!(min_lambda < max_lambda) || lambda < min_lambda || lambda > max_lambda) return "need min_lambda <= lambda <= max_lambda";
+  return "";
 }
 
-std::string NloptRbfSolver::help() {
-  NloptOptions o;
-  return "nlopt - widths and ridge parameter tuned by NLopt on the LOO/GCV error of the inner OLS fit:\n" + o.table().help();
-}
-
-SolverSummary NloptRbfSolver::train(const RbfProblem& problem, RbfNetwork& net) {
-  const auto start = std::chrono::steady_clock::now();
+SolveOutcome NloptRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) {
   const NloptOptions& o = options_;
   const Eigen::Index d = problem.dimension();
   const Eigen::Index nw = o.per_input_widths ? d : 1;
@@ -65,7 +58,6 @@ SolverSummary NloptRbfSolver::train(const RbfProblem& problem, RbfNetwork& net) 
     for (Eigen::Index k = 0; k < d; ++k) fs.widths(k) = std::exp(v[static_cast<std::size_t>(o.per_input_widths ? k : 0)]);
     fs.lambda = std::exp(v[static_cast<std::size_t>(nw)]);
   };
-  std::vector<double> history;
   struct Best {
     double value = INFINITY;
     std::vector<double> v;
@@ -78,7 +70,7 @@ SolverSummary NloptRbfSolver::train(const RbfProblem& problem, RbfNetwork& net) 
     } catch (const Error&) {
       // e.g. widths so small that every candidate is collinear: an infeasible point, not a failure
     }
-    history.push_back(value);
+    monitor.iteration(value);
     if (value < best.value) best = {value, v};
     return value;
   };
@@ -101,12 +93,16 @@ SolverSummary NloptRbfSolver::train(const RbfProblem& problem, RbfNetwork& net) 
     return (*static_cast<std::function<double(const std::vector<double>&)>*>(f))(x);
   }, &objective);
   nlopt::srand(static_cast<unsigned long>(o.seed));
-  std::string termination;
+  Termination termination = Termination::no_progress;
+  std::string message;
   double value = 0.0;
   try {
-    termination = nlopt_result_to_string(static_cast<nlopt_result>(opt.optimize(v, value)));
+    const auto result = static_cast<nlopt_result>(opt.optimize(v, value));
+    termination = termination_of(result);
+    message = nlopt_result_to_string(result);
   } catch (const std::exception& e) {
-    termination = std::string("stopped: ") + e.what();
+    // NLopt throws on round-off and forced stops; the best point seen is kept (below).
+    message = std::string("stopped: ") + e.what();
   }
   if (!std::isfinite(best.value)) fail("nlopt: no hyper-parameter setting gave a valid fit");
 
@@ -114,18 +110,10 @@ SolverSummary NloptRbfSolver::train(const RbfProblem& problem, RbfNetwork& net) 
   const ForwardSelectionResult r = forward_select(problem.x, problem.y, fs);
   fill_network(r, fs.widths, net);
 
-  SolverSummary s;
-  s.solver = "nlopt";
-  s.termination = termination;
-  s.iterations = static_cast<int>(history.size());
-  s.cost_history = history;
-  s.nodes = static_cast<int>(r.weights.size());
-  s.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  s.peak_rss_mb = peak_rss_mb();
-  s.details = {{"algorithm", o.algorithm}, {"criterion", o.criterion}, {"criterion_value", r.criterion},
-               {"width", std::vector<double>(fs.widths.data(), fs.widths.data() + fs.widths.size())},
-               {"lambda", fs.lambda}, {"candidates", r.candidates}};
-  return s;
+  return {termination, message,
+          {{"algorithm", o.algorithm}, {"criterion", o.criterion}, {"criterion_value", r.criterion},
+           {"width", std::vector<double>(fs.widths.data(), fs.widths.data() + fs.widths.size())},
+           {"lambda", fs.lambda}, {"candidates", r.candidates}}};
 }
 
 }  // namespace gyrosid

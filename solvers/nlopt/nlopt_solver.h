@@ -3,7 +3,7 @@
 // trial" (s5.6: "a training algorithm is required that optimises the spread"), automated.
 // Variables: log r_k per input (or one log r), log lambda; bounded; derivative-free algorithms only (the
 // inner selection is not differentiable in the widths). Global algorithms draw from NLopt's generator,
-// seeded for determinism.
+// seeded for determinism. An iteration is one inner fit (objective evaluation); its cost is the criterion.
 #pragma once
 
 #include "solvers/solver.h"
@@ -21,17 +21,18 @@ struct NloptOptions {
   int max_nodes = 500;
   int seed = 1;
   OptionTable table();
+  std::string validate() const;
 };
 
 class NloptRbfSolver : public RbfSolver {
  public:
-  explicit NloptRbfSolver(const OptionMap& options);
+  using Options = NloptOptions;
+  explicit NloptRbfSolver(Options options) : options_(std::move(options)) {}
   std::string_view name() const override { return "nlopt"; }
-  SolverSummary train(const RbfProblem& problem, RbfNetwork& net) override;
-  static std::string help();
+  SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
 
  private:
-  NloptOptions options_;
+  Options options_;
 };
 
 }  // namespace gyrosid

@@ -3,13 +3,13 @@
 #include <Eigen/Dense>
 #include <nlopt.hpp>
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 
 #include "core/error.h"
 #include "core/parallel.h"
 #include "solvers/common/candidates.h"
+#include "solvers/common/recursive_loo.h"
 
 namespace gyrosid {
 
@@ -25,57 +25,45 @@ OptionTable OfsLooOptions::table() {
   return t;
 }
 
-OfsLooSolver::OfsLooSolver(const OptionMap& options) {
-  options_.table().apply(options);
-  if (!(options_.min_width < options_.max_width)) fail("ofs_loo: min_width must be below max_width");
-  if (options_.width < options_.min_width || options_.width > options_.max_width) {
-    fail("ofs_loo option 'width' = ", options_.width, " is outside [min_width, max_width]");
-  }
-}
-
-std::string OfsLooSolver::help() {
-  OfsLooOptions o;
-  return "ofs_loo - orthogonal forward selection with tuned centres and widths, LOO criterion (Chen et al. 2009):\n" +
-         o.table().help();
+std::string OfsLooOptions::validate() const {
+  if (!(min_width < max_width)) return "min_width must be below max_width";
+  if (width < min_width || width > max_width) return str_cat("option 'width' = ", width, " is outside [min_width, max_width]");
+  return "";
 }
 
 namespace {
 
-// The growing orthogonal model: unit columns Q, residual e, LOO denominators eta.
+// The growing orthogonal model: unit columns Q (k of them) and the recursive LOO state.
 struct OrthogonalModel {
   Eigen::MatrixXd q;
   Eigen::Index k = 0;
-  Eigen::VectorXd e, eta;
+  RecursiveLoo loo;
   double lambda = 0;
 
-  // Orthogonalised column of phi (twice, for stability) and the LOO after adding it.
-  double trial(const Eigen::VectorXd& phi, const Eigen::VectorXd& y, Eigen::VectorXd* w_out) const {
+  // phi orthogonalised against Q (twice, for stability); empty when phi lies in the span of Q.
+  Eigen::VectorXd orthogonalise(const Eigen::VectorXd& phi) const {
     Eigen::VectorXd w = phi;
     for (int pass = 0; pass < 2 && k > 0; ++pass) w -= q.leftCols(k) * (q.leftCols(k).transpose() * w);
-    const double d = w.squaredNorm();
-    if (!(d > 1e-10 * phi.squaredNorm())) return std::numeric_limits<double>::infinity();
-    const double a = d + lambda, g = w.dot(y) / a;
-    const double loo = ((e - g * w).array() / (eta - w.cwiseAbs2() / a).array().max(1e-12)).square().mean();
-    if (w_out) *w_out = std::move(w);
-    return loo;
+    if (!(w.squaredNorm() > 1e-10 * phi.squaredNorm())) return {};
+    return w;
+  }
+  // The LOO error after adding phi.
+  double trial(const Eigen::VectorXd& phi, const Eigen::VectorXd& y) const {
+    const Eigen::VectorXd w = orthogonalise(phi);
+    return w.size() == 0 ? std::numeric_limits<double>::infinity() : loo.mse_after(w, y, lambda);
   }
 };
 
+// The Gaussian column of one node with centre c and widths r (d values each).
 Eigen::VectorXd node_column(const Eigen::MatrixXd& x, const double* c, const double* r) {
-  const Eigen::Index n = x.rows(), d = x.cols();
-  Eigen::VectorXd phi(n);
-  std::vector<double> row(static_cast<std::size_t>(d));
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (Eigen::Index k = 0; k < d; ++k) row[static_cast<std::size_t>(k)] = x(i, k);
-    phi(i) = gaussian(row.data(), c, r, d, 1);
-  }
-  return phi;
+  const Eigen::Index d = x.cols();
+  const Eigen::MatrixXd centre = Eigen::Map<const Eigen::RowVectorXd>(c, d), widths = Eigen::Map<const Eigen::RowVectorXd>(r, d);
+  return gaussian_columns(x, centre, widths);
 }
 
 }  // namespace
 
-SolverSummary OfsLooSolver::train(const RbfProblem& problem, RbfNetwork& net) {
-  const auto start = std::chrono::steady_clock::now();
+SolveOutcome OfsLooSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) {
   const OfsLooOptions& o = options_;
   const Eigen::Index n = problem.size(), dim = problem.dimension();
   const Eigen::VectorXd& y = problem.y;
@@ -83,19 +71,13 @@ SolverSummary OfsLooSolver::train(const RbfProblem& problem, RbfNetwork& net) {
   const Eigen::Index m = static_cast<Eigen::Index>(cand.size());
   const Eigen::RowVectorXd lo = problem.x.colwise().minCoeff(), hi = problem.x.colwise().maxCoeff();
 
-  OrthogonalModel model;
-  model.q.resize(n, o.max_nodes);
-  model.e = y;
-  model.eta = Eigen::VectorXd::Ones(n);
-  model.lambda = o.lambda;
-  double current = y.squaredNorm() / static_cast<double>(n);
+  OrthogonalModel model{Eigen::MatrixXd(n, o.max_nodes), 0, RecursiveLoo(y), o.lambda};
+  double current = model.loo.mse();
 
   std::vector<Eigen::VectorXd> centres, widths;
   Eigen::MatrixXd r_tilde = Eigen::MatrixXd::Zero(o.max_nodes, o.max_nodes);  // Phi = Q r_tilde
   Eigen::VectorXd t(o.max_nodes);  // fitted = Q t: t_k = |w_k| g_k
-  std::vector<double> history;
-  std::string termination = "max_nodes";
-  int total_evaluations = 0;
+  bool at_minimum = false;
   const std::vector<double> default_r(static_cast<std::size_t>(dim), o.width);
 
   while (static_cast<int>(centres.size()) < o.max_nodes) {
@@ -105,7 +87,7 @@ SolverSummary OfsLooSolver::train(const RbfProblem& problem, RbfNetwork& net) {
       std::vector<double> c(static_cast<std::size_t>(dim));
       for (Eigen::Index j = b; j < e; ++j) {
         for (Eigen::Index k = 0; k < dim; ++k) c[static_cast<std::size_t>(k)] = problem.x(cand[static_cast<std::size_t>(j)], k);
-        screen(j) = model.trial(node_column(problem.x, c.data(), default_r.data()), y, nullptr);
+        screen(j) = model.trial(node_column(problem.x, c.data(), default_r.data()), y);
       }
     }, 4);
     Eigen::Index best_j = 0;
@@ -123,8 +105,8 @@ SolverSummary OfsLooSolver::train(const RbfProblem& problem, RbfNetwork& net) {
     std::function<double(const std::vector<double>&)> f = [&](const std::vector<double>& v) {
       std::vector<double> r(static_cast<std::size_t>(dim));
       for (Eigen::Index k = 0; k < dim; ++k) r[static_cast<std::size_t>(k)] = std::exp(v[static_cast<std::size_t>(k + dim)]);
-      ++total_evaluations;
-      return model.trial(node_column(problem.x, v.data(), r.data()), y, nullptr);
+      monitor.evaluation();
+      return model.trial(node_column(problem.x, v.data(), r.data()), y);
     };
     nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(2 * dim));
     opt.set_lower_bounds(lb);
@@ -142,24 +124,21 @@ SolverSummary OfsLooSolver::train(const RbfProblem& problem, RbfNetwork& net) {
     }
     value = f(p);
     if (!(value < current * (1.0 - 1e-9))) {
-      termination = "loo_minimum";
+      at_minimum = true;
       break;
     }
     Eigen::VectorXd c(dim), r(dim);
     for (Eigen::Index k = 0; k < dim; ++k) c(k) = p[static_cast<std::size_t>(k)], r(k) = std::exp(p[static_cast<std::size_t>(k + dim)]);
     Eigen::VectorXd phi = node_column(problem.x, c.data(), r.data());
-    Eigen::VectorXd w;
-    model.trial(phi, y, &w);
-    const double d = w.squaredNorm(), a = d + model.lambda, g = w.dot(y) / a;
+    const Eigen::VectorXd w = model.orthogonalise(phi);
+    const double d = w.squaredNorm(), g = model.loo.add(w, y, model.lambda);
     const Eigen::Index kk = model.k;
     r_tilde.col(kk).head(kk) = model.q.leftCols(kk).transpose() * phi;
     r_tilde(kk, kk) = std::sqrt(d);
     t(kk) = std::sqrt(d) * g;
-    model.e -= g * w;
-    model.eta -= w.cwiseAbs2() / a;
     model.q.col(model.k++) = w / std::sqrt(d);
     current = value;
-    history.push_back(value);
+    monitor.iteration(value);
     centres.push_back(c);
     widths.push_back(r);
   }
@@ -176,16 +155,8 @@ SolverSummary OfsLooSolver::train(const RbfProblem& problem, RbfNetwork& net) {
   }
   net.bias = 0.0;
 
-  SolverSummary s;
-  s.solver = "ofs_loo";
-  s.termination = termination;
-  s.iterations = static_cast<int>(k);
-  s.cost_history = history;
-  s.nodes = static_cast<int>(k);
-  s.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  s.peak_rss_mb = peak_rss_mb();
-  s.details = {{"loo", current}, {"evaluations", total_evaluations}, {"candidates", m}};
-  return s;
+  return {at_minimum ? Termination::converged : Termination::iteration_limit,
+          at_minimum ? "leave-one-out minimum" : "max_nodes reached", {{"loo", current}, {"candidates", m}}};
 }
 
 }  // namespace gyrosid

@@ -6,6 +6,7 @@
 // paper searches with repeated weighted boosting; here a screening of candidate centres at a default width
 // gives the start and NLopt's BOBYQA refines (centre, log widths) locally. Stages stop when the LOO error
 // stops decreasing. Nodes are few and each has its own widths.
+// An iteration is one node added (cost: the LOO error); evaluations count the BOBYQA objective calls.
 #pragma once
 
 #include "solvers/solver.h"
@@ -21,17 +22,18 @@ struct OfsLooOptions {
   int evaluations = 120;     // BOBYQA evaluations per node
   double lambda = 1e-8;      // ridge of every weight
   OptionTable table();
+  std::string validate() const;
 };
 
 class OfsLooSolver : public RbfSolver {
  public:
-  explicit OfsLooSolver(const OptionMap& options);
+  using Options = OfsLooOptions;
+  explicit OfsLooSolver(Options options) : options_(std::move(options)) {}
   std::string_view name() const override { return "ofs_loo"; }
-  SolverSummary train(const RbfProblem& problem, RbfNetwork& net) override;
-  static std::string help();
+  SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
 
  private:
-  OfsLooOptions options_;
+  Options options_;
 };
 
 }  // namespace gyrosid

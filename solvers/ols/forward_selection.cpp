@@ -59,21 +59,9 @@ ForwardSelectionResult forward_select(const Eigen::MatrixXd& x, const Eigen::Vec
 
   const std::vector<Eigen::Index> cand = select_candidates(x, o.candidates);
   const Eigen::Index m = static_cast<Eigen::Index>(cand.size());
-  Eigen::MatrixXd centres_all(m, dim);
-  for (Eigen::Index j = 0; j < m; ++j) centres_all.row(j) = x.row(cand[static_cast<std::size_t>(j)]);
-
+  const Eigen::MatrixXd centres_all = rows_of(x, cand);
   // Candidate matrix H (N x M), column j the Gaussian centred on candidate j.
-  Eigen::MatrixXd h(n, m);
-  parallel_for(m, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-    std::vector<double> row(static_cast<std::size_t>(dim)), c(static_cast<std::size_t>(dim));
-    for (Eigen::Index j = begin; j < end; ++j) {
-      for (Eigen::Index k = 0; k < dim; ++k) c[static_cast<std::size_t>(k)] = centres_all(j, k);
-      for (Eigen::Index i = 0; i < n; ++i) {
-        for (Eigen::Index k = 0; k < dim; ++k) row[static_cast<std::size_t>(k)] = x(i, k);
-        h(i, j) = gaussian(row.data(), c.data(), o.widths.data(), dim, 1);
-      }
-    }
-  }, 16);
+  Eigen::MatrixXd h = gaussian_columns(x, centres_all, o.widths);
 
   const int cap = std::min<int>(o.max_nodes, static_cast<int>(m));
   // Candidate state, by current column of h: squared norm, correlation with the unregularised residual and
@@ -120,7 +108,7 @@ ForwardSelectionResult forward_select(const Eigen::MatrixXd& x, const Eigen::Vec
   result.candidates = static_cast<int>(m);
   double best = std::numeric_limits<double>::infinity();
   int best_k = 0, since_best = 0;
-  result.termination = "max_nodes";
+  result.stop_reason = "max_nodes";
 
   Progress progress("OLS forward selection (nodes of at most " + std::to_string(cap) + ")", static_cast<std::size_t>(cap));
   while (static_cast<int>(selected.size()) < cap) {
@@ -145,7 +133,8 @@ ForwardSelectionResult forward_select(const Eigen::MatrixXd& x, const Eigen::Vec
       }
     }
     if (pick < 0) {
-      result.termination = "candidates_exhausted";
+      result.termination = Termination::converged;  // every candidate tried: the best step is final
+      result.stop_reason = "candidates_exhausted";
       break;
     }
     alive[static_cast<std::size_t>(pick)] = false;
@@ -216,7 +205,8 @@ ForwardSelectionResult forward_select(const Eigen::MatrixXd& x, const Eigen::Vec
       best_k = static_cast<int>(kk);
       since_best = 0;
     } else if (++since_best >= o.patience) {
-      result.termination = "criterion_minimum";
+      result.termination = Termination::converged;
+      result.stop_reason = "criterion_minimum";
       break;
     }
   }

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "core/enum_names.h"
+#include "core/solve_summary.h"
 
 namespace gyrosid {
 
@@ -58,8 +59,9 @@ struct ForwardSelectionResult {
   double criterion = 0.0;   // at the kept step
   double rss = 0.0;
   double effective_parameters = 0.0;
-  std::vector<double> criterion_history;
-  std::string termination;
+  std::vector<double> criterion_history;  // per selection step
+  Termination termination = Termination::iteration_limit;
+  std::string stop_reason;  // criterion_minimum | max_nodes | candidates_exhausted
   int steps = 0;            // nodes added before stopping (>= kept nodes)
   int skipped_collinear = 0;
   int candidates = 0;

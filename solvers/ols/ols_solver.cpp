@@ -1,7 +1,5 @@
 #include "solvers/ols/ols_solver.h"
 
-#include <chrono>
-
 #include "core/error.h"
 #include "solvers/common/candidates.h"
 
@@ -22,6 +20,15 @@ OptionTable OlsOptions::table() {
   return t;
 }
 
+std::string OlsOptions::validate() const {
+  try {
+    parse_list(widths, "option 'widths'");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
 ForwardSelectionOptions OlsOptions::selection(Eigen::Index dimension) const {
   ForwardSelectionOptions s;
   s.criterion = parse_enum<SelectionCriterion>(criterion);
@@ -35,13 +42,6 @@ ForwardSelectionOptions OlsOptions::selection(Eigen::Index dimension) const {
   return s;
 }
 
-OlsSolver::OlsSolver(const OptionMap& options) { options_.table().apply(options); }
-
-std::string OlsSolver::help() {
-  OlsOptions o;
-  return "ols - orthogonal least-squares forward selection (Chen 1991) with Orr's regularisation:\n" + o.table().help();
-}
-
 void fill_network(const ForwardSelectionResult& r, const Eigen::RowVectorXd& widths, RbfNetwork& net) {
   net.centres = r.centres;
   net.widths = widths.replicate(r.centres.rows(), 1);
@@ -49,24 +49,16 @@ void fill_network(const ForwardSelectionResult& r, const Eigen::RowVectorXd& wid
   net.bias = 0.0;
 }
 
-SolverSummary OlsSolver::train(const RbfProblem& problem, RbfNetwork& net) {
-  const auto start = std::chrono::steady_clock::now();
+SolveOutcome OlsSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) {
   const ForwardSelectionOptions s = options_.selection(problem.dimension());
   const ForwardSelectionResult r = forward_select(problem.x, problem.y, s);
+  for (double c : r.criterion_history) monitor.iteration(c);
   fill_network(r, s.widths, net);
-  SolverSummary summary;
-  summary.solver = "ols";
-  summary.termination = r.termination;
-  summary.iterations = r.steps;
-  summary.cost_history = r.criterion_history;
-  summary.nodes = static_cast<int>(r.weights.size());
-  summary.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  summary.peak_rss_mb = peak_rss_mb();
-  summary.details = {{"criterion", options_.criterion}, {"criterion_value", r.criterion}, {"lambda", r.lambda},
-                     {"effective_parameters", r.effective_parameters}, {"rss", r.rss},
-                     {"candidates", r.candidates}, {"skipped_collinear", r.skipped_collinear},
-                     {"width", std::vector<double>(s.widths.data(), s.widths.data() + s.widths.size())}};
-  return summary;
+  return {r.termination, r.stop_reason,
+          {{"criterion", options_.criterion}, {"criterion_value", r.criterion}, {"lambda", r.lambda},
+           {"effective_parameters", r.effective_parameters}, {"rss", r.rss}, {"candidates", r.candidates},
+           {"skipped_collinear", r.skipped_collinear},
+           {"width", std::vector<double>(s.widths.data(), s.widths.data() + s.widths.size())}}};
 }
 
 }  // namespace gyrosid

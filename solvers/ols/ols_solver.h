@@ -1,9 +1,10 @@
 // `ols`: forward selection by error-reduction ratio with Orr's global ridge regression (forward_selection.h).
 // Fixed node width(s) chosen by the user - the thesis's method (Orr's toolbox, BIC, width by trial).
+// An iteration is one selection step (one node added); the cost history is the selection criterion.
 #pragma once
 
-#include "solvers/solver.h"
 #include "solvers/ols/forward_selection.h"
+#include "solvers/solver.h"
 
 namespace gyrosid {
 
@@ -18,18 +19,19 @@ struct OlsOptions {
   int patience = 3;
   double collinear_tolerance = 1e-9;
   OptionTable table();
+  std::string validate() const;
   ForwardSelectionOptions selection(Eigen::Index dimension) const;
 };
 
 class OlsSolver : public RbfSolver {
  public:
-  explicit OlsSolver(const OptionMap& options);
+  using Options = OlsOptions;
+  explicit OlsSolver(Options options) : options_(std::move(options)) {}
   std::string_view name() const override { return "ols"; }
-  SolverSummary train(const RbfProblem& problem, RbfNetwork& net) override;
-  static std::string help();
+  SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
 
  private:
-  OlsOptions options_;
+  Options options_;
 };
 
 // Copies a forward-selection result into a network (weights still in target units).

@@ -63,10 +63,11 @@ void run_calibrate(CalibrateOptions o) {
   const CalibrationResult result = calibrate(rec, request);
   save_model(o.out, *result.model, {{"training", result.training}, {"summary", result.summary}});
   std::cout << "wrote " << o.out << ": " << result.model->kind() << " model";
-  if (result.summary.contains("nodes")) std::cout << ", " << result.summary["nodes"].get<int>() << " nodes";
-  if (result.summary.contains("termination")) std::cout << ", " << result.summary["termination"].get<std::string>();
-  std::cout << ", " << format_significant(result.summary.value("time_s", 0.0), 3) << " s";
-  if (result.summary.contains("peak_rss_mb")) std::cout << ", peak " << format_significant(result.summary["peak_rss_mb"].get<double>(), 3) << " MB";
+  const SolveSummary& s = result.summary;
+  if (s.details.contains("nodes")) std::cout << ", " << s.details["nodes"].get<int>() << " nodes";
+  std::cout << ", " << to_string(s.termination);
+  if (!s.message.empty()) std::cout << " (" << s.message << ")";
+  std::cout << ", " << format_significant(s.time_s, 3) << " s, peak " << format_significant(s.peak_rss_mb, 3) << " MB";
   std::cout << "\n";
 }
 

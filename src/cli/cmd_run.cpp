@@ -180,10 +180,10 @@ void run_main(const RunOptions& o) {
   for (const Calibrated* c : {&classical, &rbf}) {
     const auto& s = c->surface.stats;
     const auto& fit = c->result.summary;
-    const std::string params = fit.contains("nodes") ? std::to_string(fit["nodes"].get<int>()) + " nodes"
-                                                     : std::to_string(fit.value("parameters", 0)) + " coefficients";
+    const std::string params = fit.details.contains("nodes") ? std::to_string(fit.details["nodes"].get<int>()) + " nodes"
+                                                             : std::to_string(fit.details.value("parameters", 0)) + " coefficients";
     md << "| " << c->label << " | `" << c->result.training["config"].get<std::string>() << "` | " << params << " | "
-       << cell(c->result.summary.value("time_s", 0.0)) << " | " << cell(s.mean_dph) << " | " << cell(s.sigma_dph) << " | "
+       << cell(fit.time_s) << " | " << cell(s.mean_dph) << " | " << cell(s.sigma_dph) << " | "
        << cell(s.max_dph) << " | " << cell(s.min_dph) << " | " << cell(s.rms_dph) << " |\n";
     summary["models"][c->label] = {{"config", c->result.training["config"]}, {"surface", s.to_json()}, {"summary", c->result.summary}};
   }

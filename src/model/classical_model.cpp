@@ -2,7 +2,6 @@
 
 #include <Eigen/QR>
 
-#include <chrono>
 #include <cmath>
 
 #include "core/error.h"
@@ -84,31 +83,15 @@ void ClassicalModel::export_c_body(CExport& out) const {
              << sf_rate.size() << ", u)) * w;\n}\n";
 }
 
-nlohmann::json ClassicalFitSummary::to_json() const {
-  return {{"termination", "solved"}, {"samples", samples}, {"parameters", parameters},
-          {"rms_residual_dph", rms_residual_dph}, {"condition_estimate", condition_estimate}, {"time_s", time_s}};
-}
+namespace {
 
-std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const ClassicalOptions& o, ClassicalFitSummary* summary) {
-  const auto start = std::chrono::steady_clock::now();
-  if (auto p = o.validate(); !p.empty()) fail("classical model: ", p);
-  if (data.features.size() != 2 || data.features[0] != "measured_rate" || data.features[1] != "temperature") {
-    fail("classical model: features must be measured_rate, temperature");
-  }
-  if (!data.target.allFinite()) fail("classical model: the recording has no reference rate (ref_rate_dps) to fit against");
-  auto model = std::make_unique<ClassicalModel>(data.features, ModelTarget::error);
-  const Eigen::VectorXd w = data.x.col(0), temp = data.x.col(1);
-  model->rate_scale = std::max(w.cwiseAbs().maxCoeff(), 1e-6);
-  model->temperature_reference = 0.5 * (temp.maxCoeff() + temp.minCoeff());
-  model->temperature_scale = std::max(0.5 * (temp.maxCoeff() - temp.minCoeff()), 1.0);
-
+// Columns of the additive separable model: v^0..v^nb | v^1..v^nt w | u^0..u^nw w.
+Eigen::MatrixXd classical_columns(const ClassicalModel& m, const ClassicalOptions& o, const Eigen::VectorXd& w,
+                                  const Eigen::VectorXd& temp) {
   const int nb = o.bias_order, nt = o.sf_temperature_order, nw = o.sf_rate_order;
-  const Eigen::Index p = (nb + 1) + nt + (nw + 1), n = data.size();
-  if (n < 2 * p) fail("classical model: ", n, " samples for ", p, " coefficients");
-  Eigen::MatrixXd a(n, p);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double u = w(i) / model->rate_scale;
-    const double v = (temp(i) - model->temperature_reference) / model->temperature_scale;
+  Eigen::MatrixXd a(w.size(), (nb + 1) + nt + (nw + 1));
+  for (Eigen::Index i = 0; i < w.size(); ++i) {
+    const double u = w(i) / m.rate_scale, v = (temp(i) - m.temperature_reference) / m.temperature_scale;
     Eigen::Index c = 0;
     double vp = 1.0;
     for (int k = 0; k <= nb; ++k, vp *= v) a(i, c++) = vp;
@@ -117,26 +100,45 @@ std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const Classic
     double up = 1.0;
     for (int k = 0; k <= nw; ++k, up *= u) a(i, c++) = up * w(i);
   }
-  // Column scaling, then pivoted QR.
-  const Eigen::VectorXd col_norm = a.colwise().norm().transpose().cwiseMax(1e-300);
-  const Eigen::MatrixXd as = a * col_norm.cwiseInverse().asDiagonal();
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(as);
-  if (qr.rank() < p) fail("classical model: the recording does not determine all ", p, " coefficients (rank ", qr.rank(), "); lower the polynomial orders or cover more temperatures and rates");
-  const Eigen::VectorXd coeff = qr.solve(data.target).cwiseQuotient(col_norm);
+  return a;
+}
 
-  model->bias = coeff.head(nb + 1);
-  model->sf_temperature = Eigen::VectorXd::Zero(nt + 1);
-  model->sf_temperature.tail(nt) = coeff.segment(nb + 1, nt);
-  model->sf_rate = coeff.tail(nw + 1);
-  if (summary) {
-    const Eigen::VectorXd r = a * coeff - data.target;
-    summary->samples = static_cast<std::size_t>(n);
-    summary->parameters = static_cast<std::size_t>(p);
-    summary->rms_residual_dph = units::radps_to_dph(std::sqrt(r.squaredNorm() / static_cast<double>(n)));
-    const auto diag = qr.matrixR().diagonal().cwiseAbs();
-    summary->condition_estimate = diag.maxCoeff() / diag.minCoeff();
-    summary->time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}  // namespace
+
+std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const ClassicalOptions& o, SolveSummary* summary) {
+  if (auto p = o.validate(); !p.empty()) fail("classical model: ", p);
+  if (data.features.size() != 2 || data.features[0] != "measured_rate" || data.features[1] != "temperature") {
+    fail("classical model: features must be measured_rate, temperature");
   }
+  if (!data.target.allFinite()) fail("classical model: the recording has no reference rate (ref_rate_dps) to fit against");
+  auto model = std::make_unique<ClassicalModel>(data.features, ModelTarget::error);
+  const SolveSummary s = timed_solve("classical", [&](SolveMonitor& monitor) {
+    const Eigen::VectorXd w = data.x.col(0), temp = data.x.col(1);
+    model->rate_scale = std::max(w.cwiseAbs().maxCoeff(), 1e-6);
+    model->temperature_reference = 0.5 * (temp.maxCoeff() + temp.minCoeff());
+    model->temperature_scale = std::max(0.5 * (temp.maxCoeff() - temp.minCoeff()), 1.0);
+    const Eigen::MatrixXd a = classical_columns(*model, o, w, temp);
+    const Eigen::Index p = a.cols(), n = data.size();
+    if (n < 2 * p) fail("classical model: ", n, " samples for ", p, " coefficients");
+    // Column scaling, then pivoted QR.
+    const Eigen::VectorXd col_norm = a.colwise().norm().transpose().cwiseMax(1e-300);
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a * col_norm.cwiseInverse().asDiagonal());
+    if (qr.rank() < p) fail("classical model: the recording does not determine all ", p, " coefficients (rank ", qr.rank(), "); lower the polynomial orders or cover more temperatures and rates");
+    const Eigen::VectorXd coeff = qr.solve(data.target).cwiseQuotient(col_norm);
+    const int nb = o.bias_order, nt = o.sf_temperature_order, nw = o.sf_rate_order;
+    model->bias = coeff.head(nb + 1);
+    model->sf_temperature = Eigen::VectorXd::Zero(nt + 1);
+    model->sf_temperature.tail(nt) = coeff.segment(nb + 1, nt);
+    model->sf_rate = coeff.tail(nw + 1);
+    const double rss = (a * coeff - data.target).squaredNorm();
+    monitor.iteration(0.5 * rss);
+    const auto diag = qr.matrixR().diagonal().cwiseAbs();
+    return SolveOutcome{Termination::converged, "linear least squares by column-pivoted QR",
+                        {{"samples", n}, {"parameters", p},
+                         {"rms_residual_dph", units::radps_to_dph(std::sqrt(rss / static_cast<double>(n)))},
+                         {"condition_estimate", diag.maxCoeff() / diag.minCoeff()}}};
+  });
+  if (summary) *summary = s;
   return model;
 }
 

@@ -10,6 +10,7 @@
 // it is solved by column-pivoted Householder QR (no normal equations).
 #pragma once
 
+#include "core/solve_summary.h"
 #include "model/calibration_model.h"
 
 namespace gyrosid {
@@ -40,17 +41,9 @@ class ClassicalModel : public CalibrationModel {
   Eigen::VectorXd sf_rate;        // sigma_0..sigma_nw
 };
 
-struct ClassicalFitSummary {
-  std::size_t samples = 0;
-  std::size_t parameters = 0;
-  double rms_residual_dph = 0.0;
-  double condition_estimate = 0.0;  // |R_11| / |R_pp| of the pivoted QR
-  double time_s = 0.0;
-  nlohmann::json to_json() const;
-};
 
 // Requires features (measured_rate, temperature) in that order and target error.
 std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const ClassicalOptions& options,
-                                              ClassicalFitSummary* summary = nullptr);
+                                              SolveSummary* summary = nullptr);
 
 }  // namespace gyrosid

@@ -29,15 +29,26 @@ double RbfNetwork::predict(const double* x) const {
   return evaluate_normalised(xn);
 }
 
-Eigen::MatrixXd RbfNetwork::basis(const Eigen::MatrixXd& xn) const {
-  const Eigen::Index n = xn.rows(), m = nodes(), d = dimension();
-  Eigen::MatrixXd phi(n, m);
-  std::vector<double> row(static_cast<std::size_t>(d));
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (Eigen::Index k = 0; k < d; ++k) row[static_cast<std::size_t>(k)] = xn(i, k);
-    for (Eigen::Index j = 0; j < m; ++j) phi(i, j) = gaussian(row.data(), centres.data() + j, widths.data() + j, d, m);
+void RbfNetwork::pack_node(Eigen::Index j, double* block) const {
+  const NodeBlock<double> b{block, dimension()};
+  for (Eigen::Index k = 0; k < b.d; ++k) {
+    b.centre()[k] = centres(j, k);
+    b.log_width()[k] = std::log(widths(j, k));
   }
-  return phi;
+  b.weight() = weights(j);
+}
+
+void RbfNetwork::unpack_node(Eigen::Index j, const double* block) {
+  const NodeBlock<const double> b{block, dimension()};
+  for (Eigen::Index k = 0; k < b.d; ++k) {
+    centres(j, k) = b.centre()[k];
+    widths(j, k) = std::exp(b.log_width()[k]);
+  }
+  weights(j) = b.weight();
+}
+
+Eigen::MatrixXd RbfNetwork::basis(const Eigen::MatrixXd& xn) const {
+  return gaussian_columns(xn, centres, widths);
 }
 
 namespace {

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "model/calibration_model.h"
+#include "model/gaussian_node.h"
 #include "model/normalizer.h"
 
 namespace gyrosid {
@@ -29,6 +30,9 @@ class RbfNetwork : public CalibrationModel {
   Eigen::MatrixXd basis(const Eigen::MatrixXd& xn) const;
 
   Eigen::Index nodes() const { return weights.size(); }
+  // Node j as the joint solvers' packed block [c, log r, w] (NodeBlock::size(d) values) and back.
+  void pack_node(Eigen::Index j, double* block) const;
+  void unpack_node(Eigen::Index j, const double* block);
   Eigen::Index dimension() const { return normalizer.dimension(); }
 
   Normalizer normalizer;
@@ -37,15 +41,5 @@ class RbfNetwork : public CalibrationModel {
   Eigen::VectorXd weights;  // m
   double bias = 0.0;
 };
-
-// exp(-sum_k (x_k - c_k)^2 / r_k^2) for one node; the single definition used by every evaluation path.
-inline double gaussian(const double* x, const double* c, const double* r, Eigen::Index d, Eigen::Index stride) {
-  double z = 0.0;
-  for (Eigen::Index k = 0; k < d; ++k) {
-    const double u = (x[k] - c[k * stride]) / r[k * stride];
-    z += u * u;
-  }
-  return std::exp(-z);
-}
 
 }  // namespace gyrosid

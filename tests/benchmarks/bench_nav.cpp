@@ -46,7 +46,7 @@ void BM_MonteCarloShort1000(benchmark::State& state) {
     const auto r = nav::monte_carlo([&](int i) { return cof.decompose(cof.run(nav::CompensationMode::model, true, static_cast<std::uint64_t>(i)).error_ned); }, o);
     benchmark::DoNotOptimize(r.sigma_m);
   }
-  state.counters["nodes"] = static_cast<double>(model.summary["nodes"].get<int>());
+  state.counters["nodes"] = static_cast<double>(model.summary.details["nodes"].get<int>());
 }
 BENCHMARK(BM_MonteCarloShort1000)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 

@@ -32,7 +32,7 @@ void train(benchmark::State& state, const std::string& solver, const OptionMap& 
   int nodes = 0;
   for (auto _ : state) {
     RbfNetwork net = p.empty_network();
-    nodes = make_solver(solver, options)->train(p, net).nodes;
+    nodes = gyrosid::train(*make_solver(solver, options), p, net).details["nodes"].get<int>();
   }
   state.counters["nodes"] = nodes;
   state.counters["samples_per_s"] = benchmark::Counter(static_cast<double>(state.range(0)), benchmark::Counter::kIsIterationInvariantRate);

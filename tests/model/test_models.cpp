@@ -55,7 +55,7 @@ TEST(ClassicalModel, RecoversPlantedPolynomialCoefficients) {
     const double x[2] = {d.x(i, 0), d.x(i, 1)};
     d.target(i) = truth.predict(x);
   }
-  ClassicalFitSummary s;
+  SolveSummary s;
   const auto fit = fit_classical(d, ClassicalOptions{}, &s);
   // The fit chooses its own scalings; compare the polynomials, not the raw coefficients.
   for (double t : {-20.0, 0.0, 33.3, 60.0}) {
@@ -64,8 +64,9 @@ TEST(ClassicalModel, RecoversPlantedPolynomialCoefficients) {
       EXPECT_NEAR(fit->predict(x), truth.predict(x), 1e-12 * dps_to_radps(1)) << t << " C, " << w << " deg/s";
     }
   }
-  EXPECT_LT(s.rms_residual_dph, 1e-8);
-  EXPECT_EQ(s.parameters, 4u + 2u + 7u);
+  EXPECT_EQ(s.termination, Termination::converged);
+  EXPECT_LT(s.details["rms_residual_dph"].get<double>(), 1e-8);
+  EXPECT_EQ(s.details["parameters"].get<int>(), 4 + 2 + 7);
 }
 
 TEST(ClassicalModel, RejectsADegenerateRecording) {

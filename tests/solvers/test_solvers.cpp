@@ -51,7 +51,9 @@ RbfProblem planted_problem() {
 RbfNetwork train(const std::string& solver, const OptionMap& options) {
   const RbfProblem p = planted_problem();
   RbfNetwork net = p.empty_network();
-  make_solver(solver, options)->train(p, net);
+  const SolveSummary s = gyrosid::train(*make_solver(solver, options), p, net);
+  EXPECT_TRUE(s.usable()) << solver << ": " << s.message;
+  EXPECT_EQ(s.iterations, static_cast<int>(s.cost_history.size()));
   return net;
 }
 
