@@ -50,6 +50,12 @@ def load_json(path):
         return json.load(f)
 
 
+def model_size(summary):
+    """Nodes of an RBF model, or coefficients of another, from a model file's solver summary."""
+    details = summary.get("details", {})
+    return details.get("nodes", details.get("parameters", ""))
+
+
 def write_csv(path, rows, columns):
     tmp = path + ".tmp"
     with open(tmp, "w", newline="") as f:

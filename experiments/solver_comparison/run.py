@@ -16,7 +16,7 @@ import sys
 import yaml
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "lib"))
-from gyrosid_experiments import Runner, gnuplot, load_json, markdown_table, set_args, write_csv, write_text  # noqa: E402
+from gyrosid_experiments import Runner, gnuplot, load_json, markdown_table, model_size, set_args, write_csv, write_text  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -63,7 +63,7 @@ def main():
         s = load_json(os.path.join(surface_dir, "surface.json"))["difference"]
         summary = m["summary"]
         row = {"training": train["name"], "noise": noise, "solver": label,
-               "nodes": summary.get("nodes", summary.get("parameters", "")),
+               "nodes": model_size(summary),
                "time_s": summary.get("time_s", 0.0), "peak_rss_mb": summary.get("peak_rss_mb", ""),
                "termination": summary.get("termination", ""),
                "mean_dph": s["mean_dph"], "sigma_dph": s["sigma_dph"], "max_dph": s["max_dph"],

@@ -16,7 +16,7 @@ import sys
 import yaml
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "lib"))
-from gyrosid_experiments import Runner, fmt, gnuplot, load_json, markdown_table, write_csv, write_text  # noqa: E402
+from gyrosid_experiments import Runner, fmt, gnuplot, load_json, markdown_table, model_size, write_csv, write_text  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
@@ -101,7 +101,7 @@ def main():
                 label = "w%s_%s" % (w, training)
                 path = model(label, training, ["--solver", "ols", "--normalization", "units", "--set", "width=%s" % w,
                                                "--set", "criterion=bic", "--set", "candidates=0"])
-                r = {"training": training, "width": w, "nodes": load_json(path)["summary"]["nodes"]}
+                r = {"training": training, "width": w, "nodes": model_size(load_json(path)["summary"])}
                 for traj in cfg["trajectories"]:
                     r[traj + "_m"] = cof(path, label, traj)["score_m"]
                 rows.append(r)
@@ -121,7 +121,7 @@ def main():
         for label, extra in list(cfg["search"].items()) + [("rbf_noise_free (rbf_best)", None)]:
             path = models["rbf_best"] if extra is None else model("search_" + label, "dual_11110", extra)
             m = load_json(path)["summary"]
-            r = {"configuration": label, "nodes": m["nodes"], "fit_time_s": m["time_s"]}
+            r = {"configuration": label, "nodes": model_size(m), "fit_time_s": m["time_s"]}
             for traj in cfg["trajectories"]:
                 j = cof(path, "rbf_best" if extra is None else "search_" + label, traj)
                 r[traj + "_m"] = j["score_m"]
