@@ -7,6 +7,7 @@
 #include "cli/common.h"
 #include "core/error.h"
 #include "core/recording.h"
+#include "report/allan_report.h"
 
 namespace gyrosid::cli {
 namespace {

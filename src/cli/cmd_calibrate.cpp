@@ -1,4 +1,4 @@
-// gyrosid calibrate / compensate / export: fit a calibration model to a recording, apply it, export it to C.
+// gyrosid calibrate: fit a calibration model to a recording (solvers/calibrate.h).
 #include <iostream>
 #include <memory>
 
@@ -7,7 +7,6 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/recording.h"
-#include "core/units.h"
 #include "model/calibration_model.h"
 #include "solvers/calibrate.h"
 #include "solvers/solver.h"
@@ -71,32 +70,6 @@ void run_calibrate(CalibrateOptions o) {
   std::cout << "\n";
 }
 
-struct CompensateOptions {
-  std::string model, recording, out;
-};
-
-void run_compensate(const CompensateOptions& o) {
-  const auto model = load_model(o.model);
-  Recording rec = read_recording(o.recording);
-  const Dataset data = make_dataset(rec, model->features(), model->target());
-  const Eigen::VectorXd comp = compensate(*model, data);
-  std::vector<double> dps(static_cast<std::size_t>(comp.size()));
-  for (Eigen::Index i = 0; i < comp.size(); ++i) dps[static_cast<std::size_t>(i)] = units::radps_to_dps(comp(i));
-  rec.set_column("compensated_dps", dps);
-  write_recording(rec, o.out);
-  std::cout << "wrote " << o.out << ": " << rec.rows() << " samples with compensated_dps";
-  if (data.reference.allFinite()) {
-    const double before = units::radps_to_dph(std::sqrt((data.measured - data.reference).squaredNorm() / data.size()));
-    const double after = units::radps_to_dph(std::sqrt((comp - data.reference).squaredNorm() / data.size()));
-    std::cout << "; rms error against ref_rate_dps " << format_significant(before, 4) << " -> " << format_significant(after, 4) << " deg/h";
-  }
-  std::cout << "\n";
-}
-
-struct ExportOptions {
-  std::string model, prefix = "gyro", out;
-};
-
 }  // namespace
 
 void register_calibrate(CLI::App& app, Action& action) {
@@ -120,29 +93,6 @@ void register_calibrate(CLI::App& app, Action& action) {
       "The thesis's configuration: --solver ols --normalization units --set width=17.5 --set criterion=bic\n"
       "(Orr's toolbox on deg/s and deg C with node scale 17.5).");
   cmd->callback([o, &action] { action = [o] { run_calibrate(*o); }; });
-}
-
-void register_compensate(CLI::App& app, Action& action) {
-  auto o = std::make_shared<CompensateOptions>();
-  CLI::App* cmd = app.add_subcommand("compensate", "Apply a calibration model: the recording plus a compensated_dps column");
-  cmd->add_option("--model", o->model, "Model file written by calibrate")->required();
-  cmd->add_option("--recording", o->recording, "Recording to compensate")->required();
-  cmd->add_option("--out", o->out, "Recording to write")->required();
-  cmd->callback([o, &action] { action = [o] { run_compensate(*o); }; });
-}
-
-void register_export(CLI::App& app, Action& action) {
-  auto o = std::make_shared<ExportOptions>();
-  CLI::App* cmd = app.add_subcommand("export", "Export a model to dependency-free C99 (<prefix>.h, <prefix>.c)");
-  cmd->add_option("--model", o->model, "Model file written by calibrate")->required();
-  cmd->add_option("--prefix", o->prefix, "C identifier prefix")->capture_default_str();
-  cmd->add_option("--out", o->out, "Output directory")->required();
-  cmd->callback([o, &action] {
-    action = [o] {
-      load_model(o->model)->export_c(o->out, o->prefix);
-      std::cout << "wrote " << o->out << "/" << o->prefix << ".h and " << o->prefix << ".c\n";
-    };
-  });
 }
 
 }  // namespace gyrosid::cli

@@ -36,13 +36,12 @@ void run_cof(CofCommand c) {
   c.request.options.probe = parse_enum<nav::TemperatureProbe>(c.probe, "--temperature-probe");
   const nav::CofReport r = nav::evaluate_criterion_of_fit(c.request);
   write_cof_outputs(r, c.out);
-  const auto& j = r.summary;
-  std::cout << "criterion of fit, " << j["trajectory"].get<std::string>() << " (" << format_significant(j["duration_s"].get<double>(), 4)
-            << " s): end error " << format_significant(j["end_error_m"].get<double>(), 4) << " m (along "
-            << format_significant(j["along_track_m"].get<double>(), 3) << ", cross " << format_significant(j["cross_track_m"][0].get<double>(), 3)
-            << ", " << format_significant(j["cross_track_m"][1].get<double>(), 3) << " m); uncompensated "
-            << format_significant(j["uncompensated_end_error_m"].get<double>(), 4) << " m; drift "
-            << format_significant(j["drift_m_per_h"].get<double>(), 4) << " m/h";
+  std::cout << "criterion of fit, " << r.request.trajectory << " (" << format_significant(r.duration_s(), 4)
+            << " s): end error " << format_significant(r.run.end_error_m, 4) << " m (along "
+            << format_significant(r.decomposed.x(), 3) << ", cross " << format_significant(r.decomposed.y(), 3)
+            << ", " << format_significant(r.decomposed.z(), 3) << " m); uncompensated "
+            << format_significant(r.uncompensated.end_error_m, 4) << " m; drift "
+            << format_significant(r.drift_m_per_h, 4) << " m/h";
   if (r.mc) {
     std::cout << "; Monte Carlo " << r.mc->runs << " runs: mean " << format_significant(r.mc->mean_m, 4) << " m, sigma "
               << format_significant(r.mc->sigma_m, 4) << " m" << (r.mc->normal ? "" : " (normality not reached)");

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/recording.h"
 #include "report/plots.h"
+#include "sensor/error_surface.h"
 #include "sim/simulate.h"
 
 namespace gyrosid::cli {

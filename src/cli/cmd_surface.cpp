@@ -12,6 +12,8 @@
 #include "model/rbf_network.h"
 #include "model/surface_comparison.h"
 #include "report/plots.h"
+#include "sensor/error_surface.h"
+#include "sensor/sensor_config.h"
 #include "solvers/common/candidates.h"
 
 namespace gyrosid::cli {

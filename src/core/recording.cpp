@@ -1,5 +1,7 @@
 #include "core/recording.h"
 
+#include "core/units.h"
+
 #include <clocale>
 #include <cmath>
 #include <cstdlib>
@@ -278,6 +280,19 @@ double uniform_sample_interval(const Recording& recording, std::string_view purp
     }
   }
   return (t.back() - t.front()) / static_cast<double>(t.size() - 1);
+}
+
+std::vector<double> rate_column_dph(const Recording& recording, const std::string& name) {
+  const auto& column = recording.column(name);
+  double scale = 0.0;
+  if (name.size() > 4 && name.ends_with("_dps")) scale = units::kSecondsPerHour;
+  if (name.size() > 4 && name.ends_with("_dph")) scale = 1.0;
+  if (scale == 0.0) {
+    fail(recording.source(), ": column '", name, "' is not a rate (its name must end in _dps or _dph)");
+  }
+  std::vector<double> out(column.size());
+  for (std::size_t i = 0; i < column.size(); ++i) out[i] = column[i] * scale;
+  return out;
 }
 
 }  // namespace gyrosid

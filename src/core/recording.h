@@ -79,4 +79,7 @@ std::vector<std::string> required_columns(RecordingKind kind, const Recording& r
 // resampled silently. Relative tolerance on each step: 1e-4.
 double uniform_sample_interval(const Recording& recording, std::string_view purpose);
 
+// A rate column in deg/h, whatever its suffix (_dps or _dph); Error naming the column for other columns.
+std::vector<double> rate_column_dph(const Recording& recording, const std::string& name);
+
 }  // namespace gyrosid

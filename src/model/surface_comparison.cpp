@@ -65,4 +65,21 @@ SurfaceComparison compare_surfaces(const CalibrationModel& model, const GyroSens
   return c;
 }
 
+SurfaceGridSpec comparison_grid(const GyroSensor& truth, const std::vector<nlohmann::json>& trainings) {
+  SurfaceGridSpec grid;
+  if (truth.errors.scale_factor_surface) {
+    grid.temp_min_c = truth.errors.scale_factor_surface->x().front();
+    grid.temp_max_c = truth.errors.scale_factor_surface->x().back();
+  }
+  for (const auto& training : trainings) {
+    const auto domain = training.value("/domain/temperature"_json_pointer, nlohmann::json());
+    if (domain.is_array() && domain.size() == 2) {
+      grid.temp_min_c = std::max(grid.temp_min_c, domain[0].get<double>());
+      grid.temp_max_c = std::min(grid.temp_max_c, domain[1].get<double>());
+    }
+  }
+  if (!(grid.temp_max_c > grid.temp_min_c)) fail("the models' training temperatures do not overlap the sensor's grid");
+  return grid;
+}
+
 }  // namespace gyrosid

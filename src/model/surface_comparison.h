@@ -35,4 +35,9 @@ struct SurfaceComparison {
 SurfaceComparison compare_surfaces(const CalibrationModel& model, const GyroSensor& truth, const SurfaceGridSpec& grid);
 SurfaceStats surface_stats(const Eigen::MatrixXd& difference_dph);
 
+// The (T, omega) grid on which to compare models with the truth: the sensor's surface grid, narrowed to
+// the temperatures every given model was trained on (the training.domain.temperature of their model
+// files), so that no model is scored where it would extrapolate.
+SurfaceGridSpec comparison_grid(const GyroSensor& truth, const std::vector<nlohmann::json>& trainings);
+
 }  // namespace gyrosid

@@ -3,8 +3,6 @@
 // compensation for scale), optionally the Monte Carlo with the thesis's reference runs, and summarise.
 #pragma once
 
-#include <nlohmann/json.hpp>
-
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -26,13 +24,37 @@ struct CofRequest {
   std::uint64_t seed = 1;
 };
 
-struct CofReport {
-  nlohmann::json summary;  // cof.json
-  FlightTrajectory flight;
-  std::vector<NavState> reference;
-  CofRun run, uncompensated;
-  std::optional<MonteCarloResult> mc;
+// The thesis's reference runs beside a Monte Carlo (s5.5): white noise alone and a constant bias equal to
+// the noise's 1-Hz sigma, neither compensated; sigma_increase is eq 5.2's sqrt(sigma^2 - sigma_noise^2).
+struct CofReferenceRuns {
+  MonteCarloResult just_noise;
+  double bias_dph = 0.0;
+  double bias_end_error_m = 0.0;
+  double sigma_increase_m = 0.0;
 };
+
+// What one criterion-of-fit evaluation found (written as cof.json by report/cof_json.h).
+struct CofReport {
+  CofRequest request;               // labels, options, seed as evaluated
+  FlightTrajectory flight;
+  std::vector<NavState> reference;  // the reference INS, every step
+  double max_rate_dps = 0.0;
+  std::size_t clipped_samples = 0;
+  CofRun run, uncompensated;
+  Eigen::Vector3d decomposed = Eigen::Vector3d::Zero();  // along-track, cross-track horizontal and vertical, m
+  double drift_m_per_h = 0.0;       // error after 1 h, or the end error per hour on shorter flights
+  std::optional<MonteCarloResult> mc;
+  std::optional<CofReferenceRuns> mc_reference;  // with mc, when the sensor has white noise
+
+  double duration = 0.0;            // of the flight, s
+  double duration_s() const { return duration; }
+  // Frees the flight and the reference path (large for long flights) once plots no longer need them.
+  void drop_paths();
+};
+
+// The criterion a flight is scored by: the error after 1 h on flights longer than that (thesis s5.3.3),
+// else the end error.
+double score_m(const CofRun& run);
 
 FlightTrajectory load_flight(const std::string& name_or_file, double rate_hz);
 CofReport evaluate_criterion_of_fit(const CofRequest& request);

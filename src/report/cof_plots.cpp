@@ -1,5 +1,6 @@
 #include "report/cof_plots.h"
 
+#include "report/cof_json.h"
 #include <cmath>
 
 #include "core/atomic_file.h"
@@ -7,6 +8,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/gnuplot.h"
+#include "report/cof_json.h"
 
 namespace gyrosid {
 
@@ -25,7 +27,7 @@ void plot_error_growth(const std::filesystem::path& png, const std::string& titl
 }
 
 void write_cof_outputs(const nav::CofReport& r, const std::filesystem::path& dir) {
-  write_file_atomic(dir / "cof.json", r.summary.dump(2) + "\n");
+  write_file_atomic(dir / "cof.json", cof_json(r).dump(2) + "\n");
 
   // Ground track, north/east from the start, km.
   std::vector<std::vector<double>> track;
@@ -36,14 +38,14 @@ void write_cof_outputs(const nav::CofReport& r, const std::filesystem::path& dir
     track.push_back({d.y() / 1000.0, d.x() / 1000.0, r.reference[k].h / 1000.0});
   }
   render_png(dir / "ground_track.png",
-             datablock("track", track) + str_cat("set title ", gnuplot_quote("Ground track: " + r.summary.value("trajectory", std::string())),
+             datablock("track", track) + str_cat("set title ", gnuplot_quote("Ground track: " + r.request.trajectory),
                                                  "\nset xlabel 'east (km)'\nset ylabel 'north (km)'\nset size ratio -1\nset grid\n"
                                                  "set cblabel 'height (km)'\nset palette rgb 33,13,10\n"
                                                  "plot $track using 1:2:3 with lines lw 2 lc palette notitle\n"));
 
   plot_error_growth(dir / "error_growth.png", "Position error against the reference INS",
                     {{"uncompensated", &r.uncompensated},
-                     {"compensated (" + r.summary.value("model", std::string()) + ")", &r.run}});
+                     {"compensated (" + r.request.model + ")", &r.run}});
 
   if (r.mc) {
     const char* names[] = {"along-track", "cross-track (horizontal)", "cross-track (vertical)"};

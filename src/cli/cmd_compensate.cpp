@@ -1,0 +1,34 @@
+// gyrosid compensate: apply a calibration model to a recording (model/compensate_recording.h).
+#include <iostream>
+#include <memory>
+
+#include "cli/app.h"
+#include "core/format.h"
+#include "model/compensate_recording.h"
+
+namespace gyrosid::cli {
+
+void register_compensate(CLI::App& app, Action& action) {
+  struct CompensateOptions {
+    std::string model, recording, out;
+  };
+  auto o = std::make_shared<CompensateOptions>();
+  CLI::App* cmd = app.add_subcommand("compensate", "Apply a calibration model: the recording plus a compensated_dps column");
+  cmd->add_option("--model", o->model, "Model file written by calibrate")->required();
+  cmd->add_option("--recording", o->recording, "Recording to compensate")->required();
+  cmd->add_option("--out", o->out, "Recording to write")->required();
+  cmd->callback([o, &action] {
+    action = [o] {
+      const CompensatedRecording r = compensate_recording(*load_model(o->model), read_recording(o->recording));
+      write_recording(r.recording, o->out);
+      std::cout << "wrote " << o->out << ": " << r.recording.rows() << " samples with compensated_dps";
+      if (r.rms_before_dph) {
+        std::cout << "; rms error against ref_rate_dps " << format_significant(*r.rms_before_dph, 4) << " -> "
+                  << format_significant(*r.rms_after_dph, 4) << " deg/h";
+      }
+      std::cout << "\n";
+    };
+  });
+}
+
+}  // namespace gyrosid::cli
