@@ -1,5 +1,7 @@
 #include "solvers/calibrate.h"
 
+#include <functional>
+
 #include "core/config.h"
 #include "core/error.h"
 #include "model/classical_model.h"
@@ -55,55 +57,93 @@ nlohmann::json request_json(const CalibrationRequest& r, const std::vector<std::
           {"features", features}, {"target", to_string(r.target)}, {"normalization", to_string(r.normalization)}};
 }
 
+// A single-gyro model kind fitted to a Dataset of its features.
+class DatasetFitter : public ModelFitter {
+ public:
+  using Fit = std::function<std::unique_ptr<CalibrationModel>(const Dataset&, SolveSummary&)>;
+  DatasetFitter(std::vector<std::string> features, ModelTarget target, Fit fit)
+      : features_(std::move(features)), target_(target), fit_(std::move(fit)) {}
+  std::vector<std::string> default_features() const override { return features_; }
+  std::unique_ptr<CalibrationModel> fit(const Recording& recording, const std::vector<std::string>& features, SolveSummary& summary) override {
+    return fit_(make_dataset(recording, features, target_), summary);
+  }
+
+ private:
+  std::vector<std::string> features_;
+  ModelTarget target_;
+  Fit fit_;
+};
+
+std::unique_ptr<ModelFitter> classical_fitter(const CalibrationRequest& r) {
+  ClassicalOptions o;
+  classical_table(o).apply(r.options);
+  if (const std::string p = o.validate(); !p.empty()) fail("classical: ", p);
+  return std::make_unique<DatasetFitter>(default_features(), ModelTarget::error, [o](const Dataset& d, SolveSummary& s) {
+    return std::unique_ptr<CalibrationModel>(fit_classical(d, o, &s));
+  });
+}
+
+std::unique_ptr<ModelFitter> greybox_fitter(const CalibrationRequest& r) {
+  const GreyboxOptions o = greybox_options(r.options);
+  return std::make_unique<DatasetFitter>(greybox_features(o), ModelTarget::error, [o](const Dataset& d, SolveSummary& s) {
+    std::unique_ptr<CalibrationModel> model;
+    s = timed_solve("greybox", [&](SolveMonitor&) {
+      GreyboxFitSummary g;
+      model = fit_greybox(d, o, &g);
+      return SolveOutcome{Termination::converged, "", g.to_json()};  // (the fit's own termination: issue 14, explain stream)
+    });
+    return model;
+  });
+}
+
+std::unique_ptr<ModelFitter> rbf_fitter(const CalibrationRequest& r) {
+  std::shared_ptr<RbfSolver> solver = make_solver(r.solver, r.options);  // options validated here
+  const NormalizationKind normalization = r.normalization;
+  return std::make_unique<DatasetFitter>(default_features(), r.target, [solver, normalization](const Dataset& d, SolveSummary& s) {
+    const RbfProblem problem = make_rbf_problem(d, normalization);
+    auto net = std::make_unique<RbfNetwork>(problem.empty_network());
+    s = train(*solver, problem, *net);
+    problem.unscale(*net);
+    return std::unique_ptr<CalibrationModel>(std::move(net));
+  });
+}
+
 }  // namespace
 
-std::string model_help(const std::string& model) {
-  if (model == "classical") {
-    ClassicalOptions o;
-    return "classical - bias and scale-factor polynomials (thesis s5.3.2):\n" + classical_table(o).help();
-  }
-  if (model == "greybox") {
-    GreyboxOptions o;
-    GreyboxText t;
-    return "greybox - the unified sensor model, coefficients estimated:\n" + greybox_table(o, t).help();
-  }
-  fail("unknown model '", model, "'; known: rbf, classical, greybox");
+const ModelFitterRegistry& model_fitters() {
+  static const ModelFitterRegistry registry = [] {
+    ModelFitterRegistry r("model");
+    r.add({"rbf", "Gaussian RBF network trained by a named solver (--solver; its options: --options-of <solver>)",
+           [] { return "rbf - options are the solver's: see --options-of <solver> (" + rbf_solvers().known() + ")\n"; },
+           rbf_fitter})
+        .add({"classical", "bias and scale-factor polynomials (thesis s5.3.2)",
+              [] {
+                ClassicalOptions o;
+                return "classical - bias and scale-factor polynomials (thesis s5.3.2):\n" + classical_table(o).help();
+              },
+              classical_fitter})
+        .add({"greybox", "the unified sensor model, coefficients estimated",
+              [] {
+                GreyboxOptions o;
+                GreyboxText t;
+                return "greybox - the unified sensor model, coefficients estimated:\n" + greybox_table(o, t).help();
+              },
+              greybox_fitter});
+    return r;
+  }();
+  return registry;
 }
+
+std::string model_help(const std::string& model) { return model_fitters().at(model).help(); }
 
 CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& r) {
   CalibrationResult result;
-  if (r.model == "classical") {
-    ClassicalOptions o;
-    classical_table(o).apply(r.options);
-    const auto features = r.features.empty() ? default_features() : r.features;
-    const Dataset data = make_dataset(recording, features, ModelTarget::error);
-    result.model = fit_classical(data, o, &result.summary);
-    result.training = request_json(r, features);
-  } else if (r.model == "greybox") {
-    const GreyboxOptions o = greybox_options(r.options);
-    const auto features = r.features.empty() ? greybox_features(o) : r.features;
-    const Dataset data = make_dataset(recording, features, ModelTarget::error);
-    result.summary = timed_solve("greybox", [&](SolveMonitor&) {
-      GreyboxFitSummary s;
-      result.model = fit_greybox(data, o, &s);
-      return SolveOutcome{Termination::converged, "", s.to_json()};  // (the fit's own termination: issue 14, explain stream)
-    });
-    result.training = request_json(r, features);
-  } else if (r.model == "rbf") {
-    const auto features = r.features.empty() ? default_features() : r.features;
-    const Dataset data = make_dataset(recording, features, r.target);
-    auto solver = make_solver(r.solver, r.options);
-    const RbfProblem problem = make_rbf_problem(data, r.normalization);
-    auto net = std::make_unique<RbfNetwork>(problem.empty_network());
-    result.summary = train(*solver, problem, *net);
-    problem.unscale(*net);
-    result.model = std::move(net);
-    result.training = request_json(r, features);
-  } else {
-    fail("unknown model '", r.model, "'; known: rbf, classical, greybox");
-  }
+  const std::unique_ptr<ModelFitter> fitter = model_fitters().make(r.model, r);
+  const std::vector<std::string> features = r.features.empty() ? fitter->default_features() : r.features;
+  result.model = fitter->fit(recording, features, result.summary);
+  result.training = request_json(r, features);
   // The domain the model was trained on, per input (surface comparisons default to it).
-  {
+  if (recording.kind() == RecordingKind::single) {
     const Dataset d = make_dataset(recording, result.model->features(), result.model->target());
     nlohmann::json domain = nlohmann::json::object();
     for (Eigen::Index k = 0; k < d.x.cols(); ++k) domain[d.features[static_cast<std::size_t>(k)]] = {d.x.col(k).minCoeff(), d.x.col(k).maxCoeff()};

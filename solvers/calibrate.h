@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/recording.h"
+#include "core/registry.h"
 #include "core/solve_summary.h"
 #include "model/calibration_model.h"
 #include "model/normalizer.h"
@@ -31,6 +32,19 @@ struct CalibrationResult {
   nlohmann::json training;  // provenance: recording, samples, request
 };
 
+// Fits one model kind to a recording. Made by the registry from a request, after its options are validated.
+class ModelFitter {
+ public:
+  virtual ~ModelFitter() = default;
+  virtual std::vector<std::string> default_features() const = 0;
+  virtual std::unique_ptr<CalibrationModel> fit(const Recording& recording, const std::vector<std::string>& features,
+                                                SolveSummary& summary) = 0;
+};
+
+// Every model kind `calibrate` can fit (rbf, classical, greybox, ...); help() lists a kind's options.
+using ModelFitterRegistry = Registry<ModelFitter, const CalibrationRequest&>;
+const ModelFitterRegistry& model_fitters();
+
 CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& request);
 
 class ConfigNode;
@@ -38,6 +52,6 @@ class ConfigNode;
 // keys in `also_allowed`, e.g. recording and out for `gyrosid calibrate --config`, pass unread). Unknown
 // keys and bad values are errors naming the file, line and key.
 CalibrationRequest calibration_request_from_config(const ConfigNode& config, const std::vector<std::string>& also_allowed = {});
-std::string model_help(const std::string& model);  // the model's options (classical, greybox)
+std::string model_help(const std::string& model);  // a model kind's options
 
 }  // namespace gyrosid

@@ -36,7 +36,7 @@ std::vector<std::string> split_commas(const std::string& text) {
 
 void run_calibrate(CalibrateOptions o) {
   if (!o.help_for.empty()) {
-    std::cout << (o.help_for == "classical" || o.help_for == "greybox" ? model_help(o.help_for) : solver_help(o.help_for));
+    std::cout << (model_fitters().find(o.help_for) ? model_help(o.help_for) : solver_help(o.help_for));
     return;
   }
   // A YAML config gives defaults; command-line values win.

@@ -6,10 +6,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "model/classical_model.h"
-#include "model/explained_model.h"
-#include "model/greybox_model.h"
-#include "model/rbf_network.h"
+#include "model/model_kinds.h"
 
 namespace gyrosid {
 
@@ -86,15 +83,9 @@ std::unique_ptr<CalibrationModel> model_from_json(const nlohmann::json& j, const
     if (j.value("format", "") != kModelFormat) {
       fail(source, ": not a gyrosid model (expected \"format\": \"", kModelFormat, "\")");
     }
-    const std::string kind = j.at("kind").get<std::string>();
-    const auto features = j.at("features").get<std::vector<std::string>>();
-    const auto target = parse_enum<ModelTarget>(j.at("target").get<std::string>(), source);
-    const auto& p = j.at("parameters");
-    if (kind == "rbf") return RbfNetwork::from_json(p, features, target);
-    if (kind == "classical") return ClassicalModel::from_json(p, features, target);
-    if (kind == "greybox") return GreyboxModel::from_json(p, features, target);
-    if (kind == "explained") return ExplainedModel::from_json(p, source);
-    fail(source, ": unknown model kind '", kind, "'; known: rbf, classical, greybox, explained");
+    const ModelFile file{j.at("parameters"), j.at("features").get<std::vector<std::string>>(),
+                         parse_enum<ModelTarget>(j.at("target").get<std::string>(), source), source};
+    return model_kinds().make(j.at("kind").get<std::string>(), file);
   } catch (const nlohmann::json::exception& e) {
     fail(source, ": malformed model: ", e.what());
   } catch (const Error& e) {

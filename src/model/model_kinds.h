@@ -1,0 +1,27 @@
+// Every calibration model kind, in one registry: its name (the "kind" of a model file), a one-line summary
+// and its loader from the model file's JSON. A new kind is one entry in model_kinds() (model_kinds.cpp);
+// its fitter registers beside the others in solvers/calibrate.cpp.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "core/registry.h"
+#include "model/calibration_model.h"
+
+namespace gyrosid {
+
+// What a loader receives: the model file's common fields and its kind-specific "parameters".
+struct ModelFile {
+  const nlohmann::json& parameters;
+  std::vector<std::string> features;
+  ModelTarget target;
+  const std::string& source;  // file name, for messages
+};
+
+using ModelKindRegistry = Registry<CalibrationModel, const ModelFile&>;
+const ModelKindRegistry& model_kinds();
+
+}  // namespace gyrosid

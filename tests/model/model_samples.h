@@ -1,0 +1,78 @@
+// A small instance of every calibration model kind, built directly from planted parameters (no fitting),
+// for the property suites that run over every registered kind. A new kind adds its maker here; the suite
+// fails for a registered kind without one.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "core/random.h"
+#include "core/units.h"
+#include "model/classical_model.h"
+#include "model/explained_model.h"
+#include "model/greybox_model.h"
+#include "model/rbf_network.h"
+
+namespace gyrosid::testing_support {
+
+inline std::unique_ptr<CalibrationModel> sample_rbf() {
+  auto net = std::make_unique<RbfNetwork>(default_features(), ModelTarget::error,
+                                          Normalizer{Eigen::Vector2d(0.01, 20.0), Eigen::Vector2d(1.7, 40.0)});
+  RandomStream r(3, "rbf");
+  const int m = 9;
+  net->centres.resize(m, 2), net->widths.resize(m, 2), net->weights.resize(m);
+  for (int j = 0; j < m; ++j) {
+    net->centres(j, 0) = -1 + 2 * r.uniform(), net->centres(j, 1) = -1 + 2 * r.uniform();
+    net->widths(j, 0) = 0.2 + r.uniform(), net->widths(j, 1) = 0.2 + r.uniform();
+    net->weights(j) = 1e-3 * r.normal();
+  }
+  net->bias = -7e-5;
+  return net;
+}
+
+inline std::unique_ptr<CalibrationModel> sample_classical() {
+  auto m = std::make_unique<ClassicalModel>(default_features(), ModelTarget::error);
+  m->rate_scale = 1.7, m->temperature_reference = 21.5, m->temperature_scale = 39.0;
+  m->bias = Eigen::Vector4d(-7e-5, 1e-5, -3e-6, 2e-7);
+  m->sf_temperature = Eigen::Vector3d(0, 1e-4, -2e-5);
+  m->sf_rate = Eigen::Vector4d(1e-4, 2e-5, -7e-4, 3e-5);
+  return m;
+}
+
+inline std::unique_ptr<CalibrationModel> sample_greybox() {
+  GyroErrorModel e;
+  e.bias_radps = units::dph_to_radps(-15.0);
+  e.bias_temperature_radps = {{0.0, units::dph_to_radps(0.2), units::dph_to_radps(-0.004)}, 25.0};
+  e.scale_factor_rate = {{50e-6, 0.0, -3e-5}, 0.0};
+  const std::vector<double> temps{-20, 0, 20, 40, 60}, rates{-1.7, -0.7, -0.2, 0.2, 0.7, 1.7};
+  Eigen::MatrixXd v(5, 6);
+  RandomStream r(5, "greybox");
+  for (Eigen::Index i = 0; i < v.size(); ++i) v(i) = 2e-4 * r.normal();
+  e.scale_factor_surface = SplineSurface(temps, rates, v, OutsideGridPolicy::clamp);
+  e.scale_factor_asymmetry = 3e-4;
+  e.shupe_rad_per_c = 1e-4;
+  return std::make_unique<GreyboxModel>(default_features(), e, 0.0);
+}
+
+inline std::unique_ptr<CalibrationModel> sample_explained() {
+  std::vector<Term> terms{Term::of(TermKind::bias), Term::temperature_orders({1, 2}), Term::of(TermKind::asymmetry)};
+  Term sf = Term::of(TermKind::scale_factor);
+  sf.sf_orders = {{0, 0}, {1, 0}, {0, 2}};
+  terms.push_back(sf);
+  TermScaling scaling;
+  scaling.t_ref_c = 20.0, scaling.t_scale_c = 40.0, scaling.rate_scale_radps = 1.7;
+  Eigen::VectorXd beta(7);
+  beta << units::dph_to_radps(-12.0), units::dph_to_radps(3.0), units::dph_to_radps(-1.0), 2e-4, 1e-4, -5e-5, 3e-4;
+  return std::make_unique<ExplainedModel>(scaling, 0.0, terms, beta);
+}
+
+// Every registered kind's sample, by kind name.
+inline const std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>>& model_samples() {
+  static const std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>> samples{
+      {"rbf", sample_rbf}, {"classical", sample_classical}, {"greybox", sample_greybox}, {"explained", sample_explained}};
+  return samples;
+}
+
+}  // namespace gyrosid::testing_support

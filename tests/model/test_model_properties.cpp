@@ -1,0 +1,136 @@
+// One property suite run over every registered model kind (model/model_kinds.h), as Sophus runs one suite
+// over every group: JSON round trip, C export compiled and compared, compensation consistent with the
+// prediction, a recording's prediction equal to the per-sample one at steady temperature, malformed
+// parameters refused naming the file.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+#include "core/units.h"
+#include "model/model_kinds.h"
+#include "error_of.h"
+#include "model_samples.h"
+
+namespace gyrosid {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_support::model_samples;
+
+std::vector<std::array<double, 2>> probe_points() {
+  std::vector<std::array<double, 2>> pts;
+  for (double t : {-70.0, -20.0, 0.0, 24.9, 60.0, 85.0})
+    for (double w : {-110.0, -100.0, -33.3, -1e-6, 0.0, 1e-6, 0.25, 47.0, 100.0}) pts.push_back({units::dps_to_radps(w), t});
+  return pts;
+}
+
+class ModelKind : public ::testing::TestWithParam<std::string> {
+ protected:
+  std::unique_ptr<CalibrationModel> sample() const { return model_samples().at(GetParam())(); }
+  fs::path dir() const { return fs::temp_directory_path() / ("gyrosid_model_kind_" + GetParam()); }
+  void TearDown() override { fs::remove_all(dir()); }
+};
+
+TEST(ModelKinds, EveryRegisteredKindHasASample) {
+  for (const auto& name : model_kinds().names()) EXPECT_TRUE(model_samples().count(name)) << "no sample for model kind '" << name << "'";
+}
+
+TEST_P(ModelKind, JsonRoundTripReproducesEveryPrediction) {
+  const auto m = sample();
+  EXPECT_EQ(m->kind(), GetParam());
+  const auto path = dir() / "model.json";
+  save_model(path, *m, {{"note", "test"}});
+  const auto back = load_model(path);
+  EXPECT_EQ(back->kind(), m->kind());
+  EXPECT_EQ(back->features(), m->features());
+  for (const auto& x : probe_points()) EXPECT_EQ(back->predict(x.data()), m->predict(x.data())) << x[0] << ", " << x[1];
+}
+
+TEST_P(ModelKind, CExportCompilesAndReproducesTheCppCompensation) {
+  const auto m = sample();
+  const std::string prefix = "gyro_" + GetParam();
+  m->export_c(dir(), prefix);
+  std::ofstream driver(dir() / (prefix + "_main.c"));
+  driver << "#include <stdio.h>\n#include \"" << prefix << ".h\"\nint main(void) {\n  double x[2];\n"
+         << "  while (scanf(\"%lf %lf\", &x[0], &x[1]) == 2) printf(\"%.17g\\n\", " << prefix << "_compensate(x, x[0]));\n"
+         << "  return 0;\n}\n";
+  driver.close();
+  const std::string exe = (dir() / prefix).string();
+  const std::string compile = "cc -std=c99 -pedantic -Wall -Werror -O2 -o " + exe + " " + (dir() / (prefix + ".c")).string() + " " +
+                              (dir() / (prefix + "_main.c")).string() + " -lm 2>&1";
+  ASSERT_EQ(std::system(compile.c_str()), 0) << compile;
+  const auto points = probe_points();
+  std::ofstream in(dir() / "in.txt");
+  in.precision(17);
+  for (const auto& x : points) in << x[0] << " " << x[1] << "\n";
+  in.close();
+  FILE* pipe = popen((exe + " < " + (dir() / "in.txt").string()).c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  for (const auto& x : points) {
+    double c = 0;
+    ASSERT_EQ(std::fscanf(pipe, "%lf", &c), 1);
+    const double cpp = x[0] - m->predict(x.data());
+    EXPECT_NEAR(c, cpp, 1e-12 * std::max(1.0, std::abs(cpp))) << "at " << x[0] << ", " << x[1];
+  }
+  pclose(pipe);
+}
+
+// At a constant temperature (no rate of change, no history) a recording's prediction is the per-sample
+// one, and compensation subtracts it from the measured rate.
+TEST_P(ModelKind, RecordingPredictionAtSteadyTemperatureIsPerSample) {
+  const auto m = sample();
+  Dataset d;
+  d.features = m->features();
+  const auto points = probe_points();
+  const Eigen::Index n = static_cast<Eigen::Index>(points.size());
+  d.x.resize(n, 2);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    d.x(i, 0) = points[static_cast<std::size_t>(i)][0];
+    d.x(i, 1) = 24.9;
+    d.t_s.push_back(static_cast<double>(i));
+  }
+  d.measured = d.x.col(0);
+  d.reference = d.target = Eigen::VectorXd::Constant(n, NAN);
+  const Eigen::VectorXd along = m->predict(d), comp = compensate(*m, d);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double single = m->predict(d.x.row(i).eval().data());
+    EXPECT_NEAR(along(i), single, 1e-15 + 1e-12 * std::abs(single)) << i;
+    EXPECT_DOUBLE_EQ(comp(i), d.measured(i) - along(i));
+  }
+}
+
+TEST_P(ModelKind, MalformedParametersAreErrorsNamingTheFile) {
+  const auto m = sample();
+  nlohmann::json j = m->to_json();
+  j["parameters"] = nlohmann::json::object();
+  fs::create_directories(dir());
+  const auto path = dir() / "broken.json";
+  std::ofstream(path) << j.dump();
+  EXPECT_THAT(testing_support::error_of([&] { load_model(path); }), ::testing::HasSubstr(path.string()));
+}
+
+TEST(ModelFiles, MalformedFilesAreClearErrors) {
+  const auto dir = fs::temp_directory_path() / "gyrosid_bad_model";
+  fs::create_directories(dir);
+  std::ofstream(dir / "a.json") << "{\"format\": \"something\"}";
+  std::ofstream(dir / "b.json") << "not json";
+  std::ofstream(dir / "c.json") << "{\"format\": \"gyrosid-model/1\", \"kind\": \"spline\", \"features\": [\"measured_rate\"], "
+                                   "\"target\": \"error\", \"parameters\": {}}";
+  for (const char* f : {"a.json", "b.json", "c.json"}) {
+    EXPECT_THAT(testing_support::error_of([&] { load_model(dir / f); }), ::testing::HasSubstr(f));
+  }
+  EXPECT_THAT(testing_support::error_of([&] { load_model(dir / "c.json"); }),
+              ::testing::HasSubstr("unknown model kind 'spline'; known: " + model_kinds().known()));
+  fs::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryKind, ModelKind, ::testing::ValuesIn(model_kinds().names()),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+}  // namespace
+}  // namespace gyrosid
