@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -32,7 +33,12 @@ std::vector<std::array<double, 2>> probe_points() {
 class ModelKind : public ::testing::TestWithParam<std::string> {
  protected:
   std::unique_ptr<CalibrationModel> sample() const { return model_samples().at(GetParam())(); }
-  fs::path dir() const { return fs::temp_directory_path() / ("gyrosid_model_kind_" + GetParam()); }
+  // One directory per test and kind: ctest runs the tests of a kind in parallel processes.
+  fs::path dir() const {
+    std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();  // "Name/kind"
+    std::replace(test.begin(), test.end(), '/', '_');
+    return fs::temp_directory_path() / ("gyrosid_model_kind_" + test);
+  }
   void TearDown() override { fs::remove_all(dir()); }
 };
 
