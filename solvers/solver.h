@@ -54,6 +54,17 @@ class RbfSolver {
   virtual SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) = 0;
 };
 
+// Base of a solver whose options struct O has defaults, table() and validate() (what solver_entry<S> needs).
+template <typename O>
+class RbfSolverWithOptions : public RbfSolver {
+ public:
+  using Options = O;
+  explicit RbfSolverWithOptions(Options options) : options_(std::move(options)) {}
+
+ protected:
+  Options options_;
+};
+
 // Runs the solver through timed_solve; the summary's details gain "nodes".
 SolveSummary train(RbfSolver& solver, const RbfProblem& problem, RbfNetwork& net);
 

@@ -31,15 +31,11 @@ struct CeresOptions {
   std::string validate() const;
 };
 
-class CeresRbfSolver : public RbfSolver {
+class CeresRbfSolver : public RbfSolverWithOptions<CeresOptions> {
  public:
-  using Options = CeresOptions;
-  explicit CeresRbfSolver(Options options) : options_(std::move(options)) {}
+  using RbfSolverWithOptions::RbfSolverWithOptions;
   std::string_view name() const override { return "ceres"; }
   SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
-
- private:
-  Options options_;
 };
 
 // Trains `net` with the `init` solver and its own options (shared by ceres and ipopt); the init options are

@@ -71,4 +71,15 @@ std::vector<double> parse_list(const std::string& text, const std::string& what)
   return out;
 }
 
+std::string check_positive_list(const std::string& text, const std::string& key) {
+  try {
+    for (double v : parse_list(text, "option '" + key + "'")) {
+      if (!(v > 0)) return str_cat("option '", key, "': every value must be positive, got ", v);
+    }
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace gyrosid

@@ -25,5 +25,7 @@ Eigen::RowVectorXd node_widths(double width, const std::vector<double>& per_inpu
 
 // Parses "0.2,0.5" into {0.2, 0.5}; Error naming `what` on bad input.
 std::vector<double> parse_list(const std::string& text, const std::string& what);
+// For validate(): "" when `text` parses as a list of positive numbers, else the message naming option `key`.
+std::string check_positive_list(const std::string& text, const std::string& key);
 
 }  // namespace gyrosid

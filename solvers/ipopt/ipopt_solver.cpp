@@ -35,7 +35,7 @@ std::string IpoptOptions::validate() const {
   return check_init(init, init_options);
 }
 
-IpoptRbfSolver::IpoptRbfSolver(Options options) : options_(std::move(options)) {
+IpoptRbfSolver::IpoptRbfSolver(Options options) : RbfSolverWithOptions(std::move(options)) {
   if (!options_.init_options.count("max_nodes")) options_.init_options["max_nodes"] = std::to_string(options_.nodes);
 }
 

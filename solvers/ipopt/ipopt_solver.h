@@ -28,15 +28,11 @@ struct IpoptOptions {
   std::string validate() const;
 };
 
-class IpoptRbfSolver : public RbfSolver {
+class IpoptRbfSolver : public RbfSolverWithOptions<IpoptOptions> {
  public:
-  using Options = IpoptOptions;
   explicit IpoptRbfSolver(Options options);
   std::string_view name() const override { return "ipopt"; }
   SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
-
- private:
-  Options options_;
 };
 
 }  // namespace gyrosid

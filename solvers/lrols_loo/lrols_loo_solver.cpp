@@ -23,14 +23,7 @@ OptionTable LrolsLooOptions::table() {
   return t;
 }
 
-std::string LrolsLooOptions::validate() const {
-  try {
-    parse_list(widths, "option 'widths'");
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string LrolsLooOptions::validate() const { return check_positive_list(widths, "widths"); }
 
 namespace {
 

@@ -27,15 +27,11 @@ struct LrolsLooOptions {
   std::string validate() const;
 };
 
-class LrolsLooSolver : public RbfSolver {
+class LrolsLooSolver : public RbfSolverWithOptions<LrolsLooOptions> {
  public:
-  using Options = LrolsLooOptions;
-  explicit LrolsLooSolver(Options options) : options_(std::move(options)) {}
+  using RbfSolverWithOptions::RbfSolverWithOptions;
   std::string_view name() const override { return "lrols_loo"; }
   SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
-
- private:
-  Options options_;
 };
 
 }  // namespace gyrosid

@@ -1,9 +1,10 @@
 #include "solvers/nlopt/nlopt_solver.h"
 
-#include <nlopt.hpp>
+#include <nlopt.h>
 
 #include <cmath>
 
+#include "core/bounded_search.h"
 #include "core/error.h"
 #include "solvers/ols/forward_selection.h"
 #include "solvers/common/terminations.h"
@@ -58,11 +59,7 @@ SolveOutcome NloptRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, Sol
     for (Eigen::Index k = 0; k < d; ++k) fs.widths(k) = std::exp(v[static_cast<std::size_t>(o.per_input_widths ? k : 0)]);
     fs.lambda = std::exp(v[static_cast<std::size_t>(nw)]);
   };
-  struct Best {
-    double value = INFINITY;
-    std::vector<double> v;
-  } best;
-  std::function<double(const std::vector<double>&)> objective = [&](const std::vector<double>& v) {
+  const std::function<double(const std::vector<double>&)> objective = [&](const std::vector<double>& v) {
     configure(v);
     double value = INFINITY;
     try {
@@ -71,11 +68,8 @@ SolveOutcome NloptRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, Sol
       // e.g. widths so small that every candidate is collinear: an infeasible point, not a failure
     }
     monitor.iteration(value);
-    if (value < best.value) best = {value, v};
     return value;
   };
-
-  nlopt::opt opt(o.algorithm.c_str(), nv);
   std::vector<double> lb(nv), ub(nv), v(nv);
   for (Eigen::Index k = 0; k < nw; ++k) {
     lb[static_cast<std::size_t>(k)] = std::log(o.min_width);
@@ -85,32 +79,19 @@ SolveOutcome NloptRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, Sol
   lb[static_cast<std::size_t>(nw)] = std::log(o.min_lambda);
   ub[static_cast<std::size_t>(nw)] = std::log(o.max_lambda);
   v[static_cast<std::size_t>(nw)] = std::log(o.lambda);
-  opt.set_lower_bounds(lb);
-  opt.set_upper_bounds(ub);
-  opt.set_maxeval(o.evaluations);
-  opt.set_xtol_rel(1e-4);
-  opt.set_min_objective([](const std::vector<double>& x, std::vector<double>&, void* f) {
-    return (*static_cast<std::function<double(const std::vector<double>&)>*>(f))(x);
-  }, &objective);
-  nlopt::srand(static_cast<unsigned long>(o.seed));
-  Termination termination = Termination::no_progress;
-  std::string message;
-  double value = 0.0;
-  try {
-    const auto result = static_cast<nlopt_result>(opt.optimize(v, value));
-    termination = termination_of(result);
-    message = nlopt_result_to_string(result);
-  } catch (const std::exception& e) {
-    // NLopt throws on round-off and forced stops; the best point seen is kept (below).
-    message = std::string("stopped: ") + e.what();
-  }
+  BoundedSearchOptions search;
+  search.algorithm = o.algorithm, search.max_evaluations = o.evaluations, search.xtol_rel = 1e-4;
+  search.seed = static_cast<unsigned long>(o.seed);
+  const BoundedSearchResult best = minimize_bounded(objective, v, lb, ub, search);
   if (!std::isfinite(best.value)) fail("nlopt: no hyper-parameter setting gave a valid fit");
+  // NLopt's exceptions (round-off, forced stop) keep the best point seen: no progress, not a failure.
+  const Termination termination = best.threw ? Termination::no_progress : termination_of(best.result);
 
-  configure(best.v);
+  configure(best.x);
   const ForwardSelectionResult r = forward_select(problem.x, problem.y, fs);
   fill_network(r, fs.widths, net);
 
-  return {termination, message,
+  return {termination, best.message,
           {{"algorithm", o.algorithm}, {"criterion", o.criterion}, {"criterion_value", r.criterion},
            {"width", std::vector<double>(fs.widths.data(), fs.widths.data() + fs.widths.size())},
            {"lambda", fs.lambda}, {"candidates", r.candidates}}};

@@ -24,15 +24,11 @@ struct NloptOptions {
   std::string validate() const;
 };
 
-class NloptRbfSolver : public RbfSolver {
+class NloptRbfSolver : public RbfSolverWithOptions<NloptOptions> {
  public:
-  using Options = NloptOptions;
-  explicit NloptRbfSolver(Options options) : options_(std::move(options)) {}
+  using RbfSolverWithOptions::RbfSolverWithOptions;
   std::string_view name() const override { return "nlopt"; }
   SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
-
- private:
-  Options options_;
 };
 
 }  // namespace gyrosid

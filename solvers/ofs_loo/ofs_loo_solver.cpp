@@ -1,11 +1,11 @@
 #include "solvers/ofs_loo/ofs_loo_solver.h"
 
 #include <Eigen/Dense>
-#include <nlopt.hpp>
 
 #include <cmath>
 #include <limits>
 
+#include "core/bounded_search.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "solvers/common/candidates.h"
@@ -63,100 +63,100 @@ Eigen::VectorXd node_column(const Eigen::MatrixXd& x, const double* c, const dou
 
 }  // namespace
 
+namespace {
+
+struct TunedNode {
+  Eigen::VectorXd centre, widths;
+  double loo = INFINITY;
+};
+
+// One stage's node: the candidate centre with the lowest LOO at the starting width, then its centre and
+// log widths tuned by BOBYQA within the data range (plus a margin) and the width bounds.
+TunedNode tune_node(const RbfProblem& problem, const OrthogonalModel& model, const std::vector<Eigen::Index>& cand,
+                    const OfsLooOptions& o, SolveMonitor& monitor) {
+  const Eigen::Index dim = problem.dimension(), m = static_cast<Eigen::Index>(cand.size());
+  const Eigen::RowVectorXd lo = problem.x.colwise().minCoeff(), hi = problem.x.colwise().maxCoeff();
+  const std::vector<double> default_r(static_cast<std::size_t>(dim), o.width);
+  Eigen::VectorXd screen(m);
+  parallel_for(m, [&](std::ptrdiff_t b, std::ptrdiff_t e) {
+    for (Eigen::Index j = b; j < e; ++j) {
+      const Eigen::RowVectorXd c = problem.x.row(cand[static_cast<std::size_t>(j)]);
+      screen(j) = model.trial(node_column(problem.x, c.data(), default_r.data()), problem.y);
+    }
+  }, 4);
+  Eigen::Index best_j = 0;
+  screen.minCoeff(&best_j);
+  // Parameters [c_1..c_d, log r_1..log r_d].
+  std::vector<double> p(static_cast<std::size_t>(2 * dim)), lb(p.size()), ub(p.size());
+  for (Eigen::Index k = 0; k < dim; ++k) {
+    const auto kc = static_cast<std::size_t>(k), kr = static_cast<std::size_t>(k + dim);
+    const double margin = 0.1 * (hi(k) - lo(k));
+    p[kc] = problem.x(cand[static_cast<std::size_t>(best_j)], k), lb[kc] = lo(k) - margin, ub[kc] = hi(k) + margin;
+    p[kr] = std::log(o.width), lb[kr] = std::log(o.min_width), ub[kr] = std::log(o.max_width);
+  }
+  auto unpack = [dim](const std::vector<double>& v, Eigen::VectorXd& c, Eigen::VectorXd& r) {
+    c.resize(dim), r.resize(dim);
+    for (Eigen::Index k = 0; k < dim; ++k) c(k) = v[static_cast<std::size_t>(k)], r(k) = std::exp(v[static_cast<std::size_t>(k + dim)]);
+  };
+  const std::function<double(const std::vector<double>&)> loo = [&](const std::vector<double>& v) {
+    Eigen::VectorXd c, r;
+    unpack(v, c, r);
+    monitor.evaluation();
+    return model.trial(node_column(problem.x, c.data(), r.data()), problem.y);
+  };
+  BoundedSearchOptions search;
+  search.max_evaluations = o.evaluations, search.xtol_rel = 1e-6;
+  p = minimize_bounded(loo, p, lb, ub, search).x;
+  TunedNode node;
+  node.loo = loo(p);
+  unpack(p, node.centre, node.widths);
+  return node;
+}
+
+}  // namespace
+
 SolveOutcome OfsLooSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) {
   const OfsLooOptions& o = options_;
   const Eigen::Index n = problem.size(), dim = problem.dimension();
-  const Eigen::VectorXd& y = problem.y;
   const std::vector<Eigen::Index> cand = select_candidates(problem.x, o.candidates);
-  const Eigen::Index m = static_cast<Eigen::Index>(cand.size());
-  const Eigen::RowVectorXd lo = problem.x.colwise().minCoeff(), hi = problem.x.colwise().maxCoeff();
-
-  OrthogonalModel model{Eigen::MatrixXd(n, o.max_nodes), 0, RecursiveLoo(y), o.lambda};
+  OrthogonalModel model{Eigen::MatrixXd(n, o.max_nodes), 0, RecursiveLoo(problem.y), o.lambda};
   double current = model.loo.mse();
-
-  std::vector<Eigen::VectorXd> centres, widths;
+  std::vector<TunedNode> nodes;
   Eigen::MatrixXd r_tilde = Eigen::MatrixXd::Zero(o.max_nodes, o.max_nodes);  // Phi = Q r_tilde
   Eigen::VectorXd t(o.max_nodes);  // fitted = Q t: t_k = |w_k| g_k
   bool at_minimum = false;
-  const std::vector<double> default_r(static_cast<std::size_t>(dim), o.width);
-
-  while (static_cast<int>(centres.size()) < o.max_nodes) {
-    // Screening: every candidate centre at the default width.
-    Eigen::VectorXd screen(m);
-    parallel_for(m, [&](std::ptrdiff_t b, std::ptrdiff_t e) {
-      std::vector<double> c(static_cast<std::size_t>(dim));
-      for (Eigen::Index j = b; j < e; ++j) {
-        for (Eigen::Index k = 0; k < dim; ++k) c[static_cast<std::size_t>(k)] = problem.x(cand[static_cast<std::size_t>(j)], k);
-        screen(j) = model.trial(node_column(problem.x, c.data(), default_r.data()), y);
-      }
-    }, 4);
-    Eigen::Index best_j = 0;
-    screen.minCoeff(&best_j);
-    // Local tuning of (centre, log widths) by BOBYQA.
-    std::vector<double> p(static_cast<std::size_t>(2 * dim)), lb(p.size()), ub(p.size());
-    for (Eigen::Index k = 0; k < dim; ++k) {
-      const auto kk = static_cast<std::size_t>(k);
-      p[kk] = problem.x(cand[static_cast<std::size_t>(best_j)], k);
-      const double margin = 0.1 * (hi(k) - lo(k));
-      lb[kk] = lo(k) - margin, ub[kk] = hi(k) + margin;
-      p[kk + static_cast<std::size_t>(dim)] = std::log(o.width);
-      lb[kk + static_cast<std::size_t>(dim)] = std::log(o.min_width), ub[kk + static_cast<std::size_t>(dim)] = std::log(o.max_width);
-    }
-    std::function<double(const std::vector<double>&)> f = [&](const std::vector<double>& v) {
-      std::vector<double> r(static_cast<std::size_t>(dim));
-      for (Eigen::Index k = 0; k < dim; ++k) r[static_cast<std::size_t>(k)] = std::exp(v[static_cast<std::size_t>(k + dim)]);
-      monitor.evaluation();
-      return model.trial(node_column(problem.x, v.data(), r.data()), y);
-    };
-    nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(2 * dim));
-    opt.set_lower_bounds(lb);
-    opt.set_upper_bounds(ub);
-    opt.set_maxeval(o.evaluations);
-    opt.set_xtol_rel(1e-6);
-    opt.set_min_objective([](const std::vector<double>& v, std::vector<double>&, void* data) {
-      return (*static_cast<std::function<double(const std::vector<double>&)>*>(data))(v);
-    }, &f);
-    double value = screen(best_j);
-    try {
-      opt.optimize(p, value);
-    } catch (const std::exception&) {
-      // BOBYQA stops on roundoff with its best point in p.
-    }
-    value = f(p);
-    if (!(value < current * (1.0 - 1e-9))) {
+  while (static_cast<int>(nodes.size()) < o.max_nodes) {
+    TunedNode node = tune_node(problem, model, cand, o, monitor);
+    if (!(node.loo < current * (1.0 - 1e-9))) {
       at_minimum = true;
       break;
     }
-    Eigen::VectorXd c(dim), r(dim);
-    for (Eigen::Index k = 0; k < dim; ++k) c(k) = p[static_cast<std::size_t>(k)], r(k) = std::exp(p[static_cast<std::size_t>(k + dim)]);
-    Eigen::VectorXd phi = node_column(problem.x, c.data(), r.data());
+    const Eigen::VectorXd phi = node_column(problem.x, node.centre.data(), node.widths.data());
     const Eigen::VectorXd w = model.orthogonalise(phi);
-    const double d = w.squaredNorm(), g = model.loo.add(w, y, model.lambda);
+    const double d = w.squaredNorm(), g = model.loo.add(w, problem.y, model.lambda);
     const Eigen::Index kk = model.k;
     r_tilde.col(kk).head(kk) = model.q.leftCols(kk).transpose() * phi;
     r_tilde(kk, kk) = std::sqrt(d);
     t(kk) = std::sqrt(d) * g;
     model.q.col(model.k++) = w / std::sqrt(d);
-    current = value;
-    monitor.iteration(value);
-    centres.push_back(c);
-    widths.push_back(r);
+    current = node.loo;
+    monitor.iteration(current);
+    nodes.push_back(std::move(node));
   }
-  if (centres.empty()) fail("ofs_loo: no node lowers the leave-one-out error");
+  if (nodes.empty()) fail("ofs_loo: no node lowers the leave-one-out error");
 
   // Weights of the raw Gaussian columns: Phi a = Q t  =>  r_tilde a = t (upper triangular).
-  const Eigen::Index k = static_cast<Eigen::Index>(centres.size());
+  const Eigen::Index k = static_cast<Eigen::Index>(nodes.size());
   net.weights = r_tilde.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(t.head(k));
   net.centres.resize(k, dim);
   net.widths.resize(k, dim);
   for (Eigen::Index j = 0; j < k; ++j) {
-    net.centres.row(j) = centres[static_cast<std::size_t>(j)].transpose();
-    net.widths.row(j) = widths[static_cast<std::size_t>(j)].transpose();
+    net.centres.row(j) = nodes[static_cast<std::size_t>(j)].centre.transpose();
+    net.widths.row(j) = nodes[static_cast<std::size_t>(j)].widths.transpose();
   }
   net.bias = 0.0;
-
   return {at_minimum ? Termination::converged : Termination::iteration_limit,
-          at_minimum ? "leave-one-out minimum" : "max_nodes reached", {{"loo", current}, {"candidates", m}}};
+          at_minimum ? "leave-one-out minimum" : "max_nodes reached", {{"loo", current}, {"candidates", cand.size()}}};
 }
 
 }  // namespace gyrosid

@@ -25,15 +25,11 @@ struct OfsLooOptions {
   std::string validate() const;
 };
 
-class OfsLooSolver : public RbfSolver {
+class OfsLooSolver : public RbfSolverWithOptions<OfsLooOptions> {
  public:
-  using Options = OfsLooOptions;
-  explicit OfsLooSolver(Options options) : options_(std::move(options)) {}
+  using RbfSolverWithOptions::RbfSolverWithOptions;
   std::string_view name() const override { return "ofs_loo"; }
   SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
-
- private:
-  Options options_;
 };
 
 }  // namespace gyrosid

@@ -20,14 +20,7 @@ OptionTable OlsOptions::table() {
   return t;
 }
 
-std::string OlsOptions::validate() const {
-  try {
-    parse_list(widths, "option 'widths'");
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string OlsOptions::validate() const { return check_positive_list(widths, "widths"); }
 
 ForwardSelectionOptions OlsOptions::selection(Eigen::Index dimension) const {
   ForwardSelectionOptions s;

@@ -23,15 +23,11 @@ struct OlsOptions {
   ForwardSelectionOptions selection(Eigen::Index dimension) const;
 };
 
-class OlsSolver : public RbfSolver {
+class OlsSolver : public RbfSolverWithOptions<OlsOptions> {
  public:
-  using Options = OlsOptions;
-  explicit OlsSolver(Options options) : options_(std::move(options)) {}
+  using RbfSolverWithOptions::RbfSolverWithOptions;
   std::string_view name() const override { return "ols"; }
   SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
-
- private:
-  Options options_;
 };
 
 // Copies a forward-selection result into a network (weights still in target units).

@@ -1,0 +1,39 @@
+#include "core/bounded_search.h"
+
+#include <nlopt.hpp>
+
+namespace gyrosid {
+
+BoundedSearchResult minimize_bounded(const std::function<double(const std::vector<double>&)>& objective, std::vector<double> start,
+                                     const std::vector<double>& lower, const std::vector<double>& upper,
+                                     const BoundedSearchOptions& o) {
+  BoundedSearchResult r;
+  const std::function<double(const std::vector<double>&)> tracked = [&](const std::vector<double>& x) {
+    const double value = objective(x);
+    ++r.evaluations;
+    if (value < r.value) r.value = value, r.x = x;
+    return value;
+  };
+  nlopt::opt opt(o.algorithm.c_str(), static_cast<unsigned>(start.size()));
+  opt.set_lower_bounds(lower);
+  opt.set_upper_bounds(upper);
+  opt.set_maxeval(o.max_evaluations);
+  if (o.xtol_rel > 0) opt.set_xtol_rel(o.xtol_rel);
+  if (o.xtol_abs > 0) opt.set_xtol_abs(o.xtol_abs);
+  opt.set_min_objective([](const std::vector<double>& x, std::vector<double>&, void* f) {
+    return (*static_cast<const std::function<double(const std::vector<double>&)>*>(f))(x);
+  }, const_cast<std::function<double(const std::vector<double>&)>*>(&tracked));
+  if (o.seed) nlopt::srand(*o.seed);
+  double value = 0.0;
+  try {
+    r.result = static_cast<nlopt_result>(opt.optimize(start, value));
+    r.message = nlopt_result_to_string(r.result);
+  } catch (const std::exception& e) {
+    r.threw = true;
+    r.message = std::string("stopped: ") + e.what();
+  }
+  if (r.x.empty()) r.x = start;
+  return r;
+}
+
+}  // namespace gyrosid

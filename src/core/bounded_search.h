@@ -1,0 +1,37 @@
+// Bounded minimisation without derivatives by an NLopt algorithm - the shape of every inner search in
+// gyrosid (RBF hyper-parameters, one node's centre and widths, a thermal-lag time constant): the objective
+// is a std::function, and the best point ever evaluated is returned, also when NLopt stops on round-off or
+// by an exception (its "ROUNDOFF_LIMITED" is not a failure of the search).
+#pragma once
+
+#include <nlopt.h>
+
+#include <cmath>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gyrosid {
+
+struct BoundedSearchOptions {
+  std::string algorithm = "LN_BOBYQA";  // an NLopt derivative-free algorithm (LN_* or GN_*)
+  int max_evaluations = 100;
+  double xtol_rel = 0.0, xtol_abs = 0.0;
+  std::optional<unsigned long> seed;     // NLopt's generator (global algorithms)
+};
+
+struct BoundedSearchResult {
+  std::vector<double> x;                 // best point evaluated
+  double value = INFINITY;
+  int evaluations = 0;
+  nlopt_result result = NLOPT_FAILURE;   // NLopt's own stopping code (when it returned normally)
+  bool threw = false;                    // NLopt stopped by an exception (round-off, forced stop)
+  std::string message;                   // NLopt's result name or the exception's text
+};
+
+BoundedSearchResult minimize_bounded(const std::function<double(const std::vector<double>&)>& objective, std::vector<double> start,
+                                     const std::vector<double>& lower, const std::vector<double>& upper,
+                                     const BoundedSearchOptions& options);
+
+}  // namespace gyrosid
