@@ -127,78 +127,32 @@ std::vector<std::string> required_columns(RecordingKind kind, const Recording& r
   return out;
 }
 
-Recording parse_recording(std::string_view text, const std::string& source) {
-  Recording rec(source);
-  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 byte-order mark
+namespace {
 
-  std::size_t pos = 0;
-  std::size_t line_no = 0;
-  bool have_header = false;
-  std::vector<std::string_view> cells;
-
-  auto split = [&](std::string_view line) {
-    cells.clear();
-    std::size_t start = 0;
-    while (true) {
-      const std::size_t comma = line.find(',', start);
-      cells.push_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
-      if (comma == std::string_view::npos) break;
-      start = comma + 1;
-    }
-  };
-
-  while (pos < text.size()) {
-    std::size_t eol = text.find('\n', pos);
-    if (eol == std::string_view::npos) eol = text.size();
-    std::string_view line = text.substr(pos, eol - pos);
-    pos = eol + 1;
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    if (trim(line).empty()) continue;
-    if (line.front() == '#') {
-      std::string key, value;
-      if (!have_header && parse_metadata(line, key, value)) rec.set_meta(key, value);
-      continue;
-    }
-    split(line);
-    if (!have_header) {
-      for (std::size_t c = 0; c < cells.size(); ++c) {
-        const std::string name(cells[c]);
-        if (name.empty()) fail(source, ":", line_no, ": header cell ", c + 1, " is empty");
-        if (rec.has(name)) fail(source, ":", line_no, ": column '", name, "' appears twice in the header");
-        rec.names_.push_back(name);
-        rec.columns_.emplace_back();
-      }
-      have_header = true;
-      continue;
-    }
-    if (cells.size() != rec.names_.size()) {
-      fail(source, ":", line_no, ": row has ", cells.size(), " cells, the header has ", rec.names_.size());
-    }
-    for (std::size_t c = 0; c < cells.size(); ++c) {
-      const std::string cell(cells[c]);
-      char* end = nullptr;
-      const double v = cell.empty() ? 0.0 : parse_c_double(cell.c_str(), &end);
-      if (cell.empty() || end != cell.c_str() + cell.size()) {
-        fail(source, ":", line_no, ": column '", rec.names_[c], "': cell '", cell, "' is not a number");
-      }
-      rec.columns_[c].push_back(v);
-    }
-    rec.line_numbers_.push_back(line_no);
+// The cells of one CSV line, trimmed.
+void split_cells(std::string_view line, std::vector<std::string_view>& cells) {
+  cells.clear();
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    cells.push_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
   }
-  if (!have_header) fail(source, ": no header row (a recording needs a header and at least one row)");
-  if (rec.rows() == 0) fail(source, ": header but no data rows");
+}
 
-  // Required columns, found by name; finite values only; t_s strictly increasing.
+// The rules of RECORDING_FORMAT.md a parsed table must meet: required columns present, finite values in
+// them, t_s strictly increasing, integer position ids. Errors name the file, the line and the column.
+void check_recording(const Recording& rec) {
   const RecordingKind kind = rec.kind();
   const std::vector<std::string> required = required_columns(kind, rec);
   for (const auto& name : required) {
     if (!rec.has(name)) {
       std::string needed, found;
       for (const auto& n : required) needed += (needed.empty() ? "" : ", ") + n;
-      for (const auto& n : rec.names_) found += (found.empty() ? "" : ", ") + n;
-      fail(source, ":", rec.line_numbers_.front() - 1, ": missing required column '", name, "' (a ",
-           to_string(kind), "-gyro recording needs ", needed, "; header has ", found, ")");
+      for (const auto& n : rec.names()) found += (found.empty() ? "" : ", ") + n;
+      fail(rec.source(), ":", rec.header_line(), ": missing required column '", name, "' (a ", to_string(kind),
+           "-gyro recording needs ", needed, "; header has ", found, ")");
     }
   }
   for (const auto& name : required) {
@@ -213,8 +167,8 @@ Recording parse_recording(std::string_view text, const std::string& source) {
   const auto& t = rec.column("t_s");
   for (std::size_t r = 1; r < t.size(); ++r) {
     if (!(t[r] > t[r - 1])) {
-      fail(rec.row_location(r), ": column 't_s': ", format_number(t[r]), " does not follow ",
-           format_number(t[r - 1]), " (t_s must be strictly increasing)");
+      fail(rec.row_location(r), ": column 't_s': ", format_number(t[r]), " does not follow ", format_number(t[r - 1]),
+           " (t_s must be strictly increasing)");
     }
   }
   if (rec.has("position_id")) {
@@ -225,6 +179,65 @@ Recording parse_recording(std::string_view text, const std::string& source) {
       }
     }
   }
+}
+
+}  // namespace
+
+void Recording::add_parsed_row(const std::vector<std::string_view>& cells, std::size_t line_no) {
+  if (cells.size() != names_.size()) fail(source_, ":", line_no, ": row has ", cells.size(), " cells, the header has ", names_.size());
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const std::string cell(cells[c]);
+    char* end = nullptr;
+    const double v = cell.empty() ? 0.0 : parse_c_double(cell.c_str(), &end);
+    if (cell.empty() || end != cell.c_str() + cell.size()) {
+      fail(source_, ":", line_no, ": column '", names_[c], "': cell '", cell, "' is not a number");
+    }
+    columns_[c].push_back(v);
+  }
+  line_numbers_.push_back(line_no);
+}
+
+void Recording::add_parsed_header(const std::vector<std::string_view>& cells, std::size_t line_no) {
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const std::string name(cells[c]);
+    if (name.empty()) fail(source_, ":", line_no, ": header cell ", c + 1, " is empty");
+    if (has(name)) fail(source_, ":", line_no, ": column '", name, "' appears twice in the header");
+    names_.push_back(name);
+    columns_.emplace_back();
+  }
+  header_line_ = line_no;
+}
+
+Recording parse_recording(std::string_view text, const std::string& source) {
+  Recording rec(source);
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 byte-order mark
+  std::size_t pos = 0, line_no = 0;
+  bool have_header = false;
+  std::vector<std::string_view> cells;
+  while (pos < text.size()) {
+    std::size_t eol = text.find('\n', pos);
+    if (eol == std::string_view::npos) eol = text.size();
+    std::string_view line = text.substr(pos, eol - pos);
+    pos = eol + 1;
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (trim(line).empty()) continue;
+    if (line.front() == '#') {
+      std::string key, value;
+      if (!have_header && parse_metadata(line, key, value)) rec.set_meta(key, value);
+      continue;
+    }
+    split_cells(line, cells);
+    if (have_header) {
+      rec.add_parsed_row(cells, line_no);
+    } else {
+      rec.add_parsed_header(cells, line_no);
+      have_header = true;
+    }
+  }
+  if (!have_header) fail(source, ": no header row (a recording needs a header and at least one row)");
+  if (rec.rows() == 0) fail(source, ": header but no data rows");
+  check_recording(rec);
   return rec;
 }
 

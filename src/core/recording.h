@@ -51,14 +51,19 @@ class Recording {
   RecordingKind kind() const;
   // "rec.csv:17" for data row `row` (0-based) of a file that was read; "<simulation> row 17" otherwise.
   std::string row_location(std::size_t row) const;
+  // Source line of the header row (0 when not read from a file).
+  std::size_t header_line() const { return header_line_; }
 
  private:
   friend Recording parse_recording(std::string_view text, const std::string& source);
+  void add_parsed_header(const std::vector<std::string_view>& cells, std::size_t line_no);
+  void add_parsed_row(const std::vector<std::string_view>& cells, std::size_t line_no);
   std::string source_ = "<memory>";
   std::vector<std::pair<std::string, std::string>> metadata_;
   std::vector<std::string> names_;
   std::vector<std::vector<double>> columns_;
   std::vector<std::size_t> line_numbers_;  // source line of each data row, when read from a file
+  std::size_t header_line_ = 0;
 };
 
 // Reads and validates a recording. Every violation of RECORDING_FORMAT.md is an Error naming the file,

@@ -62,6 +62,8 @@ TEST(Recording, ErrorsNameFileLineAndColumn) {
   EXPECT_THAT(error_of(header + "0,1,25,1\n2,1,25,1\n1,1,25,1\n"), HasSubstr("strictly increasing"));
   EXPECT_THAT(error_of("# x: 1\nt_s,ref_rate_dps,temp_c\n0,1,25\n"), HasSubstr("missing required column 'gyro_dps'"));
   EXPECT_THAT(error_of("# x: 1\nt_s,ref_rate_dps,temp_c\n0,1,25\n"), HasSubstr("rec.csv:2"));
+  // The header's own line, also when comments or blank lines stand between it and the first row.
+  EXPECT_THAT(error_of("t_s,ref_rate_dps,temp_c\n# note\n\n0,1,25\n"), HasSubstr("rec.csv:1: missing required column"));
   EXPECT_THAT(error_of("t_s,t_s,ref_rate_dps,temp_c,gyro_dps\n"), HasSubstr("appears twice"));
   EXPECT_THAT(error_of("# only: metadata\n"), HasSubstr("no header row"));
   EXPECT_THAT(error_of(header + "0,1,25,1.5.2\n"), HasSubstr("'1.5.2' is not a number"));
