@@ -17,12 +17,12 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, os.path.join(HERE, "..", "lib"))
-from gyrosid_experiments import Runner, fmt, markdown_table, write_text  # noqa: E402
+from gyrosid_experiments import add_gyrosid_argument, Runner, fmt, markdown_table, write_text  # noqa: E402
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--gyrosid", default=os.path.join(ROOT, "build", "gyrosid"))
+    add_gyrosid_argument(ap)
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--force", action="store_true")
     args = ap.parse_args()

@@ -5,11 +5,53 @@ own) and keep every intermediate file under the experiment's output folder; a re
 unless --force is given.
 """
 import csv
+import io
 import json
 import os
 import subprocess
 import sys
 import time
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+DEFAULT_GYROSID = os.path.join(ROOT, "build", "gyrosid")
+DPH_PER_DPS = 3600.0  # deg/h per deg/s
+
+
+def add_gyrosid_argument(parser):
+    """The --gyrosid option every driver takes, with one default: the repository's build/gyrosid."""
+    parser.add_argument("--gyrosid", default=DEFAULT_GYROSID, help="gyrosid executable (default: %(default)s)")
+
+
+def read_recording(path):
+    """A recording (RECORDING_FORMAT.md) as (metadata lines, {column name: numpy array}); '#' lines are kept
+    verbatim as metadata, columns are found by name."""
+    import numpy as np
+    meta, lines = [], []
+    with open(path) as f:
+        for line in f:
+            if not line.strip():
+                continue
+            (meta if line.startswith("#") else lines).append(line)
+    header = [c.strip() for c in lines[0].strip().split(",")]
+    data = np.loadtxt(io.StringIO("".join(lines[1:])), delimiter=",", ndmin=2)
+    return meta, {name: data[:, i].copy() for i, name in enumerate(header)}
+
+
+def write_recording(path, meta, cols):
+    """Writes (metadata lines, columns) as a recording, atomically, every digit kept."""
+    import numpy as np
+    names = list(cols.keys())
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        f.writelines(meta)
+        f.write(",".join(names) + "\n")
+        np.savetxt(f, np.column_stack([cols[n] for n in names]), delimiter=",", fmt="%.17g")
+    os.replace(tmp, path)
+
+
+def rate_error_dph(cols, measured="gyro_dps", reference="ref_rate_dps"):
+    """measured - reference of a recording's columns, deg/h."""
+    return (cols[measured] - cols[reference]) * DPH_PER_DPS
 
 
 class Runner:

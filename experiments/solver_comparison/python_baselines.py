@@ -25,18 +25,15 @@ from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
 from sklearn.kernel_ridge import KernelRidge
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "lib"))
-from gyrosid_experiments import markdown_table, write_csv, write_text  # noqa: E402
+from gyrosid_experiments import markdown_table, rate_error_dph, read_recording, write_csv, write_text  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def read_recording(path):
-    with open(path) as f:
-        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
-    gyro = np.array([float(r["gyro_dps"]) for r in rows])
-    ref = np.array([float(r["ref_rate_dps"]) for r in rows])
-    temp = np.array([float(r["temp_c"]) for r in rows])
-    return np.column_stack([gyro, temp]), (gyro - ref) * 3600.0
+def training_data(path):
+    """Inputs (measured rate deg/s, temperature C) and the rate error (deg/h) of a recording."""
+    _, cols = read_recording(path)
+    return np.column_stack([cols["gyro_dps"], cols["temp_c"]]), rate_error_dph(cols)
 
 
 def read_surface(path):
@@ -57,7 +54,7 @@ def main():
     rng = np.random.default_rng(args.seed)
     out = []
     for noise in ["noise_free", "white_10dph"]:
-        x, y = read_recording(os.path.join(args.results, "data", "train_%s_%s.csv" % (args.training, noise)))
+        x, y = training_data(os.path.join(args.results, "data", "train_%s_%s.csv" % (args.training, noise)))
         gx, gtrue = read_surface(os.path.join(args.results, "surfaces", args.training, noise, "ols", "surface.csv"))
         lo, hi = x.min(axis=0), x.max(axis=0)
         norm = lambda v: 2.0 * (v - lo) / (hi - lo) - 1.0  # noqa: E731

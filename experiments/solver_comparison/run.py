@@ -8,7 +8,6 @@ Writes results.csv, results.md, thesis_sweep.csv and plots into --out; intermedi
 surfaces stay under it, so an interrupted run resumes where it stopped.
 """
 import argparse
-import csv
 import math
 import os
 import sys
@@ -16,26 +15,21 @@ import sys
 import yaml
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "lib"))
-from gyrosid_experiments import Runner, gnuplot, load_json, markdown_table, model_size, set_args, write_csv, write_text  # noqa: E402
+from gyrosid_experiments import Runner, add_gyrosid_argument, gnuplot, load_json, markdown_table, model_size, rate_error_dph, read_recording, set_args, write_csv, write_text  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 def heldout_rms_dph(path):
     """RMS of compensated - reference rate over a compensated recording, deg/h."""
-    ss, n = 0.0, 0
-    with open(path) as f:
-        rows = csv.DictReader(line for line in f if not line.startswith("#"))
-        for r in rows:
-            d = (float(r["compensated_dps"]) - float(r["ref_rate_dps"])) * 3600.0
-            ss += d * d
-            n += 1
-    return math.sqrt(ss / n)
+    _, cols = read_recording(path)
+    d = rate_error_dph(cols, measured="compensated_dps")
+    return math.sqrt(float((d * d).mean()))
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--gyrosid", default="build/gyrosid")
+    add_gyrosid_argument(ap)
     ap.add_argument("--config", default=os.path.join(HERE, "config.yaml"))
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--only", help="run only this training set")

@@ -12,7 +12,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "lib"))
-from gyrosid_experiments import Runner, gnuplot, load_json, markdown_table, model_size, write_csv, write_text  # noqa: E402
+from gyrosid_experiments import add_gyrosid_argument, Runner, gnuplot, load_json, markdown_table, model_size, write_csv, write_text  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SIZES = [1000, 3000, 10000, 30000, 100000]
@@ -28,7 +28,7 @@ SOLVERS = [
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--gyrosid", default="build/gyrosid")
+    add_gyrosid_argument(ap)
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--max-samples", type=int, default=max(SIZES))
     ap.add_argument("--force", action="store_true")

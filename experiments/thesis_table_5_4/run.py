@@ -16,7 +16,7 @@ import sys
 import yaml
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "lib"))
-from gyrosid_experiments import Runner, fmt, gnuplot, load_json, markdown_table, model_size, write_csv, write_text  # noqa: E402
+from gyrosid_experiments import add_gyrosid_argument, Runner, fmt, gnuplot, load_json, markdown_table, model_size, write_csv, write_text  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
@@ -24,7 +24,7 @@ ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--gyrosid", default=os.path.join(ROOT, "build", "gyrosid"))
+    add_gyrosid_argument(ap)
     ap.add_argument("--config", default=os.path.join(HERE, "config.yaml"))
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--paper", default=os.path.join(ROOT, "papers", "du_plessis_2013"))
