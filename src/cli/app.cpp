@@ -4,6 +4,8 @@
 #include <iostream>
 
 #include "core/error.h"
+#include "core/parallel.h"
+#include "core/progress.h"
 
 namespace gyrosid::cli {
 
@@ -15,6 +17,14 @@ int main(int argc, char** argv) {
       "Every subcommand has --help. Configs may be files or built-in copies (builtin:sensors/...)."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "gyrosid 0.1.0");
+  bool quiet = false;
+  int threads = 0;
+  app.add_flag("--quiet", quiet, "No progress lines on stderr (the environment variable GYROSID_QUIET=1 does the same)");
+  app.add_option("--threads", threads, "Worker threads (default: GYROSID_THREADS, else every core); results do not depend on it")
+      ->check(CLI::Range(1, 1024));
+  app.footer("Environment: GYROSID_QUIET=1 silences progress and GYROSID_THREADS=n sets the worker threads (the options\n"
+             "--quiet and --threads, before the subcommand, override both); GYROSID_GNUPLOT names the gnuplot executable\n"
+             "(default: gnuplot on PATH). Nothing else is read from the environment.");
   Action action;
   register_run(app, action);
   register_simulate(app, action);
@@ -30,6 +40,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  if (quiet) set_quiet_progress(true);
+  if (threads > 0) set_worker_threads(threads);
   try {
     action();
   } catch (const Error& e) {

@@ -8,7 +8,14 @@
 
 namespace gyrosid {
 
+namespace {
+int threads_override = 0;
+}  // namespace
+
+void set_worker_threads(int threads) { threads_override = threads > 0 ? threads : 0; }
+
 int worker_threads() {
+  if (threads_override > 0) return threads_override;
   if (const char* env = std::getenv("GYROSID_THREADS")) {
     const int n = std::atoi(env);
     if (n >= 1) return n;

@@ -1,7 +1,8 @@
 // Progress on stderr for anything that may run longer than a few seconds. Silent for the first second
 // (short jobs print nothing), then at most twice a second: label, percentage, elapsed and remaining time.
 // On a terminal the line is redrawn in place; otherwise a line is printed every 10 %.
-// GYROSID_QUIET=1 in the environment silences it (tests set it).
+// Silenced by set_quiet_progress(true) (`gyrosid --quiet`) or by GYROSID_QUIET=1 in the environment (tests
+// set it); the setter wins over the environment.
 #pragma once
 
 #include <chrono>
@@ -9,6 +10,8 @@
 #include <string>
 
 namespace gyrosid {
+
+void set_quiet_progress(bool quiet);
 
 class Progress {
  public:

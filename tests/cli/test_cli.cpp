@@ -244,6 +244,19 @@ TEST_F(Cli, ExplainWritesItsContract) {
   EXPECT_FALSE(fs::exists(path("x")));
 }
 
+// --threads changes how work is split, never the result: the same model, bit for bit, on 1 and 2 threads.
+TEST_F(Cli, ThreadCountDoesNotChangeTheModel) {
+  ASSERT_EQ(run("simulate --trajectory builtin:trajectories/dual_scan.yaml --samples 1500 --seed 4 --out " + path("r.csv")).status, 0);
+  for (const char* threads : {"1", "2"}) {
+    const Result r = run(std::string("--quiet --threads ") + threads + " calibrate --recording " + path("r.csv") +
+                         " --solver lrols_loo --set candidates=300 --out " + path(std::string("m") + threads + ".json"));
+    ASSERT_EQ(r.status, 0) << r.output;
+  }
+  const auto a = read_json(dir_ / "m1.json"), b = read_json(dir_ / "m2.json");
+  EXPECT_EQ(a["parameters"], b["parameters"]);
+  EXPECT_THAT(run("--threads 0 calibrate --help").output, HasSubstr("--threads"));
+}
+
 TEST_F(Cli, HelpTeaches) {
   for (const char* sub : {"simulate", "allan", "run", "calibrate", "compensate", "surface", "export", "cof", "explain"}) {
     const Result r = run(std::string(sub) + " --help");
@@ -252,6 +265,7 @@ TEST_F(Cli, HelpTeaches) {
   }
   EXPECT_THAT(run("allan --help").output, HasSubstr("IEEE Std 952"));
   EXPECT_THAT(run("--help").output, HasSubstr("simulate"));
+  EXPECT_THAT(run("--help").output, HasSubstr("GYROSID_THREADS"));
 }
 
 }  // namespace
