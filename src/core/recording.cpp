@@ -21,7 +21,7 @@ constexpr std::string_view kTriadRates[] = {"ref_rate_x_dps", "ref_rate_y_dps", 
                                             "gyro_x_dps",     "gyro_y_dps",     "gyro_z_dps"};
 constexpr std::string_view kTriadTemps[] = {"temp_x_c", "temp_y_c", "temp_z_c"};
 
-// strtod in the C locale, whatever the process locale is (RECORDING_FORMAT.md: "Numbers in C locale").
+// strtod in the C locale, whatever the process locale is (docs/recording_format.md: "Numbers in C locale").
 double parse_c_double(const char* begin, char** end) {
   static locale_t c_locale = newlocale(LC_ALL_MASK, "C", locale_t(0));
   return strtod_l(begin, end, c_locale);
@@ -141,7 +141,7 @@ void split_cells(std::string_view line, std::vector<std::string_view>& cells) {
   }
 }
 
-// The rules of RECORDING_FORMAT.md a parsed table must meet: required columns present, finite values in
+// The rules of docs/recording_format.md a parsed table must meet: required columns present, finite values in
 // them, t_s strictly increasing, integer position ids. Errors name the file, the line and the column.
 void check_recording(const Recording& rec) {
   const RecordingKind kind = rec.kind();

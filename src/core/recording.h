@@ -1,4 +1,4 @@
-// Recordings in the gyrosid recording format, version 1 (RECORDING_FORMAT.md): what a rate table, a thermal
+// Recordings in the gyrosid recording format, version 1 (docs/recording_format.md): what a rate table, a thermal
 // chamber and a gyro (or triad) produced together, or what the simulator produces in their place.
 //
 // Columns are held by name in file units (the unit is the name's suffix: _s, _dps, _dph, _c, _mps2, ...);
@@ -66,7 +66,7 @@ class Recording {
   std::size_t header_line_ = 0;
 };
 
-// Reads and validates a recording. Every violation of RECORDING_FORMAT.md is an Error naming the file,
+// Reads and validates a recording. Every violation of docs/recording_format.md is an Error naming the file,
 // the line and the column.
 Recording read_recording(const std::filesystem::path& path);
 Recording parse_recording(std::string_view text, const std::string& source);

@@ -1,5 +1,5 @@
 // A simulated recording: the sensor's outputs along an excitation, in the recording format
-// (RECORDING_FORMAT.md). Single gyro: t_s, ref_rate_dps, temp_c, gyro_dps, chamber_temp_c,
+// (docs/recording_format.md). Single gyro: t_s, ref_rate_dps, temp_c, gyro_dps, chamber_temp_c,
 // accel_{x,y,z}_mps2. Triad: t_s, ref_rate_{x,y,z}_dps, gyro_{x,y,z}_dps, temp_c, chamber_temp_c,
 // accel_{x,y,z}_mps2, position_id. temp_c is the package probe; the coil temperature stays hidden, as in
 // a real recording.

@@ -1,4 +1,4 @@
-// The recording format, rule by rule (RECORDING_FORMAT.md).
+// The recording format, rule by rule (docs/recording_format.md).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -20,7 +20,7 @@ std::string error_of(const std::string& text, const std::string& source = "rec.c
   return testing_support::error_of([&] { parse_recording(text, source); });
 }
 
-// The example of RECORDING_FORMAT.md, verbatim.
+// The example of docs/recording_format.md, verbatim.
 const char* kSpecExample =
     "# format: gyrosid-recording/1\n"
     "# sensor: open-loop FOG, simulated\n"
