@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "explain/explain_input.h"
-#include "explain/noise_model.h"
+#include "sensor/noise_model.h"
 #include "sensor/allan.h"
 
 namespace gyrosid::explain {

@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "explain/effect_library.h"
-#include "explain/noise_model.h"
+#include "sensor/noise_model.h"
 
 namespace gyrosid::explain {
 enum class NoiseModelSource { full, current };

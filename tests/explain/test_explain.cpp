@@ -11,7 +11,7 @@
 #include "core/units.h"
 #include "explain/explain.h"
 #include "explain/linear_fit.h"
-#include "explain/noise_model.h"
+#include "sensor/noise_model.h"
 #include "model/dataset.h"
 #include "model/explained_model.h"
 #include "sensor/sensor_config.h"

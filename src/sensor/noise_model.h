@@ -18,7 +18,7 @@
 
 #include <vector>
 
-namespace gyrosid::explain {
+namespace gyrosid {
 
 struct NoiseModel {
   double dt_s = 1.0;
@@ -59,4 +59,4 @@ class Whitener {
   double log_det_ = 0.0;
 };
 
-}  // namespace gyrosid::explain
+}  // namespace gyrosid

@@ -1,4 +1,4 @@
-#include "explain/noise_model.h"
+#include "sensor/noise_model.h"
 
 #include <Eigen/Dense>
 
@@ -9,7 +9,7 @@
 #include "sensor/allan.h"
 #include "sensor/noise.h"
 
-namespace gyrosid::explain {
+namespace gyrosid {
 
 double NoiseModel::allan_variance(double tau) const {
   double v = white_var * dt_s / tau + rw_q / dt_s * tau / 3.0;
@@ -110,4 +110,4 @@ Eigen::MatrixXd Whitener::apply(const Eigen::MatrixXd& x) const {
   return out;
 }
 
-}  // namespace gyrosid::explain
+}  // namespace gyrosid
