@@ -1,0 +1,197 @@
+#include "solvers/nls/nls_covariance.h"
+
+#include <ceres/ceres.h>
+#include <ceres/covariance.h>
+
+#include <Eigen/QR>
+
+#include <cmath>
+#include <memory>
+#include <set>
+
+#include "core/error.h"
+#include "solvers/nls/nls_scaling.h"
+
+namespace gyrosid {
+namespace {
+
+// The free entries (indices into free_entries()) that the residual blocks of `group` depend on, ascending.
+std::vector<int> touched_entries(const NlsProblem& p, int group) {
+  std::set<int> blocks;
+  for (const auto& r : p.residual_blocks()) {
+    if (r.group == group) blocks.insert(r.blocks.begin(), r.blocks.end());
+  }
+  std::vector<int> out;
+  const auto& free = p.free_entries();
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    if (blocks.count(free[j].block)) out.push_back(static_cast<int>(j));
+  }
+  return out;
+}
+
+Eigen::MatrixXd columns_of(const Eigen::MatrixXd& jac, const std::vector<int>& cols) {
+  Eigen::MatrixXd out(jac.rows(), static_cast<Eigen::Index>(cols.size()));
+  for (std::size_t c = 0; c < cols.size(); ++c) out.col(static_cast<Eigen::Index>(c)) = jac.col(cols[c]);
+  return out;
+}
+
+// A residual block scaled by a constant (the group's 1/s_g) for the covariance.
+class WeightedCost : public ceres::CostFunction {
+ public:
+  WeightedCost(const ceres::CostFunction* inner, double weight) : inner_(inner), weight_(weight) {
+    set_num_residuals(inner->num_residuals());
+    *mutable_parameter_block_sizes() = inner->parameter_block_sizes();
+  }
+  bool Evaluate(double const* const* p, double* r, double** j) const override {
+    if (!inner_->Evaluate(p, r, j)) return false;
+    const int n = num_residuals();
+    for (int i = 0; i < n; ++i) r[i] *= weight_;
+    if (j) {
+      const auto& sizes = parameter_block_sizes();
+      for (std::size_t b = 0; b < sizes.size(); ++b) {
+        if (!j[b]) continue;
+        for (int k = 0; k < n * sizes[b]; ++k) j[b][k] *= weight_;
+      }
+    }
+    return true;
+  }
+
+ private:
+  const ceres::CostFunction* inner_;
+  double weight_;
+};
+
+std::unique_ptr<ceres::Covariance> compute_covariance(ceres::Problem& problem, const std::vector<const double*>& blocks,
+                                                     ceres::CovarianceAlgorithmType algorithm) {
+  ceres::Covariance::Options o;
+  o.algorithm_type = algorithm;
+  o.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  o.num_threads = 1;
+  o.null_space_rank = 0;
+  o.min_reciprocal_condition_number = 1e-14;
+  std::vector<std::pair<const double*, const double*>> pairs;
+  for (std::size_t a = 0; a < blocks.size(); ++a)
+    for (std::size_t b = a; b < blocks.size(); ++b) pairs.emplace_back(blocks[a], blocks[b]);
+  auto out = std::make_unique<ceres::Covariance>(o);
+  if (out->Compute(pairs, &problem)) return out;
+  return nullptr;
+}
+
+}  // namespace
+
+NlsObservability analyse_observability(const NlsProblem& p, double tolerance) {
+  const auto n = p.free_entries().size();
+  NlsObservability out;
+  out.observable.assign(n, false);
+  for (int g = 0; g < p.groups(); ++g) {
+    const std::vector<int> cols = touched_entries(p, g);
+    Eigen::VectorXd r;
+    Eigen::MatrixXd jac;
+    p.linearize(g, r, jac);
+    const Eigen::MatrixXd j = columns_of(jac, cols);
+    // R of the scaled Jacobian: QR is orthogonally invariant, so scale R's columns rather than J's.
+    Eigen::MatrixXd rf;
+    if (j.rows() >= j.cols()) {
+      Eigen::HouseholderQR<Eigen::MatrixXd> qr(j);
+      rf = qr.matrixQR().topRows(j.cols()).triangularView<Eigen::Upper>();
+    } else {
+      rf = j;
+    }
+    std::vector<Eigen::VectorXd> basis;
+    for (Eigen::Index c = 0; c < rf.cols(); ++c) {
+      const double norm = rf.col(c).norm();
+      if (!(norm > 0) || !std::isfinite(norm)) continue;
+      Eigen::VectorXd v = rf.col(c) / norm;
+      for (int pass = 0; pass < 2; ++pass)
+        for (const auto& q : basis) v -= q.dot(v) * q;
+      const double rest = v.norm();
+      if (rest < tolerance) continue;
+      basis.push_back(v / rest);
+      out.observable[static_cast<std::size_t>(cols[static_cast<std::size_t>(c)])] = true;
+    }
+    out.rank.push_back(static_cast<int>(basis.size()));
+    out.columns.push_back(static_cast<int>(cols.size()));
+  }
+  return out;
+}
+
+NlsCovariance estimate_covariance(const NlsProblem& p) {
+  NlsCovariance out;
+  const auto& free = p.free_entries();
+  const auto n = static_cast<Eigen::Index>(free.size());
+  // Noise level of each group from its residuals at the solution.
+  out.group_sigma.assign(static_cast<std::size_t>(p.groups()), 0.0);
+  out.group_dof.assign(static_cast<std::size_t>(p.groups()), 0);
+  Eigen::VectorXd column_norm2 = Eigen::VectorXd::Zero(n);
+  for (int g = 0; g < p.groups(); ++g) {
+    Eigen::VectorXd r;
+    Eigen::MatrixXd jac;
+    p.linearize(g, r, jac);
+    const int dof = static_cast<int>(r.size()) - static_cast<int>(touched_entries(p, g).size());
+    out.group_dof[static_cast<std::size_t>(g)] = dof;
+    if (dof <= 0) {
+      out.message = str_cat("residual group ", g, " has ", r.size(), " residuals for ", touched_entries(p, g).size(), " free parameters: no degrees of freedom to estimate its noise");
+      return out;
+    }
+    const double s = std::sqrt(r.squaredNorm() / dof);
+    out.group_sigma[static_cast<std::size_t>(g)] = s;
+    if (s > 0) column_norm2 += jac.colwise().squaredNorm().transpose() / (s * s);
+  }
+  // A weighted copy of the problem at the stored values, for ceres::Covariance.
+  NlsProblem& mutable_p = const_cast<NlsProblem&>(p);  // ceres_problem() points Ceres at the stored values; nothing is changed
+  ceres::Problem base = ceres_problem(mutable_p);
+  ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem weighted(po);
+  for (const auto& rb : p.residual_blocks()) {
+    const double s = out.group_sigma[static_cast<std::size_t>(rb.group)];
+    std::vector<double*> blocks;
+    for (int bi : rb.blocks) blocks.push_back(mutable_p.block(bi).values.data());
+    weighted.AddResidualBlock(new WeightedCost(rb.cost.get(), s > 0 ? 1.0 / s : 1.0), nullptr, blocks);
+  }
+  std::vector<const double*> blocks;
+  std::vector<int> block_ids;
+  for (int i = 0; i < p.block_count(); ++i) {
+    double* data = mutable_p.block(i).values.data();
+    if (!weighted.HasParameterBlock(data)) continue;
+    if (base.HasParameterBlock(data) && base.IsParameterBlockConstant(data)) {
+      weighted.SetParameterBlockConstant(data);
+      continue;
+    }
+    if (base.HasParameterBlock(data) && base.GetManifold(data)) weighted.SetManifold(data, const_cast<ceres::Manifold*>(base.GetManifold(data)));
+    blocks.push_back(data);
+    block_ids.push_back(i);
+  }
+  std::unique_ptr<ceres::Covariance> cov = compute_covariance(weighted, blocks, ceres::SPARSE_QR);
+  if (!cov) cov = compute_covariance(weighted, blocks, ceres::DENSE_SVD);
+  if (!cov) {
+    out.message = "ceres::Covariance failed: the free parameters are not all determined by the data";
+    return out;
+  }
+  // Assemble free x free from the block covariances (fixed entries of a block are dropped).
+  std::vector<std::vector<int>> free_of_block(static_cast<std::size_t>(p.block_count()));
+  for (std::size_t j = 0; j < free.size(); ++j) free_of_block[static_cast<std::size_t>(free[j].block)].push_back(static_cast<int>(j));
+  out.covariance = Eigen::MatrixXd::Zero(n, n);
+  for (std::size_t a = 0; a < blocks.size(); ++a) {
+    for (std::size_t b = a; b < blocks.size(); ++b) {
+      const int ba = block_ids[a], bb = block_ids[b];
+      const int sa = p.block(ba).size(), sb = p.block(bb).size();
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> c(sa, sb);
+      cov->GetCovarianceBlock(blocks[a], blocks[b], c.data());
+      for (int fa : free_of_block[static_cast<std::size_t>(ba)]) {
+        for (int fb : free_of_block[static_cast<std::size_t>(bb)]) {
+          const double v = c(free[static_cast<std::size_t>(fa)].entry, free[static_cast<std::size_t>(fb)].entry);
+          out.covariance(fa, fb) = v;
+          out.covariance(fb, fa) = v;
+        }
+      }
+    }
+  }
+  out.sigma = out.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+  out.inflation = out.sigma.cwiseProduct(column_norm2.cwiseSqrt());
+  out.ok = true;
+  return out;
+}
+
+}  // namespace gyrosid
