@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "cli/app.h"
+#include "cli/triad_commands.h"
 #include "core/config.h"
 #include "core/error.h"
 #include "core/format.h"
@@ -15,7 +16,8 @@ namespace gyrosid::cli {
 namespace {
 
 struct CalibrateOptions {
-  std::string config, recording, model, solver, out, features, target, normalization, help_for;
+  std::string config, recording, model, solver, out, features, target, normalization, help_for, surfaces;
+  bool joint = false, sequential = false;
   std::vector<std::string> set;
 };
 
@@ -36,9 +38,16 @@ std::vector<std::string> split_commas(const std::string& text) {
 
 void run_calibrate(CalibrateOptions o) {
   if (!o.help_for.empty()) {
-    std::cout << (model_fitters().find(o.help_for) ? model_help(o.help_for) : solver_help(o.help_for));
+    std::cout << (o.help_for == "triad" ? triad_help() : model_fitters().find(o.help_for) ? model_help(o.help_for) : solver_help(o.help_for));
     return;
   }
+  if (o.model == "triad") {
+    if (o.joint && o.sequential) fail("--joint and --sequential exclude each other");
+    if (o.recording.empty() || o.out.empty()) fail("--recording and --out are required");
+    calibrate_triad({o.recording, o.out, o.solver, o.surfaces, o.joint ? "joint" : o.sequential ? "sequential" : "", o.set});
+    return;
+  }
+  if (!o.surfaces.empty() || o.joint || o.sequential) fail("--surfaces, --joint and --sequential apply to --model triad");
   // A YAML config gives defaults; command-line values win.
   CalibrationRequest request;
   if (!o.config.empty()) {
@@ -76,8 +85,11 @@ void register_calibrate(CLI::App& app, Action& action) {
   auto o = std::make_shared<CalibrateOptions>();
   CLI::App* cmd = app.add_subcommand("calibrate", "Fit a calibration model (rbf, classical, greybox) to a recording");
   cmd->add_option("--recording", o->recording, "Training recording (single gyro, with ref_rate_dps)");
-  cmd->add_option("--model", o->model, "rbf (default), classical or greybox");
-  cmd->add_option("--solver", o->solver, "RBF solver: ols (default), lrols_loo, ofs_loo, ceres, nlopt, ipopt");
+  cmd->add_option("--model", o->model, "rbf (default), classical, greybox, or triad (three gyros: misalignment, biases, surfaces)");
+  cmd->add_option("--solver", o->solver, "RBF solver: ols (default), lrols_loo, ofs_loo, ceres, nlopt, ipopt; triad: ceres (default), nlopt, ipopt");
+  cmd->add_option("--surfaces", o->surfaces, "triad: per-gyro error surfaces none (default), classical, greybox or rbf");
+  cmd->add_flag("--joint", o->joint, "triad: estimate everything in one least-squares problem (default)");
+  cmd->add_flag("--sequential", o->sequential, "triad: misalignment and biases first, then the surfaces");
   cmd->add_option("--set", o->set, "Solver or model option key=value (repeatable); see --options-of");
   cmd->add_option("--features", o->features, "Model inputs, comma-separated (default measured_rate,temperature)");
   cmd->add_option("--target", o->target, "error (default: model the rate error) or corrected_rate");
@@ -90,6 +102,8 @@ void register_calibrate(CLI::App& app, Action& action) {
       "  gyrosid calibrate --recording train.csv --model rbf --solver ols --set criterion=bic --set width=0.2 --out m.json\n"
       "  gyrosid calibrate --recording soak.csv --model classical --out classical.json\n"
       "  gyrosid calibrate --options-of ceres\n"
+      "  gyrosid calibrate --model triad --recording triad.csv --surfaces classical --solver ceres --joint --out triad.json\n"
+      "  gyrosid calibrate --options-of triad      (triad options, nls back-ends)\n"
       "The thesis's configuration: --solver ols --normalization units --set width=17.5 --set criterion=bic\n"
       "(Orr's toolbox on deg/s and deg C with node scale 17.5).");
   cmd->callback([o, &action] { action = [o] { run_calibrate(*o); }; });

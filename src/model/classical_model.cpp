@@ -83,8 +83,6 @@ void ClassicalModel::export_c_body(CExport& out) const {
              << sf_rate.size() << ", u)) * w;\n}\n";
 }
 
-namespace {
-
 // Columns of the additive separable model: v^0..v^nb | v^1..v^nt w | u^0..u^nw w.
 Eigen::MatrixXd classical_columns(const ClassicalModel& m, const ClassicalOptions& o, const Eigen::VectorXd& w,
                                   const Eigen::VectorXd& temp) {
@@ -102,8 +100,6 @@ Eigen::MatrixXd classical_columns(const ClassicalModel& m, const ClassicalOption
   }
   return a;
 }
-
-}  // namespace
 
 std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const ClassicalOptions& o, SolveSummary* summary) {
   if (auto p = o.validate(); !p.empty()) fail("classical model: ", p);

@@ -41,6 +41,10 @@ class ClassicalModel : public CalibrationModel {
   Eigen::VectorXd sf_rate;        // sigma_0..sigma_nw
 };
 
+// The model's regression columns at measured rates w and temperatures temp (N x (nb+1 + nt + nw+1)):
+// v^0..v^nb | v^1..v^nt w | u^0..u^nw w, with the model's rate and temperature scaling.
+Eigen::MatrixXd classical_columns(const ClassicalModel& model, const ClassicalOptions& options, const Eigen::VectorXd& w,
+                                  const Eigen::VectorXd& temp);
 
 // Requires features (measured_rate, temperature) in that order and target error.
 std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const ClassicalOptions& options,

@@ -21,4 +21,21 @@ CompensatedRecording compensate_recording(const CalibrationModel& model, Recordi
   return out;
 }
 
+CompensatedRecording compensate_triad_recording(const TriadModel& model, Recording recording) {
+  const TriadData data = make_triad_data(recording);
+  const Eigen::MatrixX3d comp = model.compensate(data);
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> dps(static_cast<std::size_t>(comp.rows()));
+    for (Eigen::Index k = 0; k < comp.rows(); ++k) dps[static_cast<std::size_t>(k)] = units::radps_to_dps(comp(k, a));
+    recording.set_column(std::string("compensated_") + "xyz"[a] + "_dps", std::move(dps));
+  }
+  CompensatedRecording out{std::move(recording), std::nullopt, std::nullopt};
+  if (data.has_reference()) {
+    const double n = 3.0 * static_cast<double>(data.size());
+    out.rms_before_dph = units::radps_to_dph(std::sqrt((data.gyro - data.reference).squaredNorm() / n));
+    out.rms_after_dph = units::radps_to_dph(std::sqrt((comp - data.reference).squaredNorm() / n));
+  }
+  return out;
+}
+
 }  // namespace gyrosid

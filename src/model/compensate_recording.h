@@ -7,6 +7,7 @@
 
 #include "core/recording.h"
 #include "model/calibration_model.h"
+#include "model/triad_model.h"
 
 namespace gyrosid {
 
@@ -17,5 +18,9 @@ struct CompensatedRecording {
 };
 
 CompensatedRecording compensate_recording(const CalibrationModel& model, Recording recording);
+
+// A triad recording compensated by a triad model: compensated_{x,y,z}_dps added (body rates), and the rms
+// error over the three axes against ref_rate_{x,y,z}_dps before and after.
+CompensatedRecording compensate_triad_recording(const TriadModel& model, Recording recording);
 
 }  // namespace gyrosid

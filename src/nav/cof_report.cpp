@@ -26,6 +26,7 @@ CofReport evaluate_criterion_of_fit(const CofRequest& r) {
   CompensationMode mode = CompensationMode::model;
   if (r.model == "none") mode = CompensationMode::none;
   else if (r.model == "truth") mode = CompensationMode::truth;
+  else if (is_triad_model_file(r.model)) return score_flight(load_flight(r.trajectory, r.rate_hz), as_triad(load_sensor_file(r.sensor)), load_triad_model(r.model), r);
   else model = load_model(r.model);
   return score_flight(load_flight(r.trajectory, r.rate_hz), as_triad(load_sensor_file(r.sensor)), model.get(), mode, r);
 }
@@ -58,14 +59,8 @@ void run_monte_carlo(const CofEvaluator& cof, const TriadSensor& sensor, Compens
   report.mc_reference = std::move(ref);
 }
 
-}  // namespace
-
-CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const CalibrationModel* model,
-                       CompensationMode mode, const CofRequest& r) {
-  CofReport report;
-  report.request = r;
-  report.flight = std::move(flight);
-  const CofEvaluator cof(report.flight, sensor, model, r.options);
+// Fills `report` (whose flight the evaluator reads) with the runs of `cof`.
+void score(CofReport& report, const CofEvaluator& cof, const TriadSensor& sensor, CompensationMode mode, const CofRequest& r) {
   report.reference = cof.reference_path();
   report.duration = cof.duration_s();
   report.max_rate_dps = cof.max_abs_rate_dps();
@@ -76,6 +71,26 @@ CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const
   const double hours = cof.duration_s() / 3600.0;
   report.drift_m_per_h = std::isnan(report.run.error_after_1h_m) ? report.run.end_error_m / hours : report.run.error_after_1h_m;
   if (r.monte_carlo) run_monte_carlo(cof, sensor, mode, r, report);
+}
+
+}  // namespace
+
+CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const CalibrationModel* model,
+                       CompensationMode mode, const CofRequest& r) {
+  CofReport report;
+  report.request = r;
+  report.flight = std::move(flight);
+  const CofEvaluator cof(report.flight, sensor, model, r.options);
+  score(report, cof, sensor, mode, r);
+  return report;
+}
+
+CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const TriadModel& triad, const CofRequest& r) {
+  CofReport report;
+  report.request = r;
+  report.flight = std::move(flight);
+  const CofEvaluator cof(report.flight, sensor, triad, r.options);
+  score(report, cof, sensor, CompensationMode::model, r);
   return report;
 }
 

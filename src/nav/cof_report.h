@@ -62,5 +62,7 @@ CofReport evaluate_criterion_of_fit(const CofRequest& request);
 // .trajectory are then only labels in the summary).
 CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const CalibrationModel* model,
                        CompensationMode mode, const CofRequest& request);
+// The same compensating the three gyros together by a triad model.
+CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const TriadModel& triad, const CofRequest& request);
 
 }  // namespace gyrosid::nav

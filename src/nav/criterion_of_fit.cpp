@@ -93,9 +93,30 @@ CofEvaluator::CofEvaluator(const FlightTrajectory& flight, const TriadSensor& se
   for (int i = 0; i < 3; ++i) deterministic_[static_cast<std::size_t>(i)] = out.gyro[static_cast<std::size_t>(i)].rate_radps;
 }
 
+CofEvaluator::CofEvaluator(const FlightTrajectory& flight, const TriadSensor& sensor, const TriadModel& triad, const CofOptions& options)
+    : CofEvaluator(flight, sensor, nullptr, options) {
+  triad_ = &triad;
+}
+
 std::array<std::vector<double>, 3> CofEvaluator::compensate(const std::array<std::vector<double>, 3>& measured) const {
   const std::size_t n = excitation_.size();
   std::array<std::vector<double>, 3> out;
+  if (triad_) {  // the three gyros together: what the triad model's probe (the coil) reads, body specific force
+    TriadData d;
+    d.t_s = excitation_.t_s;
+    d.gyro.resize(static_cast<Eigen::Index>(n), 3);
+    d.temp_c.resize(static_cast<Eigen::Index>(n), 3);
+    d.accel.resize(static_cast<Eigen::Index>(n), 3);
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto row = static_cast<Eigen::Index>(k);
+      for (int a = 0; a < 3; ++a) d.gyro(row, a) = measured[static_cast<std::size_t>(a)][k];
+      d.temp_c.row(row).setConstant(probe_temp_[k]);
+      d.accel.row(row) = excitation_.f_b[k].transpose();
+    }
+    const Eigen::MatrixX3d c = triad_->compensate(d);
+    for (int a = 0; a < 3; ++a) out[static_cast<std::size_t>(a)].assign(c.col(a).data(), c.col(a).data() + c.rows());
+    return out;
+  }
   for (int a = 0; a < 3; ++a) {
     const auto ai = static_cast<std::size_t>(a);
     Dataset d;
@@ -174,7 +195,7 @@ CofRun CofEvaluator::run(CompensationMode mode, bool noise, std::uint64_t seed, 
   switch (mode) {
     case CompensationMode::none: break;
     case CompensationMode::model:
-      if (!model_) fail("criterion of fit: no model to compensate with");
+      if (!model_ && !triad_) fail("criterion of fit: no model to compensate with");
       measured = compensate(measured);
       break;
     case CompensationMode::truth:

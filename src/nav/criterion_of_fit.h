@@ -22,6 +22,7 @@
 
 #include "core/enum_names.h"
 #include "model/calibration_model.h"
+#include "model/triad_model.h"
 #include "sensor/gyro_sensor.h"
 #include "trajectory/flight.h"
 
@@ -69,6 +70,8 @@ class CofEvaluator {
  public:
   CofEvaluator(const FlightTrajectory& flight, const TriadSensor& sensor, const CalibrationModel* model,
                const CofOptions& options);
+  // The same compensating the three gyros together by a triad model (misalignment, biases, surfaces).
+  CofEvaluator(const FlightTrajectory& flight, const TriadSensor& sensor, const TriadModel& triad, const CofOptions& options);
 
   // One INS run; noise on or off (off: the sensor's deterministic errors only). Deterministic per seed.
   CofRun run(CompensationMode mode, bool noise, std::uint64_t seed, bool record_growth = false) const;
@@ -91,6 +94,7 @@ class CofEvaluator {
   const FlightTrajectory& flight_;
   TriadSensor sensor_;
   const CalibrationModel* model_;
+  const TriadModel* triad_ = nullptr;
   CofOptions options_;
   Excitation excitation_;                        // clipped reference rates, specific force, temperatures
   std::vector<double> air_temp_;                 // from the altitude by the lapse rate

@@ -257,6 +257,52 @@ TEST_F(Cli, ThreadCountDoesNotChangeTheModel) {
   EXPECT_THAT(run("--threads 0 calibrate --help").output, HasSubstr("--threads"));
 }
 
+// A triad: simulate -> calibrate --model triad -> compensate -> cof; the planted matrix of fog_triad.yaml
+// (eq 3.72: M_xy = phi_y + mu_y = -0.1 mrad, M_xz = -(phi_x + mu_x) = -1.1 mrad, ...) within 4 sigma.
+TEST_F(Cli, TriadCalibrationCompensationAndCriterionOfFit) {
+  Result r = run("simulate --sensor builtin:sensors/fog_triad.yaml --trajectory builtin:trajectories/triad_six_position.yaml --seed 2 --out " + path("six.csv"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = run("calibrate --model triad --recording " + path("six.csv") + " --set bias_order=2 --out " + path("triad.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const nlohmann::json j = read_json(path("triad.json"));
+  EXPECT_EQ(j["kind"], "triad");
+  const double planted[3][3] = {{0, -0.1e-3, -1.1e-3}, {0.8e-3, 0, 1.4e-3}, {0.4e-3, -1.0e-3, 0}};
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) {
+      if (i == k) continue;
+      const double sigma = j["misalignment"]["sigma"][i][k].get<double>();
+      EXPECT_LT(sigma, 25e-6);
+      EXPECT_LT(std::abs(j["misalignment"]["matrix"][i][k].get<double>() - planted[i][k]), 4 * sigma) << i << k;
+    }
+  EXPECT_EQ(j["bias_dph"]["value"].size(), 3u);
+  EXPECT_NEAR(j["bias_dph"]["value"][0].get<double>(), -15.0, 1.5);
+  EXPECT_EQ(j["observable"]["independent_combinations"], 6);
+  EXPECT_EQ(j["summary"]["solver"], "ceres");
+
+  r = run("compensate --model " + path("triad.json") + " --recording " + path("six.csv") + " --out " + path("comp.csv"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const Recording comp = read_recording(path("comp.csv"));
+  EXPECT_TRUE(comp.has("compensated_x_dps") && comp.has("compensated_y_dps") && comp.has("compensated_z_dps"));
+
+  const std::string cof = "cof --sensor builtin:sensors/fog_triad.yaml --trajectory short --model ";
+  ASSERT_EQ(run(cof + path("triad.json") + " --out " + path("cof_triad")).status, 0);
+  ASSERT_EQ(run(cof + "none --out " + path("cof_none")).status, 0);
+  const double with = read_json(path("cof_triad/cof.json"))["end_error_m"].get<double>();
+  const double without = read_json(path("cof_none/cof.json"))["end_error_m"].get<double>();
+  EXPECT_LT(with, 0.7 * without);
+
+  r = run("calibrate --model triad --recording " + path("six.csv") + " --set surfacez=rbf --out " + path("x.json"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("surfacez"));
+  r = run("calibrate --model triad --recording " + path("six.csv") + " --solver lbfgs --out " + path("x.json"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("ceres"));
+  r = run("calibrate --model triad --recording " + path("comp.csv") + " --surfaces greybox --joint --out " + path("x.json"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("sequential"));
+  EXPECT_FALSE(fs::exists(path("x.json")));
+}
+
 TEST_F(Cli, HelpTeaches) {
   for (const char* sub : {"simulate", "allan", "run", "calibrate", "compensate", "surface", "export", "cof", "explain"}) {
     const Result r = run(std::string(sub) + " --help");

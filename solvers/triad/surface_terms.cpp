@@ -1,0 +1,102 @@
+#include "solvers/triad/surface_terms.h"
+
+#include <cmath>
+
+#include "core/error.h"
+#include "model/gaussian_node.h"
+
+namespace gyrosid {
+
+void SurfaceTerm::linear_columns(double, double, double*) const {}
+std::vector<double> SurfaceTerm::node_start(int) const { return {}; }
+void SurfaceTerm::inputs(double, double, double*) const {}
+double SurfaceTerm::node_output(const double*, const double*, double*) const { return 0.0; }
+std::vector<std::string> SurfaceTerm::linear_names() const {
+  std::vector<std::string> out;
+  for (int k = 0; k < linear_size(); ++k) out.push_back(str_cat("c", k));
+  return out;
+}
+
+namespace {
+
+class ClassicalTerm : public SurfaceTerm {
+ public:
+  ClassicalTerm(const ClassicalOptions& o, const Eigen::VectorXd& rates, const Eigen::VectorXd& temps)
+      : options_(o), shape_(default_features(), ModelTarget::error) {
+    options_.bias_order = 0;
+    shape_.rate_scale = std::max(rates.cwiseAbs().maxCoeff(), 1e-6);
+    shape_.temperature_reference = 0.5 * (temps.maxCoeff() + temps.minCoeff());
+    shape_.temperature_scale = std::max(0.5 * (temps.maxCoeff() - temps.minCoeff()), 1.0);
+  }
+  // classical_columns gives 1 | v^1..v^nt w | u^0..u^nw w; the 1 and u^0 w belong to the triad (b, M_ii).
+  int linear_size() const override { return options_.sf_temperature_order + options_.sf_rate_order; }
+  void linear_columns(double rate, double temp_c, double* out) const override {
+    const Eigen::MatrixXd c = classical_columns(shape_, options_, Eigen::VectorXd::Constant(1, rate), Eigen::VectorXd::Constant(1, temp_c));
+    const int nt = options_.sf_temperature_order, nw = options_.sf_rate_order;
+    for (int k = 0; k < nt; ++k) out[k] = c(0, 1 + k);
+    for (int k = 0; k < nw; ++k) out[nt + k] = c(0, 1 + nt + 1 + k);
+  }
+  std::vector<double> linear_start() const override { return std::vector<double>(static_cast<std::size_t>(linear_size()), 0.0); }
+  std::vector<std::string> linear_names() const override {
+    std::vector<std::string> out;
+    for (int k = 1; k <= options_.sf_temperature_order; ++k) out.push_back(str_cat("sf_temperature_", k));
+    for (int k = 1; k <= options_.sf_rate_order; ++k) out.push_back(str_cat("sf_rate_", k));
+    return out;
+  }
+  std::shared_ptr<CalibrationModel> model(const std::vector<double>& linear, const std::vector<std::vector<double>>&) const override {
+    auto m = std::make_shared<ClassicalModel>(shape_);
+    const int nt = options_.sf_temperature_order, nw = options_.sf_rate_order;
+    m->bias = Eigen::VectorXd::Zero(1);
+    m->sf_temperature = Eigen::VectorXd::Zero(nt + 1);
+    m->sf_rate = Eigen::VectorXd::Zero(nw + 1);
+    for (int k = 0; k < nt; ++k) m->sf_temperature(1 + k) = linear[static_cast<std::size_t>(k)];
+    for (int k = 0; k < nw; ++k) m->sf_rate(1 + k) = linear[static_cast<std::size_t>(nt + k)];
+    return m;
+  }
+
+ private:
+  ClassicalOptions options_;
+  ClassicalModel shape_;  // scaling only; coefficients unused
+};
+
+class RbfTerm : public SurfaceTerm {
+ public:
+  explicit RbfTerm(const RbfNetwork& start) : start_(start) {
+    if (start.features() != default_features()) fail("triad: a joint RBF surface takes the inputs measured_rate, temperature");
+    if (start.bias != 0.0) fail("triad: the RBF surface's constant must be folded into the triad's bias first");
+  }
+  int nodes() const override { return static_cast<int>(start_.nodes()); }
+  int node_size() const override { return static_cast<int>(NodeBlock<double>::size(start_.dimension())); }
+  std::vector<double> node_start(int j) const override {
+    std::vector<double> b(static_cast<std::size_t>(node_size()));
+    start_.pack_node(j, b.data());
+    return b;
+  }
+  int input_size() const override { return static_cast<int>(start_.dimension()); }
+  void inputs(double rate, double temp_c, double* x) const override {
+    const double raw[2] = {rate, temp_c};
+    start_.normalizer.apply(raw, x);
+  }
+  double node_output(const double* x, const double* block, double* gradient) const override {
+    return gyrosid::node_output(x, {block, start_.dimension()}, gradient);
+  }
+  std::shared_ptr<CalibrationModel> model(const std::vector<double>&, const std::vector<std::vector<double>>& nodes) const override {
+    auto net = std::make_shared<RbfNetwork>(start_);
+    for (int j = 0; j < this->nodes(); ++j) net->unpack_node(j, nodes[static_cast<std::size_t>(j)].data());
+    return net;
+  }
+
+ private:
+  RbfNetwork start_;
+};
+
+}  // namespace
+
+std::unique_ptr<SurfaceTerm> classical_term(const ClassicalOptions& options, const Eigen::VectorXd& rates, const Eigen::VectorXd& temps) {
+  if (auto p = options.validate(); !p.empty()) fail("triad classical surface: ", p);
+  return std::make_unique<ClassicalTerm>(options, rates, temps);
+}
+
+std::unique_ptr<SurfaceTerm> rbf_term(const RbfNetwork& start) { return std::make_unique<RbfTerm>(start); }
+
+}  // namespace gyrosid

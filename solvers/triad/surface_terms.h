@@ -1,0 +1,49 @@
+// How one gyro's error surface e_i(T, g) enters the triad's joint least-squares problem (triad_problem.h):
+// as linear columns (classical: its coefficients) and/or as Gaussian nodes (RBF: packed [c, log r, w]
+// blocks, model/gaussian_node.h). Terms whose columns would duplicate the triad's own parameters leave them
+// out: the classical term has no bias polynomial (b_i(T) is the triad's) and no constant scale factor
+// (that is M_ii), so the joint problem stays identifiable.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <vector>
+
+#include "model/classical_model.h"
+#include "model/rbf_network.h"
+
+namespace gyrosid {
+
+class SurfaceTerm {
+ public:
+  virtual ~SurfaceTerm() = default;
+
+  // Linear part: columns at one sample (measured rate rad/s, temperature deg C), and their start values.
+  virtual int linear_size() const { return 0; }
+  virtual void linear_columns(double rate, double temp_c, double* out) const;
+  virtual std::vector<double> linear_start() const { return {}; }
+
+  // Nonlinear part: node j's packed block; output w phi(x) of one node at the input vector x, with its
+  // gradient by the block when `gradient` is not null.
+  virtual int nodes() const { return 0; }
+  virtual int node_size() const { return 0; }
+  virtual std::vector<double> node_start(int j) const;
+  virtual int input_size() const { return 0; }
+  virtual void inputs(double rate, double temp_c, double* x) const;
+  virtual double node_output(const double* x, const double* block, double* gradient) const;
+
+  // The fitted surface as a single-gyro model (features measured_rate, temperature; target error).
+  virtual std::shared_ptr<CalibrationModel> model(const std::vector<double>& linear,
+                                                  const std::vector<std::vector<double>>& nodes) const = 0;
+  virtual std::vector<std::string> linear_names() const;
+};
+
+// The classical surface [s_T(T) + s_w(g)] g of thesis s5.3.2 without its bias polynomial and constant
+// scale factor; rate and temperature scaling from the training samples.
+std::unique_ptr<SurfaceTerm> classical_term(const ClassicalOptions& options, const Eigen::VectorXd& rates,
+                                            const Eigen::VectorXd& temps);
+// An RBF network's nodes, started from `start` (its constant must be zero: the triad's bias holds it).
+std::unique_ptr<SurfaceTerm> rbf_term(const RbfNetwork& start);
+
+}  // namespace gyrosid

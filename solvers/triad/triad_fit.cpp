@@ -1,0 +1,273 @@
+#include "solvers/triad/triad_fit.h"
+
+#include <cmath>
+#include <set>
+
+#include "core/error.h"
+#include "core/units.h"
+#include "solvers/calibrate.h"
+#include "solvers/nls/nls_covariance.h"
+#include "solvers/nls/nls_solver.h"
+#include "solvers/solver.h"
+#include "solvers/triad/triad_problem.h"
+
+namespace gyrosid {
+
+OptionTable TriadFitOptions::table() {
+  OptionTable t("triad");
+  t.choice("surfaces", &surfaces, {"none", "classical", "greybox", "rbf"}, "each gyro's remaining error surface e_i(T, g)")
+      .choice("estimation", &estimation, {"joint", "sequential"}, "one problem for everything, or M and b first and the surfaces after")
+      .choice("solver", &solver, nls_solvers().names(), "least-squares back-end (solvers/nls)")
+      .integer("bias_order", &bias_order, 0, 6, "order of each gyro's bias polynomial in temperature")
+      .flag("g_sensitivity", &g_sensitivity, "estimate the g-sensitivity matrix G (needs accel_{x,y,z}_mps2)")
+      .choice("reference", &reference, {"auto", "rate", "angle"}, "rate: per-sample reference rates; angle: each position_id segment known by its integral (Ferraris); auto: from the metadata 'reference'")
+      .real("max_sigma", &max_sigma, 0.0, 1.0, "M and G entries with a larger sigma are reported as not determined", true)
+      .text("surface_solver", &surface_solver, "RBF solver of the RBF surfaces (sequential fit, joint start)")
+      .passthrough("nls.", &solver_options, "an option of the least-squares back-end (see --options-of nls:<name>)")
+      .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver");
+  return t;
+}
+
+namespace {
+
+ClassicalOptions classical_surface_options(const OptionMap& map) {
+  ClassicalOptions o;  // the thesis's orders; the bias polynomial is the triad's own
+  OptionTable t("triad classical surface");
+  t.integer("sf_temperature_order", &o.sf_temperature_order, 0, 6, "scale-factor polynomial order in temperature")
+      .integer("sf_rate_order", &o.sf_rate_order, 0, 10, "scale-factor polynomial order in rate");
+  t.apply(map);
+  return o;
+}
+
+}  // namespace
+
+std::string TriadFitOptions::validate() const {
+  try {
+    make_nls_solver(solver, solver_options);
+    if (surfaces == "greybox" && estimation == "joint") {
+      return "surfaces=greybox is fitted by its own solver (thermal-lag search, ridge): use estimation=sequential, or classical/rbf surfaces for a joint solve";
+    }
+    if (surfaces == "rbf") {
+      make_solver(surface_solver, surface_options);
+    } else if (surfaces == "classical" && estimation == "joint") {
+      classical_surface_options(surface_options);
+    } else if (surfaces == "none" && !surface_options.empty()) {
+      return "surface.* options given but surfaces=none";
+    }
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+namespace {
+
+constexpr const char* kAxes[] = {"x", "y", "z"};
+
+// One solve of the triad problem: entries the data do not determine held at nominal, the back-end run, the
+// covariance at the solution.
+struct Stage {
+  NlsProblem problem;
+  TriadLayout layout;
+  SolveSummary summary;
+  NlsCovariance covariance;
+  std::vector<std::string> undetermined;  // entry names held at nominal
+};
+
+Stage run_stage(const TriadData& d, const TriadRows& rows, const TriadProblemSpec& spec, const TriadFitOptions& o) {
+  Stage s;
+  s.problem = build_triad_problem(d, rows, spec, s.layout);
+  const NlsObservability obs = analyse_observability(s.problem);
+  const auto free = s.problem.free_entries();  // copy: fixing changes the free set
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    if (obs.observable[j]) continue;
+    NlsProblem::ParameterBlock& b = s.problem.block(free[j].block);
+    const bool node = b.name.find("_node") != std::string::npos;
+    if (!node) b.values[static_cast<std::size_t>(free[j].entry)] = 0.0;  // nominal; a node keeps its start
+    s.problem.fix(free[j].block, free[j].entry);
+    s.undetermined.push_back(s.problem.entry_name(free[j].block, free[j].entry));
+  }
+  const auto solver = make_nls_solver(o.solver, o.solver_options);
+  s.summary = solve(*solver, s.problem);
+  if (!s.summary.usable()) fail("triad: the ", o.solver, " solve failed: ", s.summary.message);
+  s.covariance = estimate_covariance(s.problem);
+  return s;
+}
+
+// sigma and inflation of every entry of a block (NaN for fixed entries).
+std::vector<std::pair<double, double>> block_sigma(const Stage& s, int block) {
+  std::vector<std::pair<double, double>> out(static_cast<std::size_t>(s.problem.block(block).size()), {NAN, NAN});
+  if (!s.covariance.ok) return out;
+  const auto& free = s.problem.free_entries();
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    if (free[j].block == block) out[static_cast<std::size_t>(free[j].entry)] = {s.covariance.sigma(static_cast<Eigen::Index>(j)), s.covariance.inflation(static_cast<Eigen::Index>(j))};
+  }
+  return out;
+}
+
+bool is_fixed(const NlsProblem& p, int block, int entry) { return p.block(block).fixed[static_cast<std::size_t>(entry)]; }
+
+// Sigmas and determined entries of M, b and G from a stage; M and G entries above max_sigma are set to
+// nominal in `model` and reported.
+TriadUncertainty uncertainty_of(const Stage& s, bool g_sensitivity, double max_sigma, TriadModel& model, std::vector<std::string>& notes) {
+  TriadUncertainty u;
+  if (g_sensitivity) u.g_sensitivity_sigma = Eigen::Matrix3d::Constant(NAN);
+  for (int i = 0; i < 3; ++i) {
+    const auto ai = static_cast<std::size_t>(i);
+    u.noise_radps[ai] = s.covariance.group_sigma.empty() ? NAN : s.covariance.group_sigma[ai];
+    const auto m = block_sigma(s, s.layout.misalignment[ai]);
+    for (int j = 0; j < 3; ++j) {
+      const auto [sigma, inflation] = m[static_cast<std::size_t>(j)];
+      u.misalignment_sigma(i, j) = sigma;
+      u.misalignment_inflation(i, j) = inflation;
+      bool known = !is_fixed(s.problem, s.layout.misalignment[ai], j);
+      if (known && !(sigma <= max_sigma)) {
+        notes.push_back(str_cat("M_", kAxes[i], kAxes[j], ": sigma ", sigma, " exceeds max_sigma ", max_sigma, " - reported as not determined, compensated with 0"));
+        known = false;
+        model.misalignment(i, j) = 0.0;
+      }
+      u.misalignment_known[ai][static_cast<std::size_t>(j)] = known;
+    }
+    const auto b = block_sigma(s, s.layout.bias[ai]);
+    u.bias_sigma[ai].resize(static_cast<Eigen::Index>(b.size()));
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      u.bias_sigma[ai](static_cast<Eigen::Index>(k)) = b[k].first;
+      u.bias_known[ai].push_back(!is_fixed(s.problem, s.layout.bias[ai], static_cast<int>(k)));
+    }
+    if (!g_sensitivity) continue;
+    const auto g = block_sigma(s, s.layout.g_sensitivity[ai]);
+    for (int j = 0; j < 3; ++j) {
+      const double sigma = g[static_cast<std::size_t>(j)].first;
+      (*u.g_sensitivity_sigma)(i, j) = sigma;
+      bool known = !is_fixed(s.problem, s.layout.g_sensitivity[ai], j);
+      if (known && !(sigma <= max_sigma)) {
+        notes.push_back(str_cat("G_", kAxes[i], kAxes[j], ": sigma ", sigma, " rad/s per m/s^2 exceeds max_sigma - reported as not determined"));
+        known = false;
+        (*model.g_sensitivity)(i, j) = 0.0;
+      }
+      u.g_sensitivity_known[ai][static_cast<std::size_t>(j)] = known;
+    }
+  }
+  return u;
+}
+
+// Each gyro's surface fitted to what the triad's linear part leaves (sequential stage 2, joint RBF start).
+// A classical surface gets the triad's bias order unless told otherwise, so that sequential and joint fits
+// span the same family of functions.
+std::array<std::shared_ptr<const CalibrationModel>, 3> fit_surfaces(const TriadData& d, const TriadModel& linear, const TriadFitOptions& o,
+                                                                    int bias_order, nlohmann::json& stages) {
+  CalibrationRequest request;
+  request.model = o.surfaces;
+  request.solver = o.surface_solver;
+  request.options = o.surface_options;
+  if (o.surfaces == "classical" && !request.options.count("bias_order")) request.options["bias_order"] = std::to_string(bias_order);
+  const Eigen::MatrixX3d left = d.gyro - linear.predict_outputs(d);
+  std::array<std::shared_ptr<const CalibrationModel>, 3> out;
+  for (int a = 0; a < 3; ++a) {
+    const Eigen::VectorXd error = left.col(a);
+    CalibrationResult r = calibrate(axis_recording(d, a, &error), request);
+    stages.push_back({{"stage", str_cat("surface ", kAxes[a])}, {"summary", r.summary}});
+    out[static_cast<std::size_t>(a)] = std::move(r.model);
+  }
+  return out;
+}
+
+TriadModel start_model(const TriadData& d, int bias_order) {
+  TriadModel m;
+  const double lo = d.temp_c.minCoeff(), hi = d.temp_c.maxCoeff();
+  m.bias.reference_c = 0.5 * (lo + hi);
+  m.bias.scale_c = std::max(0.5 * (hi - lo), 1.0);
+  for (auto& c : m.bias.coefficients) c = Eigen::VectorXd::Zero(bias_order + 1);
+  return m;
+}
+
+std::string reference_mode(const TriadFitOptions& o, const std::string& metadata) {
+  if (o.reference != "auto") return o.reference;
+  return metadata == "angle" ? "angle" : "rate";
+}
+
+void finish(TriadFit& fit, const Stage& s, const TriadData& d, const TriadRows& rows) {
+  for (const auto& name : s.undetermined) fit.notes.push_back(name + ": not determined by the data - held at its nominal value");
+  fit.angles = analyse_angles(fit.uncertainty.misalignment_known);
+  // Residual rms per gyro over the problem's rows, from the model as it will be used.
+  const Eigen::MatrixX3d left = fit.model.predict_outputs(d) - d.gyro;
+  for (int a = 0; a < 3; ++a) {
+    double sum = 0.0;
+    for (int r = 0; r < rows.rows(); ++r) {
+      double row = 0.0;
+      for (int e = rows.start[static_cast<std::size_t>(r)]; e < rows.start[static_cast<std::size_t>(r) + 1]; ++e) {
+        row += rows.weight[static_cast<std::size_t>(e)] * left(rows.sample[static_cast<std::size_t>(e)], a);
+      }
+      sum += row * row;
+    }
+    fit.residual_rms_dph[static_cast<std::size_t>(a)] = units::radps_to_dph(std::sqrt(sum / std::max(1, rows.rows())));
+  }
+  fit.reference = rows.description;
+}
+
+}  // namespace
+
+TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata) {
+  if (auto p = o.validate(); !p.empty()) fail("triad: ", p);
+  if (d.size() < 4) fail("triad: ", d.size(), " samples are too few");
+  TriadFit fit;
+  fit.options = o;
+  const std::string mode = reference_mode(o, reference_metadata);
+  const TriadRows rows = mode == "angle" ? angle_rows(d) : rate_rows(d);
+  if (mode == "angle" && o.surfaces != "none" && o.estimation == "sequential") {
+    fail("triad: with an angle reference only segment integrals are known; sequential surfaces need per-sample reference rates (use estimation=joint or surfaces=none)");
+  }
+  int bias_order = o.bias_order;
+  if (d.temp_c.maxCoeff() - d.temp_c.minCoeff() < 0.5 && bias_order > 0) {
+    fit.notes.push_back(str_cat("temperature spans less than 0.5 C: the bias polynomial is reduced to a constant (bias_order 0)"));
+    bias_order = 0;
+  }
+  TriadProblemSpec spec;
+  spec.bias_order = bias_order;
+  spec.g_sensitivity = o.g_sensitivity;
+  spec.start = start_model(d, bias_order);
+  nlohmann::json stages = nlohmann::json::array();
+
+  // Stage 1 (sequential; the whole fit without surfaces; the start of a joint RBF solve): M, b, G.
+  const bool linear_stage = o.surfaces == "none" || o.estimation == "sequential" || o.surfaces == "rbf";
+  Stage stage;
+  if (linear_stage) {
+    stage = run_stage(d, rows, spec, o);
+    stages.push_back({{"stage", "misalignment and bias"}, {"summary", stage.summary}});
+    spec.start = triad_model_of(stage.problem, stage.layout, spec);
+  }
+  std::array<std::shared_ptr<const CalibrationModel>, 3> sequential_surfaces;
+  if (o.surfaces != "none" && (o.estimation == "sequential" || o.surfaces == "rbf")) {
+    sequential_surfaces = fit_surfaces(d, spec.start, o, bias_order, stages);
+  }
+
+  std::array<std::unique_ptr<SurfaceTerm>, 3> terms;
+  if (o.estimation == "joint" && o.surfaces != "none") {
+    for (int a = 0; a < 3; ++a) {
+      const auto ai = static_cast<std::size_t>(a);
+      if (o.surfaces == "classical") {
+        terms[ai] = classical_term(classical_surface_options(o.surface_options), d.gyro.col(a), d.temp_c.col(a));
+      } else {  // rbf: start from the sequential network, its constant folded into the bias
+        RbfNetwork net = dynamic_cast<const RbfNetwork&>(*sequential_surfaces[ai]);
+        spec.start.bias.coefficients[ai](0) += net.bias;
+        net.bias = 0.0;
+        terms[ai] = rbf_term(net);
+      }
+      spec.surfaces[ai] = terms[ai].get();
+    }
+    stage = run_stage(d, rows, spec, o);
+    stages.push_back({{"stage", "joint"}, {"summary", stage.summary}});
+  }
+  fit.model = triad_model_of(stage.problem, stage.layout, spec);
+  if (o.estimation == "sequential") fit.model.surfaces = sequential_surfaces;
+  if (!stage.covariance.ok) fit.notes.push_back("covariance: " + stage.covariance.message);
+  fit.uncertainty = uncertainty_of(stage, o.g_sensitivity, o.max_sigma, fit.model, fit.notes);
+  finish(fit, stage, d, rows);
+  fit.summary = stage.summary;
+  fit.summary.details["stages"] = stages;
+  fit.summary.details["estimation"] = o.estimation;
+  fit.summary.details["surfaces"] = o.surfaces;
+  return fit;
+}
+
+}  // namespace gyrosid

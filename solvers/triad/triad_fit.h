@@ -1,0 +1,69 @@
+// Estimating a triad model (model/triad_model.h) from a triad recording - what
+// `gyrosid calibrate --model triad` does:
+//
+//   joint       M, b(T), G and the per-gyro surfaces in one least-squares problem (triad_problem.h), solved
+//               by a named back-end (solvers/nls: ceres by default, nlopt, ipopt). Classical surfaces enter
+//               linearly; RBF surfaces start from the sequential fit and then every centre, width and weight
+//               moves together with M and b (the thesis's "misalignment angles posed with the RBF widths,
+//               centres and weights").
+//   sequential  M, b(T), G first without surfaces; then each gyro's surface fitted to what they leave, by
+//               the surface kind's own fitter (solvers/calibrate.h: classical, greybox, rbf with any solver).
+//
+// Before each solve the entries the data do not determine are found (nls_covariance.h) and held at their
+// nominal value 0; they are reported as not determined, never as measured. Sigmas come from the covariance
+// at the solution with each gyro's noise level estimated from its own residuals; M and G entries whose sigma
+// exceeds max_sigma are likewise reported as not determined.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/solve_summary.h"
+#include "model/triad_angles.h"
+#include "model/triad_model.h"
+#include "solvers/common/options.h"
+
+namespace gyrosid {
+
+struct TriadFitOptions {
+  std::string surfaces = "none";      // none | classical | greybox | rbf
+  std::string estimation = "joint";   // joint | sequential
+  std::string solver = "ceres";       // a solvers/nls back-end: ceres | nlopt | ipopt
+  OptionMap solver_options;           // nls.<key>=<value>
+  int bias_order = 2;                 // b_i(T) polynomial order (reduced to 0 when the temperature is constant)
+  bool g_sensitivity = false;         // estimate G (needs accel_{x,y,z}_mps2)
+  std::string reference = "auto";     // rate | angle | auto (angle when the metadata say "reference: angle")
+  double max_sigma = 0.01;            // M, G entries with a larger sigma are reported as not determined
+  std::string surface_solver = "ols"; // rbf surfaces: the RBF solver of the sequential fit / joint start
+  OptionMap surface_options;          // surface.<key>=<value>: options of the surface kind or its solver
+  OptionTable table();
+  std::string validate() const;
+};
+
+struct TriadUncertainty {
+  Eigen::Matrix3d misalignment_sigma = Eigen::Matrix3d::Constant(NAN);
+  Eigen::Matrix3d misalignment_inflation = Eigen::Matrix3d::Constant(NAN);
+  std::array<std::array<bool, 3>, 3> misalignment_known{};  // determined by the data
+  std::array<Eigen::VectorXd, 3> bias_sigma;               // per coefficient, rad/s
+  std::array<std::vector<bool>, 3> bias_known;
+  std::optional<Eigen::Matrix3d> g_sensitivity_sigma;
+  std::array<std::array<bool, 3>, 3> g_sensitivity_known{};
+  std::array<double, 3> noise_radps{};  // each gyro's residual standard deviation (per row)
+};
+
+struct TriadFit {
+  TriadModel model;
+  TriadUncertainty uncertainty;
+  AngleObservability angles;
+  std::vector<std::string> notes;   // what was not determined, and why
+  std::string reference;            // how the rows were formed
+  std::array<double, 3> residual_rms_dph{};  // per gyro, of the final fit's rows
+  SolveSummary summary;             // the final solve; details["stages"] holds every stage's summary
+  TriadFitOptions options;
+};
+
+TriadFit fit_triad(const TriadData& data, const TriadFitOptions& options, const std::string& reference_metadata = "");
+
+}  // namespace gyrosid

@@ -1,0 +1,56 @@
+// The triad model (model/triad_model.h) as one least-squares problem (solvers/nls):
+//
+//   r_ia = sum_k w_ak [ (I + M) omega_k + b(T_k) + G f_k + e(T_k, g_k) - g_k ]_i
+//
+// one residual group per gyro i (its own noise level), one row a per sample (rate reference: w = 1) or per
+// segment of constant position_id (angle reference - Ferraris and IMU-TK's known rotations between static
+// positions: w_ak = dt_k / sqrt(T_a), the segment's integral, scaled so every row has the per-sample noise
+// of a 1-s mean). Parameter blocks per gyro i, in priority order for the observability analysis:
+//   misalignment_i (row i of M) | bias_i (c_i0..c_inb) | g_sensitivity_i (row i of G) | surface_i linear
+//   coefficients | surface_i nodes.
+// Each gyro's equation involves only its own blocks, so the groups are independent least-squares problems
+// posed together (their covariances do not mix noise levels).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "model/triad_model.h"
+#include "solvers/nls/nls_problem.h"
+#include "solvers/triad/surface_terms.h"
+
+namespace gyrosid {
+
+// Rows of the problem as weighted sums of samples (CSR): row a covers entries [start[a], start[a+1]).
+struct TriadRows {
+  std::vector<int> start{0};
+  std::vector<int> sample;
+  std::vector<double> weight;
+  std::string description;
+  int rows() const { return static_cast<int>(start.size()) - 1; }
+};
+
+TriadRows rate_rows(const TriadData& data);
+// One row per maximal run of equal position_id (Error when the recording has none).
+TriadRows angle_rows(const TriadData& data);
+
+struct TriadProblemSpec {
+  int bias_order = 0;
+  bool g_sensitivity = false;
+  TriadModel start;  // initial values of M, b (its reference and scale define v), G; surfaces unused
+  std::array<const SurfaceTerm*, 3> surfaces{nullptr, nullptr, nullptr};
+};
+
+// Block indices of the problem, per gyro (-1: absent).
+struct TriadLayout {
+  std::array<int, 3> misalignment{-1, -1, -1}, bias{-1, -1, -1}, g_sensitivity{-1, -1, -1}, surface{-1, -1, -1};
+  std::array<std::vector<int>, 3> nodes;
+};
+
+NlsProblem build_triad_problem(const TriadData& data, const TriadRows& rows, const TriadProblemSpec& spec, TriadLayout& layout);
+// The model at the problem's current values (surfaces built by the spec's terms).
+TriadModel triad_model_of(const NlsProblem& problem, const TriadLayout& layout, const TriadProblemSpec& spec);
+
+}  // namespace gyrosid

@@ -1,0 +1,57 @@
+// gyrosid calibrate --model triad: a triad model (model/triad_model.h) from a triad recording
+// (solvers/triad/triad_fit.h), written with its sigmas and observability (solvers/triad/triad_fit_json.h).
+#include "cli/triad_commands.h"
+
+#include <iostream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/format.h"
+#include "core/recording.h"
+#include "core/units.h"
+#include "solvers/nls/nls_solver.h"
+#include "solvers/triad/triad_fit_json.h"
+
+namespace gyrosid::cli {
+
+std::string triad_help() {
+  TriadFitOptions o;
+  std::string out = "triad - misalignment/scale-factor matrix M, bias b(T), optional G and per-gyro surfaces (--set key=value):\n" + o.table().help();
+  out += "\nLeast-squares back-ends (--solver; their options as --set nls.<key>=<value>):\n";
+  for (const auto& e : nls_solvers().entries()) out += e.help() + "\n";
+  return out;
+}
+
+void calibrate_triad(const TriadCalibrateRequest& r) {
+  TriadFitOptions o;
+  OptionMap map;
+  for (const auto& kv : r.set) {
+    const auto [key, value] = split_option(kv);
+    map[key] = value;
+  }
+  if (!r.solver.empty()) map["solver"] = r.solver;
+  if (!r.surfaces.empty()) map["surfaces"] = r.surfaces;
+  if (!r.estimation.empty()) map["estimation"] = r.estimation;
+  o.table().apply(map);
+  const Recording rec = read_recording(r.recording);
+  const TriadFit fit = fit_triad(make_triad_data(rec), o, rec.meta("reference").value_or(""));
+  const nlohmann::json training = {{"recording", rec.source()}, {"samples", rec.rows()}, {"options", map}};
+  write_file_atomic(r.out, triad_fit_json(fit, training).dump(1) + "\n");
+
+  std::cout << "wrote " << r.out << ": triad model, " << o.estimation << ", surfaces " << o.surfaces << ", " << o.solver << " "
+            << to_string(fit.summary.termination) << ", " << format_significant(fit.summary.time_s, 3) << " s\n";
+  const char* axes[] = {"x", "y", "z"};
+  for (int i = 0; i < 3; ++i) {
+    std::cout << "  gyro " << axes[i] << ": M row [";
+    for (int j = 0; j < 3; ++j) {
+      const bool known = fit.uncertainty.misalignment_known[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+      std::cout << (j ? ", " : "")
+                << (known ? format_significant(fit.model.misalignment(i, j) * 1e6, 5) + " +- " + format_significant(fit.uncertainty.misalignment_sigma(i, j) * 1e6, 2) : "n/d");
+    }
+    std::cout << "] (1e-6, rad off the diagonal), bias " << format_significant(units::radps_to_dph(fit.model.bias.coefficients[static_cast<std::size_t>(i)](0)), 5)
+              << " deg/h, residual rms " << format_significant(fit.residual_rms_dph[static_cast<std::size_t>(i)], 4) << " deg/h\n";
+  }
+  if (!fit.notes.empty()) std::cout << "  " << fit.notes.size() << " note(s) in " << r.out << " (observable.notes), e.g.: " << fit.notes.front() << "\n";
+}
+
+}  // namespace gyrosid::cli

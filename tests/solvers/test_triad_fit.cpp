@@ -1,0 +1,229 @@
+// Triad estimation (solvers/triad): planted misalignment, biases and surfaces recovered from triads simulated
+// along Table 2.1 sequences; interval coverage under white noise; entries the data cannot determine reported
+// as such; the three back-ends agreeing; known-angle (integral) rows equal to rate rows; the model file and
+// the exact compensation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/units.h"
+#include "model/classical_model.h"
+#include "model/triad_model.h"
+#include "sim/simulate.h"
+#include "solvers/triad/triad_fit.h"
+#include "solvers/triad/triad_fit_json.h"
+#include "trajectory/calibration_trajectories.h"
+
+namespace gyrosid {
+namespace {
+
+using namespace units;
+
+// Six positions, static then turning at 10 deg/s, at the plateaus given.
+TrajectorySpec six_positions(std::vector<double> plateaus, double dwell_s, double settle_min) {
+  SoakOptions o;
+  o.plateaus_c = std::move(plateaus);
+  o.settle_min = settle_min;
+  o.rates_radps = {0.0, dps_to_radps(10.0)};
+  o.step_dwell_s = dwell_s;
+  TrajectorySpec t;
+  t.profile = classical_soak(o);
+  t.profile.latitude_rad = deg_to_rad(-26.2);
+  t.sampling.rate_hz = 1.0;
+  return t;
+}
+
+TriadSensor planted_triad(double white_dph_1hz) {
+  TriadSensor t;
+  t.name = "planted";
+  t.alignment = {GyroAlignment{0.8e-3, -0.5e-3, 0.3e-3, 0.4e-3}, GyroAlignment{-0.6e-3, 0.9e-3, -0.2e-3, 0.5e-3},
+                 GyroAlignment{0.4e-3, 0.7e-3, 0.6e-3, -0.3e-3}};
+  const double bias_dph[] = {-15.0, 7.0, 22.0};
+  for (int i = 0; i < 3; ++i) {
+    GyroErrorModel& e = t.gyros[static_cast<std::size_t>(i)].errors;
+    e.bias_radps = dph_to_radps(bias_dph[i]);
+    e.bias_temperature_radps = Polynomial{{0.0, dph_to_radps(0.1 * (i + 1)), dph_to_radps(-0.002)}, 25.0};
+    t.gyros[static_cast<std::size_t>(i)].noise.arw_rad_rt_s = dph_to_radps(white_dph_1hz);
+  }
+  return t;
+}
+
+TriadData simulate_triad_data(const TriadSensor& sensor, const TrajectorySpec& trajectory, std::uint64_t seed) {
+  return make_triad_data(simulate(sensor, trajectory, seed).recording);
+}
+
+Eigen::Matrix3d true_m(const TriadSensor& t) { return measurement_matrix(t.alignment) - Eigen::Matrix3d::Identity(); }
+
+TEST(TriadFit, NoiseFreeMisalignmentAndBiasPolynomialsAreRecoveredExactly) {
+  const TriadSensor sensor = planted_triad(0.0);
+  const TriadData d = simulate_triad_data(sensor, six_positions({0, 25, 50}, 30, 10), 1);
+  TriadFitOptions o;
+  o.bias_order = 2;
+  const TriadFit f = fit_triad(d, o);
+  EXPECT_LT((f.model.misalignment - true_m(sensor)).cwiseAbs().maxCoeff(), 1e-10);
+  for (int i = 0; i < 3; ++i) {
+    for (double temp : {0.0, 13.0, 25.0, 50.0}) {
+      const double truth = sensor.gyros[static_cast<std::size_t>(i)].errors.bias_radps + sensor.gyros[static_cast<std::size_t>(i)].errors.bias_temperature_radps(temp);
+      EXPECT_NEAR(radps_to_dph(f.model.bias.at(i, temp)), radps_to_dph(truth), 1e-7) << i << " at " << temp;
+    }
+    EXPECT_LT(f.residual_rms_dph[static_cast<std::size_t>(i)], 1e-6);
+  }
+  for (const auto& c : f.angles.combinations) EXPECT_TRUE(c.observable) << c.entry;
+  for (bool alone : f.angles.angle_observable) EXPECT_FALSE(alone);
+  EXPECT_EQ(f.angles.rank, 6);
+}
+
+TEST(TriadFit, IntervalsCoverThePlantedMatrixAtTheirNominalRateUnderWhiteNoise) {
+  const TriadSensor sensor = planted_triad(10.0);
+  const TrajectorySpec traj = six_positions({25}, 120, 2);
+  const Eigen::Matrix3d truth = true_m(sensor);
+  std::vector<double> z;
+  double sigma_sum = 0.0;
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    TriadFitOptions o;
+    o.bias_order = 0;
+    const TriadFit f = fit_triad(simulate_triad_data(sensor, traj, seed), o);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        if (i == j) continue;
+        z.push_back((f.model.misalignment(i, j) - truth(i, j)) / f.uncertainty.misalignment_sigma(i, j));
+        sigma_sum += f.uncertainty.misalignment_sigma(i, j);
+      }
+  }
+  double mean = 0.0, var = 0.0;
+  for (double v : z) mean += v / static_cast<double>(z.size());
+  for (double v : z) var += (v - mean) * (v - mean) / static_cast<double>(z.size() - 1);
+  EXPECT_LT(std::abs(mean), 0.25);
+  EXPECT_GT(std::sqrt(var), 0.8);
+  EXPECT_LT(std::sqrt(var), 1.2);
+  // The noise floor: two 120-s turns about each axis at 10 deg/s, N = 10 deg/h at 1 Hz.
+  const double floor = dph_to_radps(10.0) / (dps_to_radps(10.0) * std::sqrt(2.0 * 120.0));
+  EXPECT_NEAR(sigma_sum / static_cast<double>(z.size()), floor, 0.1 * floor);
+}
+
+TEST(TriadFit, AnAxisNeverTurnedLeavesItsColumnUndeterminedAndReportedAsSuch) {
+  TriadData d;
+  const int n = 600;
+  d.gyro.resize(n, 3);
+  d.reference.resize(n, 3);
+  d.temp_c = Eigen::MatrixX3d::Constant(n, 3, 25.0);
+  for (int k = 0; k < n; ++k) {
+    d.t_s.push_back(k);
+    const double w = (k / 100) % 3 == 0 ? 0.0 : ((k / 100) % 3 == 1 ? 0.2 : -0.2);
+    d.reference.row(k) << ((k / 300) == 0 ? w : 0.0), ((k / 300) == 1 ? w : 0.0), 0.0;  // x, then y; never z
+    d.gyro.row(k) = (d.reference.row(k) * (Eigen::Matrix3d::Identity() + 1e-3 * Eigen::Matrix3d::Ones()).transpose());
+    d.gyro(k, 0) += 1e-3 * std::sin(k * 0.7);  // some noise, deterministic
+    d.gyro(k, 1) += 1e-3 * std::cos(k * 1.3);
+    d.gyro(k, 2) += 1e-3 * std::sin(k * 2.1);
+  }
+  TriadFitOptions o;
+  const TriadFit f = fit_triad(d, o);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_FALSE(f.uncertainty.misalignment_known[static_cast<std::size_t>(i)][2]) << i;
+    EXPECT_TRUE(f.uncertainty.misalignment_known[static_cast<std::size_t>(i)][0]) << i;
+    EXPECT_EQ(f.model.misalignment(i, 2), 0.0);
+  }
+  const nlohmann::json j = triad_fit_json(f, {});
+  EXPECT_TRUE(j["misalignment"]["matrix"][0][2].is_null());
+  EXPECT_TRUE(j["misalignment"]["sigma"][1][2].is_null());
+  EXPECT_NEAR(j["misalignment"]["matrix"][1][0].get<double>(), 1e-3, 1e-4);
+  for (const auto& c : j["observable"]["angle_combinations"]) {
+    const std::string e = c["entry"];
+    EXPECT_EQ(c["observable"].get<bool>(), e != "M_xz" && e != "M_yz") << e;
+  }
+  EXPECT_EQ(j["observable"]["independent_combinations"].get<int>(), 4);
+  EXPECT_NE(j["observable"]["notes"].dump().find("bias_order 0"), std::string::npos);
+}
+
+TEST(TriadFit, EveryBackEndReachesTheSameJointClassicalSolution) {
+  TriadSensor sensor = planted_triad(10.0);
+  for (auto& g : sensor.gyros) g.errors.scale_factor_rate = Polynomial{{0.0, 0.0, -3e-3}, 0.0};  // -300 ppm at 10 deg/s squared
+  SoakOptions o;
+  o.plateaus_c = {10, 40};
+  o.settle_min = 2;
+  o.rates_radps = {0.0, dps_to_radps(10.0), dps_to_radps(40.0), dps_to_radps(90.0)};
+  o.step_dwell_s = 30;
+  TrajectorySpec t;
+  t.profile = classical_soak(o);
+  t.sampling.rate_hz = 1.0;
+  const TriadData d = simulate_triad_data(sensor, t, 3);
+  std::vector<TriadFit> fits;
+  for (std::string solver : {"ceres", "nlopt", "ipopt"}) {
+    TriadFitOptions f;
+    f.surfaces = "classical";
+    f.solver = solver;
+    f.bias_order = 1;
+    f.surface_options = {{"sf_temperature_order", "1"}, {"sf_rate_order", "3"}};
+    if (solver == "nlopt") f.solver_options = {{"max_evaluations", "20000"}};
+    fits.push_back(fit_triad(d, f));
+  }
+  for (std::size_t k = 1; k < fits.size(); ++k) {
+    EXPECT_LT((fits[k].model.misalignment - fits[0].model.misalignment).cwiseAbs().maxCoeff(), 1e-8) << k;
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(fits[k].model.bias.at(a, 25.0), fits[0].model.bias.at(a, 25.0), 1e-10) << k;
+  }
+  // Off-diagonals against the plant (joint with the rate-nonlinear surface), within 4 sigma.
+  const Eigen::Matrix3d truth = true_m(sensor);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (i != j) EXPECT_LT(std::abs(fits[0].model.misalignment(i, j) - truth(i, j)), 4 * fits[0].uncertainty.misalignment_sigma(i, j)) << i << j;
+}
+
+TEST(TriadFit, KnownAnglesAloneDetermineTheSameMatrixAsRates) {
+  const TriadSensor sensor = planted_triad(0.0);
+  Recording rec = simulate(sensor, six_positions({25}, 60, 0), 1).recording;
+  // Ferraris: inside each position_id segment only the integral of the reference is known.
+  const auto& id = rec.column("position_id");
+  for (const char* axis : {"ref_rate_x_dps", "ref_rate_y_dps", "ref_rate_z_dps"}) {
+    std::vector<double> ref = rec.column(axis);
+    for (std::size_t b = 0; b < ref.size();) {
+      std::size_t e = b;
+      double sum = 0.0;
+      while (e < ref.size() && id[e] == id[b]) sum += ref[e++];
+      for (std::size_t k = b; k < e; ++k) ref[k] = sum / static_cast<double>(e - b);
+      b = e;
+    }
+    rec.set_column(axis, ref);
+  }
+  rec.set_meta("reference", "angle");
+  TriadFitOptions o;
+  o.bias_order = 0;
+  const TriadFit f = fit_triad(make_triad_data(rec), o, "angle");
+  EXPECT_NE(f.reference.find("segments"), std::string::npos);
+  EXPECT_LT((f.model.misalignment - true_m(sensor)).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST(TriadModel, FileRoundTripAndCompensationInvertTheModelExactly) {
+  TriadModel m;
+  m.misalignment << 2e-4, -1e-3, 3e-3, 8e-4, -5e-4, 1.4e-3, 4e-4, -1e-3, 1e-4;
+  m.bias.reference_c = 20.0;
+  m.bias.scale_c = 30.0;
+  for (int a = 0; a < 3; ++a) m.bias.coefficients[static_cast<std::size_t>(a)] = Eigen::Vector3d(dph_to_radps(-15 + a), dph_to_radps(2.0), dph_to_radps(-0.5));
+  m.g_sensitivity = Eigen::Matrix3d::Constant(dph_to_radps(0.1));
+  auto surface = std::make_shared<ClassicalModel>(default_features(), ModelTarget::error);
+  surface->bias = Eigen::VectorXd::Zero(1);
+  surface->sf_temperature = Eigen::Vector2d(0.0, 1e-5);
+  surface->sf_rate = Eigen::Vector3d(0.0, 0.0, -2e-4);
+  surface->rate_scale = 1.0;
+  m.surfaces[1] = surface;
+  TriadData d;
+  const int n = 50;
+  d.gyro.resize(n, 3);
+  d.temp_c.resize(n, 3);
+  d.accel.resize(n, 3);
+  for (int k = 0; k < n; ++k) {
+    d.t_s.push_back(k);
+    d.gyro.row(k) << std::sin(0.3 * k), 0.7 * std::cos(0.2 * k), -0.1 * k / n;
+    d.temp_c.row(k).setConstant(-10.0 + k);
+    d.accel.row(k) << 0.1 * k, -9.8, 1.0;
+  }
+  // Compensation then the forward model returns the outputs (the surfaces take the measured rate).
+  d.reference = m.compensate(d);
+  EXPECT_LT((m.predict_outputs(d) - d.gyro).cwiseAbs().maxCoeff(), 1e-15);
+  const TriadModel back = triad_model_from_json(nlohmann::json::parse(triad_model_json(m).dump()), "<test>");
+  EXPECT_EQ(back.compensate(d), m.compensate(d));
+  EXPECT_FALSE(back.surfaces[0]);
+  ASSERT_TRUE(back.surfaces[1]);
+}
+
+}  // namespace
+}  // namespace gyrosid
