@@ -2,9 +2,11 @@
 # gyrosid's own set-up script: installs the Debian 12 packages that are missing (and only those),
 # configures and builds gyrosid (Release), then runs one job:
 #
-#   scripts/setup.sh main   # the main job on the built-in default configuration, report in ./report/
-#   scripts/setup.sh test   # every test, through ctest
-#   scripts/setup.sh build  # install and build only
+#   scripts/setup.sh main      # the main job on the built-in default configuration, report in ./report/
+#   scripts/setup.sh test      # every test, through ctest
+#   scripts/setup.sh build     # install and build only
+#   scripts/setup.sh sanitize  # every test again, built with AddressSanitizer + UndefinedBehaviorSanitizer (build-sanitize/)
+#   scripts/setup.sh fuzz      # install clang and build the libFuzzer targets (build-fuzz/); scripts/fuzz.sh runs them
 #
 # Idempotent: a second run installs nothing and rebuilds only what changed. Nothing is downloaded from
 # outside Debian's package archive.
@@ -12,8 +14,8 @@ set -euo pipefail
 
 job="${1:-}"
 case "$job" in
-  main|test|build) ;;
-  *) echo "usage: scripts/setup.sh main|test|build" >&2; exit 2 ;;
+  main|test|build|sanitize|fuzz) ;;
+  *) echo "usage: scripts/setup.sh main|test|build|sanitize|fuzz" >&2; exit 2 ;;
 esac
 
 cd "$(dirname "$0")/.."
@@ -26,6 +28,8 @@ packages=(
   gnuplot-nox
   python3 python3-numpy python3-scipy python3-sklearn python3-yaml
 )
+# libFuzzer comes with clang's runtime libraries.
+[ "$job" = fuzz ] && packages+=(clang libclang-rt-dev)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -45,9 +49,19 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y --no-install-recommends "${missing[@]}"
 fi
 
-build_dir="${GYROSID_BUILD_DIR:-build}"
 jobs="$(nproc 2>/dev/null || echo 2)"
-cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release
+case "$job" in
+  sanitize)
+    build_dir="${GYROSID_BUILD_DIR:-build-sanitize}"
+    cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DGYROSID_SANITIZE=ON -DGYROSID_BUILD_BENCHMARKS=OFF ;;
+  fuzz)
+    build_dir="${GYROSID_BUILD_DIR:-build-fuzz}"
+    cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+      -DGYROSID_FUZZ=ON -DGYROSID_BUILD_TESTS=OFF -DGYROSID_BUILD_BENCHMARKS=OFF ;;
+  *)
+    build_dir="${GYROSID_BUILD_DIR:-build}"
+    cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release ;;
+esac
 cmake --build "$build_dir" --parallel "$jobs"
 
 case "$job" in
@@ -58,5 +72,10 @@ case "$job" in
   test)
     ctest --test-dir "$build_dir" --output-on-failure --parallel "$jobs"
     ;;
-  build) ;;
+  sanitize)
+    # Leaks are reported too; a sanitizer report fails the test that triggered it.
+    ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+      ctest --test-dir "$build_dir" --output-on-failure --parallel "$jobs" --timeout 1800
+    ;;
+  build|fuzz) ;;
 esac

@@ -4,6 +4,7 @@
 
 #include "cli/app.h"
 #include "cli/common.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "nav/cof_report.h"
@@ -18,6 +19,7 @@ struct CofCommand {
   std::string out;
   double clip = 100.0;
   std::string probe = "coil";
+  bool resume = false;
 };
 
 void run_cof(CofCommand c) {
@@ -34,8 +36,13 @@ void run_cof(CofCommand c) {
   }
   c.request.options.clip_rate_dps = c.clip;
   c.request.options.probe = parse_enum<nav::TemperatureProbe>(c.probe, "--temperature-probe");
+  // A Monte Carlo saves its finished runs as it goes; --resume continues a killed run to the same result.
+  if (c.request.monte_carlo) c.request.checkpoint = std::filesystem::path(c.out) / ".cof_checkpoint.json";
+  c.request.resume = c.resume;
+  if (c.resume) remove_stale_temporaries(c.out);
   const nav::CofReport r = nav::evaluate_criterion_of_fit(c.request);
   write_cof_outputs(r, c.out);
+  if (!c.request.checkpoint.empty()) std::filesystem::remove(c.request.checkpoint);
   std::cout << "criterion of fit, " << r.request.trajectory << " (" << format_significant(r.duration_s(), 4)
             << " s): end error " << format_significant(r.run.end_error_m, 4) << " m (along "
             << format_significant(r.decomposed.x(), 3) << ", cross " << format_significant(r.decomposed.y(), 3)
@@ -67,6 +74,8 @@ void register_cof(CLI::App& app, Action& action) {
   cmd->add_option("--monte-carlo", c->monte_carlo, "auto (until Anderson-Darling accepts normality, >= 25 runs) or a number of runs");
   cmd->add_option("--max-runs", c->request.mc.max_runs, "Run cap of --monte-carlo auto")->capture_default_str();
   cmd->add_option("--seed", c->request.seed, "Seed of the noise streams")->capture_default_str();
+  cmd->add_flag("--resume", c->resume, "Continue a killed Monte Carlo from its checkpoint in --out (same inputs and seed; "
+                                       "the result equals an uninterrupted run's)");
   cmd->add_option("--out", c->out, "Output directory: cof.json, ground_track.png, error_growth.png, monte_carlo.png")->required();
   cmd->footer(
       "The reference IMU data and the same data with the three gyros perturbed by the sensor model and compensated\n"

@@ -1,10 +1,15 @@
 #include "core/atomic_file.h"
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
 
 #include <atomic>
 #include <fstream>
 
+#include "core/distributed.h"
 #include "core/error.h"
 
 namespace gyrosid {
@@ -16,6 +21,7 @@ std::filesystem::path temporary_sibling(const std::filesystem::path& target) {
 }
 
 void write_file_atomic(const std::filesystem::path& path, const std::function<void(std::ostream&)>& writer) {
+  if (!is_output_process()) return;  // a distributed run writes its results once, from the first process
   if (path.has_parent_path()) {
     std::error_code ec;
     std::filesystem::create_directories(path.parent_path(), ec);
@@ -42,6 +48,23 @@ void write_file_atomic(const std::filesystem::path& path, const std::function<vo
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view content) {
   write_file_atomic(path, [&](std::ostream& out) { out << content; });
+}
+
+int remove_stale_temporaries(const std::filesystem::path& dir) {
+  int removed = 0;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    const auto at = name.find(".tmp.");
+    if (name.empty() || name[0] != '.' || at == std::string::npos) continue;
+    const pid_t pid = static_cast<pid_t>(std::strtol(name.c_str() + at + 5, nullptr, 10));
+    if (pid <= 0 || (::kill(pid, 0) != 0 && errno == ESRCH)) {
+      std::filesystem::remove(entry.path(), ec);
+      removed += ec ? 0 : 1;
+    }
+  }
+  return removed;
 }
 
 }  // namespace gyrosid

@@ -36,7 +36,7 @@ std::vector<std::string> builtin_config_names() {
   return names;
 }
 
-ConfigNode ConfigNode::load(const std::string& path) {
+std::string config_text(const std::string& path) {
   if (path.rfind(kBuiltinPrefix, 0) == 0) {
     const std::string rel = path.substr(kBuiltinPrefix.size());
     auto text = builtin_config(rel);
@@ -45,7 +45,7 @@ ConfigNode ConfigNode::load(const std::string& path) {
       for (const auto& n : builtin_config_names()) names += "\n  builtin:" + n;
       fail(path, ": no such built-in config; built-in configs are:", names);
     }
-    return parse(std::string(*text), path);
+    return std::string(*text);
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
@@ -59,8 +59,10 @@ ConfigNode ConfigNode::load(const std::string& path) {
   }
   std::stringstream buffer;
   buffer << in.rdbuf();
-  return parse(buffer.str(), path);
+  return buffer.str();
 }
+
+ConfigNode ConfigNode::load(const std::string& path) { return parse(config_text(path), path); }
 
 ConfigNode ConfigNode::parse(const std::string& text, const std::string& source) {
   try {

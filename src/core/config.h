@@ -74,6 +74,9 @@ class ConfigNode {
   std::string path_;
 };
 
+// The text of a config file, or of a built-in config "builtin:<relative path>"; Error naming the path.
+std::string config_text(const std::string& path);
+
 // Text of a config embedded from configs/ (relative path like "sensors/open_loop_fog.yaml"), or nullopt.
 std::optional<std::string_view> builtin_config(const std::string& relative_path);
 std::vector<std::string> builtin_config_names();

@@ -1,5 +1,7 @@
 #include "core/format.h"
 
+#include <locale.h>
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +20,11 @@ std::string format_significant(double value, int digits) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
   return buffer;
+}
+
+double parse_c_double(const char* begin, char** end) {
+  static locale_t c_locale = newlocale(LC_ALL_MASK, "C", locale_t(0));
+  return strtod_l(begin, end, c_locale);
 }
 
 }  // namespace gyrosid

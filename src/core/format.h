@@ -12,4 +12,7 @@ std::string format_number(double value);
 // For humans (reports, console): `digits` significant digits, no trailing zeros ("0.1666", "1.2e-05").
 std::string format_significant(double value, int digits = 4);
 
+// strtod in the C locale whatever the process locale is (recordings, flight CSVs: "numbers in C locale").
+double parse_c_double(const char* begin, char** end);
+
 }  // namespace gyrosid

@@ -2,11 +2,9 @@
 
 #include "core/units.h"
 
-#include <clocale>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
-#include <locale.h>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -20,12 +18,6 @@ constexpr std::string_view kSingleRequired[] = {"t_s", "ref_rate_dps", "temp_c",
 constexpr std::string_view kTriadRates[] = {"ref_rate_x_dps", "ref_rate_y_dps", "ref_rate_z_dps",
                                             "gyro_x_dps",     "gyro_y_dps",     "gyro_z_dps"};
 constexpr std::string_view kTriadTemps[] = {"temp_x_c", "temp_y_c", "temp_z_c"};
-
-// strtod in the C locale, whatever the process locale is (docs/recording_format.md: "Numbers in C locale").
-double parse_c_double(const char* begin, char** end) {
-  static locale_t c_locale = newlocale(LC_ALL_MASK, "C", locale_t(0));
-  return strtod_l(begin, end, c_locale);
-}
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -22,6 +23,11 @@ struct CofRequest {
   bool monte_carlo = false;
   MonteCarloOptions mc;
   std::uint64_t seed = 1;
+  // Kill-safe Monte Carlo: finished runs are saved here after every batch; with `resume` a saved checkpoint
+  // of the same computation is continued (the result is identical to an uninterrupted run). The caller
+  // removes the file once the outputs are written.
+  std::filesystem::path checkpoint;
+  bool resume = false;
 };
 
 // The thesis's reference runs beside a Monte Carlo (s5.5): white noise alone and a constant bias equal to

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/distributed.h"
 #include "core/parallel.h"
 #include "core/progress.h"
 
@@ -30,36 +31,62 @@ nlohmann::json MonteCarloResult::to_json() const {
           {"mean_end_error_m", mean_end_error_m}, {"components", comps}};
 }
 
-MonteCarloResult monte_carlo(const std::function<Eigen::Vector3d(int)>& sample, const MonteCarloOptions& o) {
+namespace {
+
+// Statistics and normality of the first n samples.
+void evaluate(MonteCarloResult& r, std::size_t n) {
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> x;
+    for (std::size_t i = 0; i < n; ++i) x.push_back(r.samples[i](c));
+    r.components[static_cast<std::size_t>(c)] = sample_stats(x);
+    r.normality[static_cast<std::size_t>(c)] = anderson_darling_normal(x);
+  }
+  r.normal = r.normality[0].normal_at_5_percent && r.normality[1].normal_at_5_percent && r.normality[2].normal_at_5_percent;
+}
+
+// The automatic stop: the first count in (checked, have] on the fixed schedule (min_runs, min_runs + 8, ...)
+// at which every component is normal; 0 when none is.
+int first_normal_count(MonteCarloResult& r, int checked, int have, const MonteCarloOptions& o) {
+  for (int n = o.min_runs; n <= have; n += kCheckEvery) {
+    if (n <= checked) continue;
+    evaluate(r, static_cast<std::size_t>(n));
+    if (r.normal) return n;
+  }
+  return 0;
+}
+
+}  // namespace
+
+MonteCarloResult monte_carlo(const std::function<Eigen::Vector3d(int)>& sample, const MonteCarloOptions& o, const MonteCarloResume& resume) {
   if (auto p = o.validate(); !p.empty()) fail("Monte Carlo: ", p);
   MonteCarloResult r;
-  const int target = o.runs > 0 ? o.runs : o.max_runs;
-  const int batch = std::max(8, 4 * worker_threads());
+  const bool automatic = o.runs == 0;
+  const int target = automatic ? o.max_runs : o.runs;
+  const int batch = std::max(kCheckEvery, 4 * parallel_width());
+  r.samples = resume.done;
+  if (static_cast<int>(r.samples.size()) > target) r.samples.resize(static_cast<std::size_t>(target));
   Progress progress("Monte Carlo", static_cast<std::size_t>(target));
-  auto evaluate = [&]() {
-    for (int c = 0; c < 3; ++c) {
-      std::vector<double> x;
-      for (const auto& s : r.samples) x.push_back(s(c));
-      r.components[static_cast<std::size_t>(c)] = sample_stats(x);
-      r.normality[static_cast<std::size_t>(c)] = anderson_darling_normal(x);
-    }
-    r.normal = r.normality[0].normal_at_5_percent && r.normality[1].normal_at_5_percent && r.normality[2].normal_at_5_percent;
-  };
-  while (static_cast<int>(r.samples.size()) < target) {
+  int checked = 0;  // the stop rule has been applied to every scheduled count up to here
+  while (true) {
     const int have = static_cast<int>(r.samples.size());
-    const int want = have < o.min_runs && o.runs == 0 ? o.min_runs : std::min(target, have + batch);
-    std::vector<Eigen::Vector3d> fresh(static_cast<std::size_t>(want - have));
-    parallel_for(want - have, [&](std::ptrdiff_t b, std::ptrdiff_t e) {
-      for (std::ptrdiff_t i = b; i < e; ++i) fresh[static_cast<std::size_t>(i)] = sample(have + static_cast<int>(i));
-    });
-    r.samples.insert(r.samples.end(), fresh.begin(), fresh.end());
-    progress.update(r.samples.size());
-    if (o.runs == 0 && static_cast<int>(r.samples.size()) >= o.min_runs) {
-      evaluate();
-      if (r.normal) break;
+    if (automatic && have >= o.min_runs) {
+      if (const int n = first_normal_count(r, checked, have, o); n > 0) {
+        r.samples.resize(static_cast<std::size_t>(n));
+        break;
+      }
+      checked = have;
     }
+    if (have >= target) break;
+    const int want = std::min(target, std::max(have + batch, automatic ? o.min_runs : 0));
+    const std::vector<double> rows = map_rows(have, want, 3, [&](int i, double* row) {
+      const Eigen::Vector3d e = sample(i);
+      row[0] = e(0), row[1] = e(1), row[2] = e(2);
+    });
+    for (int i = 0; i < want - have; ++i) r.samples.emplace_back(rows[3 * i], rows[3 * i + 1], rows[3 * i + 2]);
+    progress.update(r.samples.size());
+    if (resume.on_batch) resume.on_batch(r.samples);
   }
-  evaluate();
+  evaluate(r, r.samples.size());
   r.runs = static_cast<int>(r.samples.size());
   Eigen::Vector3d mean(r.components[0].mean, r.components[1].mean, r.components[2].mean);
   r.mean_m = mean.norm();

@@ -36,7 +36,19 @@ struct MonteCarloResult {
   nlohmann::json to_json() const;
 };
 
-// `sample(i)` returns run i's decomposed error (along, cross-h, cross-v). Called concurrently.
-MonteCarloResult monte_carlo(const std::function<Eigen::Vector3d(int run)>& sample, const MonteCarloOptions& options);
+// Runs already computed (from a checkpoint) and a hook after every batch (to save one), so that a killed
+// Monte Carlo resumes where it stopped and ends identical to an uninterrupted one.
+struct MonteCarloResume {
+  std::vector<Eigen::Vector3d> done;  // runs 0..k-1
+  std::function<void(const std::vector<Eigen::Vector3d>& all)> on_batch;
+};
+
+// `sample(i)` returns run i's decomposed error (along, cross-h, cross-v). Called concurrently, by the threads
+// of this process or across processes (core/distributed.h). Runs are computed in batches that scale with the
+// parallelism, but the normality test of the automatic stop is applied at fixed counts (min_runs, then every
+// kCheckEvery runs), so the number of runs and every figure are the same whatever the thread or process count.
+inline constexpr int kCheckEvery = 8;
+MonteCarloResult monte_carlo(const std::function<Eigen::Vector3d(int run)>& sample, const MonteCarloOptions& options,
+                             const MonteCarloResume& resume = {});
 
 }  // namespace gyrosid::nav

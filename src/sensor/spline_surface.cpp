@@ -112,8 +112,10 @@ SurfaceSample SplineSurface::operator()(double x, double y) const {
     x = std::clamp(x, x_.front(), x_.back());
     y = std::clamp(y, y_.front(), y_.back());
   }
-  const auto [i, u] = locate(x_, x);
-  const auto [j, v] = locate(y_, y);
+  // (Plain locals, not structured bindings: lambdas below capture them, which clang 14 does not allow.)
+  const auto cell_x = locate(x_, x), cell_y = locate(y_, y);
+  const std::size_t i = cell_x.first, j = cell_y.first;
+  const double u = cell_x.second, v = cell_y.second;
   const double hx = x_[i + 1] - x_[i], hy = y_[j + 1] - y_[j];
   const auto bu = hermite(u), bv = hermite(v), du = hermite_derivative(u), dv = hermite_derivative(v);
 

@@ -6,6 +6,7 @@
 
 #include "core/earth_model.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/units.h"
 
 namespace gyrosid {
@@ -294,9 +295,16 @@ FlightProfile load_flight_profile(const ConfigNode& node) {
 }
 
 FlightTrajectory load_flight_csv(const std::string& path) {
-  // A flight CSV is a plain table (no gyro columns, so not a recording); C-locale numbers, nan allowed.
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, ": cannot open flight trajectory");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_flight_csv(text.str(), path);
+}
+
+FlightTrajectory parse_flight_csv(const std::string& text, const std::string& path) {
+  // A flight CSV is a plain table (no gyro columns, so not a recording); C-locale numbers, nan allowed.
+  std::istringstream in(text);
   std::string line;
   std::vector<std::string> names;
   std::vector<std::vector<double>> rows;
@@ -317,7 +325,7 @@ FlightTrajectory load_flight_csv(const std::string& path) {
     std::vector<double> row;
     for (std::size_t c = 0; c < cells.size(); ++c) {
       char* end = nullptr;
-      const double v = std::strtod(cells[c].c_str(), &end);
+      const double v = parse_c_double(cells[c].c_str(), &end);
       if (cells[c].empty() || *end != '\0') fail(path, ":", line_no, ": column '", names[c], "': '", cells[c], "' is not a number");
       row.push_back(v);
     }

@@ -93,6 +93,7 @@ FlightProfile load_flight_profile(const ConfigNode& node);
 // initial state on the first row (lat_deg, lon_deg, h_m, v_n_mps, v_e_mps, v_d_mps, roll_deg, pitch_deg,
 // yaw_deg), optionally on every row (then kept as truth). Uniform sampling required.
 FlightTrajectory load_flight_csv(const std::string& path);
+FlightTrajectory parse_flight_csv(const std::string& text, const std::string& source);
 
 // Standard-atmosphere temperature along the flight (thesis eq C.1, lapse -0.0065 K/m), shifted so that the
 // first sample is at `start_temp_c`.

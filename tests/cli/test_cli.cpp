@@ -3,13 +3,20 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "core/random.h"
 #include "core/recording.h"
 
 namespace gyrosid {
@@ -242,6 +249,63 @@ TEST_F(Cli, ExplainWritesItsContract) {
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.output, HasSubstr("warp_drive"));
   EXPECT_FALSE(fs::exists(path("x")));
+}
+
+// Starts `gyrosid args` and kills it with SIGKILL after `seconds` (if it is still running). True if killed.
+bool run_and_kill(const std::string& args, double seconds) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string command = std::string(GYROSID_EXE) + " " + args + " > /dev/null 2>&1";
+    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  int status = 0;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (waitpid(pid, &status, WNOHANG) == pid) return false;  // finished first
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, &status, 0);
+  return true;
+}
+
+// A Monte Carlo killed (SIGKILL) at random points and resumed ends with the same cof.json, byte for byte, as an
+// uninterrupted run; a kill never leaves a half-written result or checkpoint.
+TEST_F(Cli, KilledMonteCarloResumesToTheSameResult) {
+  const std::string args = "--quiet cof --model none --trajectory medium --monte-carlo 800 --seed 9 --out ";
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_EQ(run(args + path("whole")).status, 0);
+  const double duration = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::string whole = read_text(dir_ / "whole" / "cof.json");
+  RandomStream random(2026, "kill-points");
+  int kills = 0;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const double at = (0.15 + 0.6 * random.uniform()) * duration;
+    kills += run_and_kill(args + path("killed") + (attempt > 0 ? " --resume" : ""), at) ? 1 : 0;
+    for (const auto& entry : fs::directory_iterator(dir_ / "killed")) {
+      const std::string name = entry.path().filename().string();
+      if (name.find(".tmp.") != std::string::npos) continue;  // a temporary of the killed write, never a result
+      if (entry.path().extension() == ".json") {
+        EXPECT_NO_THROW(read_json(entry.path())) << name << " is half-written after a kill at " << at << " s";
+      }
+    }
+  }
+  EXPECT_GE(kills, 1) << "the run finished before every kill point; the test did not test resumption";
+  const Result resumed = run(args + path("killed") + " --resume");
+  ASSERT_EQ(resumed.status, 0) << resumed.output;
+  EXPECT_EQ(read_text(dir_ / "killed" / "cof.json"), whole);
+  EXPECT_FALSE(fs::exists(dir_ / "killed" / ".cof_checkpoint.json"));
+  for (const auto& entry : fs::directory_iterator(dir_ / "killed")) {
+    EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "stale temporary " << entry.path();
+  }
+  // A resume with another seed is refused, naming the checkpoint (when the kill left one behind).
+  run_and_kill(args + path("other"), 0.4 * duration);
+  if (fs::exists(dir_ / "other" / ".cof_checkpoint.json")) {
+    const Result other = run("--quiet cof --model none --trajectory medium --monte-carlo 800 --seed 10 --resume --out " + path("other"));
+    EXPECT_EQ(other.status, 2);
+    EXPECT_THAT(other.output, HasSubstr("belongs to another computation"));
+  }
 }
 
 // --threads changes how work is split, never the result: the same model, bit for bit, on 1 and 2 threads.

@@ -4,6 +4,8 @@
 
 #include <cstdlib>
 
+#include "core/parallel.h"
+#include "core/random.h"
 #include "core/units.h"
 #include "nav/cof_report.h"
 #include "nav/criterion_of_fit.h"
@@ -104,6 +106,45 @@ TEST(MonteCarlo, DeterministicWhateverTheThreadCountAndStopsByNormality) {
   EXPECT_NEAR(one.sigma_m, std::sqrt(one.components[0].sigma * one.components[0].sigma +
                                      one.components[1].sigma * one.components[1].sigma +
                                      one.components[2].sigma * one.components[2].sigma), 1e-12);
+}
+
+// The automatic stop tests normality at fixed counts (25, 33, 41, ...), not at batch ends, so the number of
+// runs does not depend on the batch size (which grows with the threads); a run resumed from saved samples
+// ends where the uninterrupted one did.
+TEST(MonteCarlo, StopsAtTheSameRunWhateverTheBatchAndResumesIdentically) {
+  // Normal errors with a few gross outliers early on: normality is accepted only once they are diluted.
+  auto sample = [](int i) {
+    RandomStream r(77, "mc/" + std::to_string(i));
+    Eigen::Vector3d e(r.normal(), r.normal(), r.normal());
+    if (i % 6 == 0 && i < 30) e *= 3.5;
+    return e;
+  };
+  MonteCarloOptions o;
+  o.runs = 0;
+  o.min_runs = 25;
+  o.max_runs = 2000;
+  set_worker_threads(1);
+  const MonteCarloResult narrow = monte_carlo(sample, o);
+  set_worker_threads(7);  // batches of 28
+  const MonteCarloResult wide = monte_carlo(sample, o);
+  set_worker_threads(0);
+  ASSERT_TRUE(narrow.normal);
+  EXPECT_GT(narrow.runs, 25);  // not accepted at the first check: the schedule is exercised
+  EXPECT_EQ((narrow.runs - 25) % kCheckEvery, 0);
+  EXPECT_EQ(narrow.runs, wide.runs) << "narrow " << narrow.runs;
+  RecordProperty("runs", narrow.runs);
+  EXPECT_EQ(narrow.sigma_m, wide.sigma_m);
+  MonteCarloResume resume;
+  resume.done.assign(narrow.samples.begin(), narrow.samples.begin() + 30);
+  int batches = 0;
+  resume.on_batch = [&](const std::vector<Eigen::Vector3d>& all) {
+    ++batches;
+    EXPECT_GT(all.size(), 30u);
+  };
+  const MonteCarloResult resumed = monte_carlo(sample, o, resume);
+  EXPECT_EQ(resumed.runs, narrow.runs);
+  EXPECT_EQ(resumed.sigma_m, narrow.sigma_m);
+  EXPECT_GE(batches, narrow.runs > 30 ? 1 : 0);
 }
 
 TEST(MonteCarlo, TruthCompensatedNoiseMatchesTheJustNoiseReference) {

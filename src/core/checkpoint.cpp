@@ -1,0 +1,61 @@
+#include "core/checkpoint.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <fstream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace gyrosid {
+
+std::string digest(std::string_view text) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : text) h = (h ^ c) * 1099511628211ULL;
+  char out[17];
+  std::snprintf(out, sizeof out, "%016llx", static_cast<unsigned long long>(h));
+  return out;
+}
+
+Checkpoint::Checkpoint(std::filesystem::path file, std::string fingerprint, bool resume)
+    : file_(std::move(file)), fingerprint_(std::move(fingerprint)) {
+  if (!resume || !std::filesystem::exists(file_)) return;
+  std::ifstream in(file_);
+  nlohmann::json j;
+  try {
+    in >> j;
+    if (j.at("fingerprint").get<std::string>() != fingerprint_) {
+      fail(file_.string(), ": the checkpoint belongs to another computation (other inputs, options or seed); "
+           "run without --resume to start afresh");
+    }
+    for (const auto& [name, values] : j.at("series").items()) series_[name] = values.get<std::vector<double>>();
+  } catch (const nlohmann::json::exception& e) {
+    fail(file_.string(), ": unreadable checkpoint (", e.what(), "); run without --resume to start afresh");
+  }
+}
+
+const std::vector<double>& Checkpoint::series(const std::string& name) const {
+  static const std::vector<double> none;
+  const auto it = series_.find(name);
+  return it == series_.end() ? none : it->second;
+}
+
+void Checkpoint::save(const std::string& name, std::vector<double> values) {
+  if (!enabled()) return;
+  series_[name] = std::move(values);
+  write();
+}
+
+void Checkpoint::write() const {
+  nlohmann::json j = {{"format", "gyrosid-checkpoint/1"}, {"fingerprint", fingerprint_}, {"series", series_}};
+  write_file_atomic(file_, j.dump() + "\n");
+}
+
+void Checkpoint::finish() {
+  if (!enabled()) return;
+  std::error_code ec;
+  std::filesystem::remove(file_, ec);
+}
+
+}  // namespace gyrosid

@@ -1,0 +1,40 @@
+// A kill-safe record of a long computation's finished pieces (Monte Carlo runs, sweep points, bootstrap
+// replicates), so that `--resume` continues where a killed run stopped and ends with the same bytes as an
+// uninterrupted run. Pieces must be deterministic per index (seeded streams), so recomputing the missing ones
+// gives what the uninterrupted run would have.
+//
+// The file is JSON, rewritten atomically at every save (a kill leaves the previous save intact). It holds a
+// fingerprint of what is being computed - a resume with other inputs or options is refused - and named series
+// of doubles, stored exactly (shortest round-trip decimal).
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace gyrosid {
+
+class Checkpoint {
+ public:
+  Checkpoint() = default;  // disabled: saves nothing, resumes nothing
+  // resume = false starts afresh; resume = true loads `file` if it exists (Error when its fingerprint differs).
+  Checkpoint(std::filesystem::path file, std::string fingerprint, bool resume);
+
+  bool enabled() const { return !file_.empty(); }
+  const std::vector<double>& series(const std::string& name) const;  // empty when never saved
+  void save(const std::string& name, std::vector<double> values);
+  // The computation completed and its results are written: the checkpoint is removed.
+  void finish();
+
+ private:
+  void write() const;
+  std::filesystem::path file_;
+  std::string fingerprint_;
+  std::map<std::string, std::vector<double>> series_;
+};
+
+// A short hex digest of text (FNV-1a 64), for fingerprints.
+std::string digest(std::string_view text);
+
+}  // namespace gyrosid
