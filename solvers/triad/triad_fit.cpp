@@ -1,5 +1,6 @@
 #include "solvers/triad/triad_fit.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -23,7 +24,7 @@ OptionTable TriadFitOptions::table() {
       .choice("reference", &reference, {"auto", "rate", "angle"}, "rate: per-sample reference rates; angle: each position_id segment known by its integral (Ferraris); auto: from the metadata 'reference'")
       .real("max_sigma", &max_sigma, 0.0, 1.0, "M and G entries with a larger sigma are reported as not determined", true)
       .text("surface_solver", &surface_solver, "RBF solver of the RBF surfaces (sequential fit, joint start)")
-      .passthrough("nls.", &solver_options, "an option of the least-squares back-end (see --options-of nls:<name>)")
+      .passthrough("nls.", &solver_options, "an option of the least-squares back-end (listed by --options-of triad)")
       .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver");
   return t;
 }
@@ -186,7 +187,19 @@ std::string reference_mode(const TriadFitOptions& o, const std::string& metadata
   return metadata == "angle" ? "angle" : "rate";
 }
 
-void finish(TriadFit& fit, const Stage& s, const TriadData& d, const TriadRows& rows) {
+double median_interval(const std::vector<double>& t) {
+  std::vector<double> dt;
+  for (std::size_t k = 1; k < t.size(); ++k) dt.push_back(t[k] - t[k - 1]);
+  if (dt.empty()) return 1.0;
+  std::nth_element(dt.begin(), dt.begin() + static_cast<std::ptrdiff_t>(dt.size() / 2), dt.end());
+  return dt[dt.size() / 2];
+}
+
+void finish(TriadFit& fit, const Stage& s, const TriadData& d, const TriadRows& rows, bool angle) {
+  // Rate rows carry one sample's noise sigma_s = N / sqrt(dt); angle rows are scaled to N itself.
+  const double dt = median_interval(d.t_s);
+  fit.sample_rate_hz = 1.0 / dt;
+  for (std::size_t a = 0; a < 3; ++a) fit.noise_density[a] = fit.uncertainty.noise_radps[a] * (angle ? 1.0 : std::sqrt(dt));
   for (const auto& name : s.undetermined) fit.notes.push_back(name + ": not determined by the data - held at its nominal value");
   fit.angles = analyse_angles(fit.uncertainty.misalignment_known);
   // Residual rms per gyro over the problem's rows, from the model as it will be used.
@@ -262,7 +275,7 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   if (o.estimation == "sequential") fit.model.surfaces = sequential_surfaces;
   if (!stage.covariance.ok) fit.notes.push_back("covariance: " + stage.covariance.message);
   fit.uncertainty = uncertainty_of(stage, o.g_sensitivity, o.max_sigma, fit.model, fit.notes);
-  finish(fit, stage, d, rows);
+  finish(fit, stage, d, rows, mode == "angle");
   fit.summary = stage.summary;
   fit.summary.details["stages"] = stages;
   fit.summary.details["estimation"] = o.estimation;

@@ -60,6 +60,8 @@ struct TriadFit {
   std::vector<std::string> notes;   // what was not determined, and why
   std::string reference;            // how the rows were formed
   std::array<double, 3> residual_rms_dph{};  // per gyro, of the final fit's rows
+  std::array<double, 3> noise_density{};     // white-noise density rad/s/sqrt(Hz) (= N, ARW) from the residuals
+  double sample_rate_hz = 0.0;               // median sampling rate of the recording
   SolveSummary summary;             // the final solve; details["stages"] holds every stage's summary
   TriadFitOptions options;
 };

@@ -1,27 +1,64 @@
-// gyrosid export: a model as dependency-free C99.
+// gyrosid export: a model as dependency-free C99, or a triad model as a Kalibr IMU YAML.
+#include <fstream>
 #include <iostream>
 #include <memory>
 
 #include "cli/app.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
 #include "model/calibration_model.h"
+#include "model/triad_export.h"
 
 namespace gyrosid::cli {
+namespace {
+
+struct ExportOptions {
+  std::string model, prefix = "gyro", out, format = "c";
+};
+
+KalibrExportInfo kalibr_info(const std::string& path) {
+  std::ifstream in(path);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  KalibrExportInfo info;
+  info.source = path;
+  if (j.contains("noise_density_radps_rt_hz")) {
+    for (std::size_t a = 0; a < 3; ++a) {
+      const auto& v = j["noise_density_radps_rt_hz"][a];
+      info.noise_density[a] = v.is_number() ? v.get<double>() : 0.0;
+    }
+  }
+  info.update_rate_hz = j.value("sample_rate_hz", 0.0);
+  return info;
+}
+
+void run_export(const ExportOptions& o) {
+  const bool triad = is_triad_model_file(o.model);
+  if (o.format == "kalibr") {
+    if (!triad) fail("--format kalibr needs a triad model (calibrate --model triad); ", o.model, " is a single-gyro model");
+    const std::filesystem::path file = std::filesystem::path(o.out) / (o.prefix + "_imu.yaml");
+    write_file_atomic(file, kalibr_imu_yaml(load_triad_model(o.model), kalibr_info(o.model)));
+    std::cout << "wrote " << file.string() << "\n";
+    return;
+  }
+  if (o.format != "c") fail("--format '", o.format, "': expected c or kalibr");
+  if (triad) export_triad_c(load_triad_model(o.model), o.out, o.prefix);
+  else load_model(o.model)->export_c(o.out, o.prefix);
+  std::cout << "wrote " << o.out << "/" << o.prefix << ".h and " << o.prefix << ".c\n";
+}
+
+}  // namespace
 
 void register_export(CLI::App& app, Action& action) {
-  struct ExportOptions {
-    std::string model, prefix = "gyro", out;
-  };
   auto o = std::make_shared<ExportOptions>();
-  CLI::App* cmd = app.add_subcommand("export", "Export a model to dependency-free C99 (<prefix>.h, <prefix>.c)");
+  CLI::App* cmd = app.add_subcommand("export", "Export a model to dependency-free C99 (<prefix>.h, <prefix>.c) or a triad model to Kalibr");
   cmd->add_option("--model", o->model, "Model file written by calibrate")->required();
-  cmd->add_option("--prefix", o->prefix, "C identifier prefix")->capture_default_str();
+  cmd->add_option("--format", o->format, "c (default) or kalibr (triad models: <prefix>_imu.yaml, scale-misalignment)")->capture_default_str();
+  cmd->add_option("--prefix", o->prefix, "C identifier prefix / file name prefix")->capture_default_str();
   cmd->add_option("--out", o->out, "Output directory")->required();
-  cmd->callback([o, &action] {
-    action = [o] {
-      load_model(o->model)->export_c(o->out, o->prefix);
-      std::cout << "wrote " << o->out << "/" << o->prefix << ".h and " << o->prefix << ".c\n";
-    };
-  });
+  cmd->footer(
+      "A triad model exports to C as <prefix>_compensate(gyro_radps[3], temp_c[3], f_mps2[3], omega_radps[3]),\n"
+      "and to Kalibr's IMU YAML (M, C_gyro_i, A of its scale-misalignment model; units in comments).");
+  cmd->callback([o, &action] { action = [o] { run_export(*o); }; });
 }
 
 }  // namespace gyrosid::cli

@@ -1,5 +1,5 @@
 // gyrosid calibrate --model triad: a triad model (model/triad_model.h) from a triad recording
-// (solvers/triad/triad_fit.h), written with its sigmas and observability (solvers/triad/triad_fit_json.h).
+// (solvers/triad/triad_fit.h), written with its sigmas and observability (report/triad_json.h).
 #include "cli/triad_commands.h"
 
 #include <iostream>
@@ -10,7 +10,7 @@
 #include "core/recording.h"
 #include "core/units.h"
 #include "solvers/nls/nls_solver.h"
-#include "solvers/triad/triad_fit_json.h"
+#include "report/triad_json.h"
 
 namespace gyrosid::cli {
 

@@ -355,6 +355,12 @@ TEST_F(Cli, TriadCalibrationCompensationAndCriterionOfFit) {
   const double without = read_json(path("cof_none/cof.json"))["end_error_m"].get<double>();
   EXPECT_LT(with, 0.7 * without);
 
+  ASSERT_EQ(run("export --model " + path("triad.json") + " --format kalibr --prefix fog --out " + dir_.string()).status, 0);
+  EXPECT_THAT(read_text(dir_ / "fog_imu.yaml"), HasSubstr("model: scale-misalignment"));
+  ASSERT_EQ(run("export --model " + path("triad.json") + " --prefix fog --out " + dir_.string()).status, 0);
+  EXPECT_THAT(read_text(dir_ / "fog.h"), HasSubstr("void fog_compensate(const double gyro_radps[3]"));
+  EXPECT_THAT(run("calibrate --options-of triad").output, HasSubstr("nls.<key>"));
+
   r = run("calibrate --model triad --recording " + path("six.csv") + " --set surfacez=rbf --out " + path("x.json"));
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.output, HasSubstr("surfacez"));

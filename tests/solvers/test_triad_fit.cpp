@@ -11,7 +11,7 @@
 #include "model/triad_model.h"
 #include "sim/simulate.h"
 #include "solvers/triad/triad_fit.h"
-#include "solvers/triad/triad_fit_json.h"
+#include "report/triad_json.h"
 #include "trajectory/calibration_trajectories.h"
 
 namespace gyrosid {

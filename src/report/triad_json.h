@@ -7,7 +7,8 @@
 //   g_sensitivity_dph_per_mps2 (+ _sigma)       when estimated
 //   observable                                  determined entries, the six angle sums of eq 3.72 and the twelve
 //                                               physical angles (none observable alone), notes
-//   noise_dph, residual_rms_dph, reference      per gyro
+//   noise_dph, residual_rms_dph, reference      per gyro: residual sigma and rms of the rows (deg/h), how rows
+//   noise_density_radps_rt_hz, sample_rate_hz   were formed; white-noise density N and the sampling rate
 //   surfaces                                    each gyro's surface model (or null)
 //   summary, training                           the solve and its provenance
 #pragma once

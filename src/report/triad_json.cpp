@@ -1,4 +1,4 @@
-#include "solvers/triad/triad_fit_json.h"
+#include "report/triad_json.h"
 
 #include <cmath>
 
@@ -76,6 +76,8 @@ nlohmann::json triad_fit_json(const TriadFit& f, const nlohmann::json& training)
     rms.push_back(f.residual_rms_dph[a]);
   }
   j["noise_dph"] = noise;
+  j["noise_density_radps_rt_hz"] = {number_or_null(f.noise_density[0]), number_or_null(f.noise_density[1]), number_or_null(f.noise_density[2])};
+  j["sample_rate_hz"] = f.sample_rate_hz;
   j["residual_rms_dph"] = rms;
   j["reference"] = f.reference;
   j["summary"] = f.summary;
