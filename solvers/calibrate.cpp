@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "model/classical_model.h"
 #include "model/greybox_model.h"
+#include "solvers/bayes/hybrid_fit.h"
 #include "solvers/common/candidates.h"
 #include "solvers/solver.h"
 
@@ -108,6 +109,26 @@ std::unique_ptr<ModelFitter> rbf_fitter(const CalibrationRequest& r) {
   });
 }
 
+class HybridFitter : public ModelFitter {
+ public:
+  explicit HybridFitter(HybridOptions o) : o_(std::move(o)) {}
+  std::vector<std::string> default_features() const override { return gyrosid::default_features(); }
+  std::unique_ptr<CalibrationModel> fit(const Recording& recording, const std::vector<std::string>& features, SolveSummary& summary) override {
+    if (features != gyrosid::default_features()) fail("hybrid: the inputs are measured_rate,temperature");
+    return fit_hybrid(recording, o_, summary);
+  }
+
+ private:
+  HybridOptions o_;
+};
+
+std::unique_ptr<ModelFitter> hybrid_fitter(const CalibrationRequest& r) {
+  HybridOptions o;
+  o.table().apply(r.options);
+  if (const std::string p = o.validate(); !p.empty()) fail("hybrid: ", p);
+  return std::make_unique<HybridFitter>(std::move(o));
+}
+
 }  // namespace
 
 const ModelFitterRegistry& model_fitters() {
@@ -128,7 +149,13 @@ const ModelFitterRegistry& model_fitters() {
                 GreyboxText t;
                 return "greybox - the unified sensor model, coefficients estimated:\n" + greybox_table(o, t).help();
               },
-              greybox_fitter});
+              greybox_fitter})
+        .add({"hybrid", "grey-box physics terms plus a Bayesian RBF on what they leave, fitted jointly by the evidence",
+              [] {
+                HybridOptions o;
+                return "hybrid - grey-box physics plus a Bayesian RBF on what it leaves (evidence; posterior covariance):\n" + o.table().help();
+              },
+              hybrid_fitter});
     return r;
   }();
   return registry;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "solvers/bayes/bayes_solver.h"
 #include "solvers/ceres/ceres_solver.h"
 #include "solvers/ipopt/ipopt_solver.h"
 #include "solvers/lrols_loo/lrols_loo_solver.h"
@@ -17,6 +18,7 @@ RbfNetwork RbfProblem::empty_network() const { return RbfNetwork(features, targe
 void RbfProblem::unscale(RbfNetwork& net) const {
   net.weights *= y_scale;
   net.bias *= y_scale;
+  if (net.weight_posterior) net.weight_posterior->scale(y_scale);
 }
 
 RbfProblem make_rbf_problem(const Dataset& data, NormalizationKind normalization) {
@@ -28,6 +30,7 @@ RbfProblem make_rbf_problem(const Dataset& data, NormalizationKind normalization
   const double rms = std::sqrt(data.target.squaredNorm() / static_cast<double>(std::max<Eigen::Index>(1, data.size())));
   p.y_scale = rms > 0 ? rms : 1.0;
   p.y = data.target / p.y_scale;
+  p.t_s = data.t_s;
   return p;
 }
 
@@ -45,7 +48,8 @@ const RbfSolverRegistry& rbf_solvers() {
         .add(solver_entry<OfsLooSolver>("ofs_loo", "orthogonal forward selection of tunable nodes by leave-one-out (Chen et al. 2009)"))
         .add(solver_entry<CeresRbfSolver>("ceres", "joint Levenberg-Marquardt over centres, log-widths and weights (Ceres Solver)"))
         .add(solver_entry<NloptRbfSolver>("nlopt", "widths and ridge tuned by NLopt on the LOO/GCV error of the inner OLS fit"))
-        .add(solver_entry<IpoptRbfSolver>("ipopt", "bounded/constrained joint optimisation with a node budget (Ipopt)"));
+        .add(solver_entry<IpoptRbfSolver>("ipopt", "bounded/constrained joint optimisation with a node budget (Ipopt)"))
+        .add(solver_entry<BayesRbfSolver>("bayes", "Bayesian RBF: widths, prior and noise (white or coloured) by evidence maximisation; posterior covariance"));
     return r;
   }();
   return registry;

@@ -35,6 +35,7 @@ struct RbfProblem {
   Eigen::MatrixXd x;     // N x d, normalised
   Eigen::VectorXd y;     // N, target / y_scale
   double y_scale = 1.0;  // rad/s per unit of y
+  std::vector<double> t_s;  // sample times (for solvers that model coloured noise); may be empty
 
   Eigen::Index size() const { return x.rows(); }
   Eigen::Index dimension() const { return x.cols(); }

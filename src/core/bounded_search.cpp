@@ -7,9 +7,16 @@ namespace gyrosid {
 BoundedSearchResult minimize_bounded(const std::function<double(const std::vector<double>&)>& objective, std::vector<double> start,
                                      const std::vector<double>& lower, const std::vector<double>& upper,
                                      const BoundedSearchOptions& o) {
+  return minimize_bounded(ObjectiveWithGradient([&](const std::vector<double>& x, std::vector<double>&) { return objective(x); }),
+                          std::move(start), lower, upper, o);
+}
+
+BoundedSearchResult minimize_bounded(const ObjectiveWithGradient& objective, std::vector<double> start,
+                                     const std::vector<double>& lower, const std::vector<double>& upper,
+                                     const BoundedSearchOptions& o) {
   BoundedSearchResult r;
-  const std::function<double(const std::vector<double>&)> tracked = [&](const std::vector<double>& x) {
-    const double value = objective(x);
+  const ObjectiveWithGradient tracked = [&](const std::vector<double>& x, std::vector<double>& gradient) {
+    const double value = objective(x, gradient);
     ++r.evaluations;
     if (value < r.value) r.value = value, r.x = x;
     return value;
@@ -20,9 +27,9 @@ BoundedSearchResult minimize_bounded(const std::function<double(const std::vecto
   opt.set_maxeval(o.max_evaluations);
   if (o.xtol_rel > 0) opt.set_xtol_rel(o.xtol_rel);
   if (o.xtol_abs > 0) opt.set_xtol_abs(o.xtol_abs);
-  opt.set_min_objective([](const std::vector<double>& x, std::vector<double>&, void* f) {
-    return (*static_cast<const std::function<double(const std::vector<double>&)>*>(f))(x);
-  }, const_cast<std::function<double(const std::vector<double>&)>*>(&tracked));
+  opt.set_min_objective([](const std::vector<double>& x, std::vector<double>& gradient, void* f) {
+    return (*static_cast<const ObjectiveWithGradient*>(f))(x, gradient);
+  }, const_cast<ObjectiveWithGradient*>(&tracked));
   if (o.seed) nlopt::srand(*o.seed);
   double value = 0.0;
   try {

@@ -1,7 +1,8 @@
-// Bounded minimisation without derivatives by an NLopt algorithm - the shape of every inner search in
-// gyrosid (RBF hyper-parameters, one node's centre and widths, a thermal-lag time constant): the objective
-// is a std::function, and the best point ever evaluated is returned, also when NLopt stops on round-off or
-// by an exception (its "ROUNDOFF_LIMITED" is not a failure of the search).
+// Bounded minimisation by an NLopt algorithm - the shape of every inner search in gyrosid (RBF
+// hyper-parameters, one node's centre and widths, a thermal-lag time constant): the objective is a
+// std::function, and the best point ever evaluated is returned, also when NLopt stops on round-off or by an
+// exception (its "ROUNDOFF_LIMITED" is not a failure of the search). Derivative-free algorithms (LN_*, GN_*)
+// take the value alone; gradient-based ones (LD_*) an objective that also fills the gradient.
 #pragma once
 
 #include <nlopt.h>
@@ -31,6 +32,13 @@ struct BoundedSearchResult {
 };
 
 BoundedSearchResult minimize_bounded(const std::function<double(const std::vector<double>&)>& objective, std::vector<double> start,
+                                     const std::vector<double>& lower, const std::vector<double>& upper,
+                                     const BoundedSearchOptions& options);
+
+// value(x, gradient): the objective at x, filling `gradient` (same size as x) when it is not empty - NLopt
+// asks for it only from gradient-based algorithms.
+using ObjectiveWithGradient = std::function<double(const std::vector<double>& x, std::vector<double>& gradient)>;
+BoundedSearchResult minimize_bounded(const ObjectiveWithGradient& objective, std::vector<double> start,
                                      const std::vector<double>& lower, const std::vector<double>& upper,
                                      const BoundedSearchOptions& options);
 

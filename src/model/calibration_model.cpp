@@ -30,6 +30,27 @@ Eigen::VectorXd CalibrationModel::predict(const Dataset& data) const {
   return out;
 }
 
+Eigen::MatrixXd CalibrationModel::regressors(const Eigen::MatrixXd&) const {
+  fail(kind(), " model: no posterior over its weights (fit it with a Bayesian solver, e.g. --solver bayes or --model hybrid)");
+}
+
+PredictionWithSigma CalibrationModel::predict_with_sigma(const Eigen::MatrixXd& x) const {
+  const WeightPosterior* p = posterior();
+  if (!p) regressors(x);  // the error naming the kind
+  if (x.cols() != static_cast<Eigen::Index>(features().size())) {
+    fail(kind(), " model: ", x.cols(), " input columns for ", features().size(), " features");
+  }
+  PredictionWithSigma out;
+  out.value.resize(x.rows());
+  std::vector<double> row(static_cast<std::size_t>(x.cols()));
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    for (Eigen::Index k = 0; k < x.cols(); ++k) row[static_cast<std::size_t>(k)] = x(i, k);
+    out.value(i) = predict(row.data());
+  }
+  out.sigma = p->sigma(regressors(x));
+  return out;
+}
+
 nlohmann::json CalibrationModel::to_json() const {
   return {{"format", kModelFormat},
           {"kind", kind()},

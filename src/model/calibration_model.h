@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "model/dataset.h"
+#include "model/weight_posterior.h"
 
 namespace gyrosid {
 
@@ -32,6 +33,11 @@ struct CExport {
   std::string id(const std::string& name) const { return prefix + "_" + name; }
 };
 
+// Outputs and their posterior standard deviations (rad/s), one per input row.
+struct PredictionWithSigma {
+  Eigen::VectorXd value, sigma;
+};
+
 class CalibrationModel {
  public:
   virtual ~CalibrationModel() = default;
@@ -45,6 +51,17 @@ class CalibrationModel {
   virtual double predict(const double* x) const = 0;
   // Outputs along a recording (models with dynamics run them over time); default: sample by sample.
   virtual Eigen::VectorXd predict(const Dataset& data) const;
+
+  // Predictive uncertainty, for models linear in weights that carry a Gaussian posterior over them
+  // (model/weight_posterior.h): the rbf network trained by `bayes`, the hybrid, the classical model.
+  // posterior() is nullptr for a model fitted without one.
+  virtual const WeightPosterior* posterior() const { return nullptr; }
+  // Regressor rows h(x_i) (N x posterior()->size()) at inputs x (N x d, SI, features() order, steady state
+  // like predict(x)), with predict(x_i) = h(x_i)' (posterior mean). Error for a model without a posterior.
+  virtual Eigen::MatrixXd regressors(const Eigen::MatrixXd& x) const;
+  // predict(x_i) and sigma_i = sqrt(h(x_i)' P h(x_i)), the standard deviation of the estimate (not of the
+  // sensor's noise) at every row of x. Error naming the model kind when it has no posterior.
+  PredictionWithSigma predict_with_sigma(const Eigen::MatrixXd& x) const;
 
   // Model-specific JSON (the common fields are added by to_json()).
   virtual nlohmann::json parameters_json() const = 0;

@@ -3,6 +3,7 @@
 #include "model/classical_model.h"
 #include "model/explained_model.h"
 #include "model/greybox_model.h"
+#include "model/hybrid_model.h"
 #include "model/rbf_network.h"
 
 namespace gyrosid {
@@ -18,7 +19,11 @@ const ModelKindRegistry& model_kinds() {
         .add({"greybox", "the unified sensor model (thesis eq 3.48) with estimated coefficients", none,
               [](const ModelFile& f) -> std::unique_ptr<CalibrationModel> { return GreyboxModel::from_json(f.parameters, f.features, f.target); }})
         .add({"explained", "a prior model plus the physics terms explain found or re-estimated", none,
-              [](const ModelFile& f) -> std::unique_ptr<CalibrationModel> { return ExplainedModel::from_json(f.parameters, f.source); }});
+              [](const ModelFile& f) -> std::unique_ptr<CalibrationModel> { return ExplainedModel::from_json(f.parameters, f.source); }})
+        .add({"hybrid", "grey-box physics terms plus an RBF network on what they leave, with a joint posterior (issue 11)", none,
+              [](const ModelFile& f) -> std::unique_ptr<CalibrationModel> {
+                return HybridModel::from_json(f.parameters, f.features, f.target, f.source);
+              }});
     return r;
   }();
   return registry;

@@ -51,6 +51,14 @@ Eigen::MatrixXd RbfNetwork::basis(const Eigen::MatrixXd& xn) const {
   return gaussian_columns(xn, centres, widths);
 }
 
+Eigen::MatrixXd RbfNetwork::regressors(const Eigen::MatrixXd& x) const {
+  if (!weight_posterior) return CalibrationModel::regressors(x);
+  Eigen::MatrixXd h(x.rows(), nodes() + 1);
+  h.leftCols(nodes()) = basis(normalizer.apply(x));
+  h.col(nodes()).setOnes();
+  return h;
+}
+
 namespace {
 
 nlohmann::json rows_of(const Eigen::MatrixXd& m) {
@@ -76,11 +84,13 @@ Eigen::MatrixXd matrix_of(const nlohmann::json& j, Eigen::Index cols, const char
 }  // namespace
 
 nlohmann::json RbfNetwork::parameters_json() const {
-  return {{"normalizer", normalizer.to_json()},
-          {"centres", rows_of(centres)},
-          {"widths", rows_of(widths)},
-          {"weights_radps", std::vector<double>(weights.data(), weights.data() + weights.size())},
-          {"bias_radps", bias}};
+  nlohmann::json j = {{"normalizer", normalizer.to_json()},
+                      {"centres", rows_of(centres)},
+                      {"widths", rows_of(widths)},
+                      {"weights_radps", std::vector<double>(weights.data(), weights.data() + weights.size())},
+                      {"bias_radps", bias}};
+  if (weight_posterior) j["posterior"] = weight_posterior->to_json();
+  return j;
 }
 
 std::unique_ptr<RbfNetwork> RbfNetwork::from_json(const nlohmann::json& j, std::vector<std::string> features,
@@ -97,6 +107,7 @@ std::unique_ptr<RbfNetwork> RbfNetwork::from_json(const nlohmann::json& j, std::
     fail("rbf model: ", net->centres.rows(), " centres, ", net->widths.rows(), " widths, ", net->weights.size(), " weights");
   }
   if ((net->widths.array() <= 0).any()) fail("rbf model: widths must be positive");
+  if (j.contains("posterior")) net->weight_posterior = WeightPosterior::from_json(j["posterior"], net->nodes() + 1, "rbf model");
   return net;
 }
 

@@ -3,9 +3,13 @@
 //   f(x) = b + sum_j w_j exp(-z_j(x)),   z_j(x) = sum_k (x~_k - c_jk)^2 / r_jk^2,   x~ = normalised x
 //
 // Centres c and widths r live in normalised input units; weights w and the optional constant b in rad/s.
+// A network trained by a Bayesian solver also carries the posterior of (w_1..w_m, b): regressors
+// h(x) = [phi_1(x~) .. phi_m(x~), 1].
 #pragma once
 
 #include <Eigen/Core>
+
+#include <optional>
 
 #include "model/calibration_model.h"
 #include "model/gaussian_node.h"
@@ -29,6 +33,9 @@ class RbfNetwork : public CalibrationModel {
   double evaluate_normalised(const double* xn) const;
   Eigen::MatrixXd basis(const Eigen::MatrixXd& xn) const;
 
+  const WeightPosterior* posterior() const override { return weight_posterior ? &*weight_posterior : nullptr; }
+  Eigen::MatrixXd regressors(const Eigen::MatrixXd& x) const override;
+
   Eigen::Index nodes() const { return weights.size(); }
   // Node j as the joint solvers' packed block [c, log r, w] (NodeBlock::size(d) values) and back.
   void pack_node(Eigen::Index j, double* block) const;
@@ -40,6 +47,7 @@ class RbfNetwork : public CalibrationModel {
   Eigen::MatrixXd widths;   // m x d
   Eigen::VectorXd weights;  // m
   double bias = 0.0;
+  std::optional<WeightPosterior> weight_posterior;  // over (weights, bias), when trained by a Bayesian solver
 };
 
 }  // namespace gyrosid

@@ -71,12 +71,13 @@ NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vect
   return m;
 }
 
-Whitener::Whitener(NoiseModel model, std::vector<Eigen::Index> rows, const std::vector<double>& t_s)
+Whitener::Whitener(NoiseModel model, std::vector<Eigen::Index> rows, const std::vector<double>& t_s, RandomWalkStart start)
     : model_(model), rows_(std::move(rows)) {
   if (rows_.empty()) fail("noise model: nothing to whiten");
   // The Kalman filter's gains and innovation variances depend on the model and the sample times only.
   const double diffuse = 1e6 * (model_.white_var + model_.gm_var);
-  Eigen::Matrix2d p = Eigen::Vector2d(model_.rw_q > 0 ? diffuse : 0.0, model_.gm_var).asDiagonal();
+  const double rw0 = model_.rw_q > 0 && start == RandomWalkStart::diffuse ? diffuse : 0.0;
+  Eigen::Matrix2d p = Eigen::Vector2d(rw0, model_.gm_var).asDiagonal();
   for (std::size_t k = 0; k < rows_.size(); ++k) {
     double phi = 0.0;
     if (k > 0) {
@@ -106,6 +107,23 @@ Eigen::MatrixXd Whitener::apply(const Eigen::MatrixXd& x) const {
     out.row(static_cast<Eigen::Index>(r)) = innovation * inv_sd_[r];
     state.row(0) += gain_[r](0) * innovation;
     state.row(1) += gain_[r](1) * innovation;
+  }
+  return out;
+}
+
+Eigen::MatrixXd Whitener::apply_transpose(const Eigen::MatrixXd& z, Eigen::Index recording_rows) const {
+  // apply() is, per sample r: s- = D_r s+, nu = x_r - [1 1] s-, out_r = nu / sd_r, s+ = s- + k_r nu.
+  // Its transpose runs backwards with the adjoints (hats) of the same steps.
+  if (z.rows() != static_cast<Eigen::Index>(rows_.size())) fail("noise model: adjoint of ", z.rows(), " rows for ", rows_.size());
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(recording_rows, z.cols());
+  Eigen::MatrixXd state = Eigen::MatrixXd::Zero(2, z.cols());  // adjoint of s+ after sample r
+  for (std::size_t k = rows_.size(); k-- > 0;) {
+    const auto r = static_cast<Eigen::Index>(k);
+    const Eigen::RowVectorXd nu = z.row(r) * inv_sd_[k] + gain_[k](0) * state.row(0) + gain_[k](1) * state.row(1);
+    out.row(rows_[k]) = nu;
+    state.row(0) -= nu;  // adjoint of s-: s+hat - [1 1]' nu_hat
+    state.row(1) -= nu;
+    state.row(1) *= decay_[k];  // adjoint of s+ of the previous sample: D_r' s-hat
   }
   return out;
 }

@@ -40,11 +40,20 @@ std::vector<std::vector<Eigen::Index>> contiguous_runs(const std::vector<Eigen::
 // samples: the variance over all runs).
 NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vector<Eigen::Index>>& runs, double dt_s);
 
+// How the random-walk state starts: diffuse (its level is never information - explain's residual tests), or
+// at zero with the first sample (a calibration: the level at the start of the recording is the turn-on bias,
+// estimated as a constant, and the walk wanders from it - as sensor/noise.h generates it).
+enum class RandomWalkStart { diffuse, zero };
+
 class Whitener {
  public:
   // rows: the samples to whiten, ascending; t_s: every sample's time.
-  Whitener(NoiseModel model, std::vector<Eigen::Index> rows, const std::vector<double>& t_s);
+  Whitener(NoiseModel model, std::vector<Eigen::Index> rows, const std::vector<double>& t_s,
+           RandomWalkStart start = RandomWalkStart::diffuse);
   Eigen::MatrixXd apply(const Eigen::MatrixXd& x) const;  // x has one row per sample of the recording
+  // The adjoint: W' z for z with one row per whitened sample (rows().size()), returned with one row per
+  // sample of the recording (zero where not whitened) - for gradients through the whitening.
+  Eigen::MatrixXd apply_transpose(const Eigen::MatrixXd& z, Eigen::Index recording_rows) const;
   const std::vector<Eigen::Index>& rows() const { return rows_; }
   const NoiseModel& model() const { return model_; }
   // sum_t log S_t (innovation variances): the determinant term of the Gaussian log-likelihood.

@@ -13,6 +13,7 @@
 #include "model/classical_model.h"
 #include "model/explained_model.h"
 #include "model/greybox_model.h"
+#include "model/hybrid_model.h"
 #include "model/rbf_network.h"
 
 namespace gyrosid::testing_support {
@@ -68,10 +69,38 @@ inline std::unique_ptr<CalibrationModel> sample_explained() {
   return std::make_unique<ExplainedModel>(scaling, 0.0, terms, beta);
 }
 
+// Physics (bias cubic, a scale-factor polynomial, asymmetry) plus four nodes on (true rate, temperature), with
+// a posterior over all twelve weights.
+inline std::unique_ptr<CalibrationModel> sample_hybrid() {
+  Term sf = Term::of(TermKind::scale_factor);
+  sf.sf_orders = {{0, 0}, {1, 0}, {0, 2}};
+  std::vector<Term> terms{Term::of(TermKind::bias), Term::temperature_orders({1, 2, 3}), sf, Term::of(TermKind::asymmetry)};
+  TermScaling scaling;
+  scaling.t_ref_c = 20.0, scaling.t_scale_c = 40.0, scaling.rate_scale_radps = 1.7;
+  Eigen::VectorXd beta(8);
+  beta << units::dph_to_radps(-12.0), units::dph_to_radps(3.0), units::dph_to_radps(-1.0), units::dph_to_radps(0.2), 2e-4, 1e-4, -5e-5, 3e-4;
+  RbfNetwork rbf(default_features(), ModelTarget::error, Normalizer{Eigen::Vector2d(0.0, 20.0), Eigen::Vector2d(1.7, 40.0)});
+  RandomStream r(7, "hybrid");
+  rbf.centres.resize(4, 2), rbf.widths.resize(4, 2), rbf.weights.resize(4);
+  for (int j = 0; j < 4; ++j) {
+    rbf.centres(j, 0) = -1 + 2 * r.uniform(), rbf.centres(j, 1) = -1 + 2 * r.uniform();
+    rbf.widths(j, 0) = 0.1 + 0.3 * r.uniform(), rbf.widths(j, 1) = 0.3 + r.uniform();
+    rbf.weights(j) = units::dph_to_radps(3.0) * r.normal();
+  }
+  Eigen::MatrixXd l = Eigen::MatrixXd::Zero(12, 12);
+  for (int i = 0; i < 12; ++i)
+    for (int k = 0; k <= i; ++k) l(i, k) = (i == k ? 1.0 : 0.3 * r.normal()) * units::dph_to_radps(0.1);
+  WeightPosterior posterior;
+  posterior.root = l;
+  posterior.noise_sigma_radps = units::dph_to_radps(10.0);
+  return std::make_unique<HybridModel>(scaling, terms, beta, std::move(rbf), std::move(posterior));
+}
+
 // Every registered kind's sample, by kind name.
 inline const std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>>& model_samples() {
   static const std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>> samples{
-      {"rbf", sample_rbf}, {"classical", sample_classical}, {"greybox", sample_greybox}, {"explained", sample_explained}};
+      {"rbf", sample_rbf}, {"classical", sample_classical}, {"greybox", sample_greybox}, {"explained", sample_explained},
+      {"hybrid", sample_hybrid}};
   return samples;
 }
 

@@ -1,0 +1,349 @@
+#include "solvers/bayes/bayes_fit.h"
+
+#include <Eigen/Dense>
+#include <nlopt.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/bounded_search.h"
+#include "core/error.h"
+#include "core/format.h"
+#include "core/units.h"
+#include "model/gaussian_node.h"
+#include "solvers/bayes/evidence.h"
+#include "solvers/common/candidates.h"
+#include "solvers/common/terminations.h"
+
+namespace gyrosid {
+
+void BayesFitOptions::bind(OptionTable& t) {
+  t.integer("nodes", &nodes, 0, 5000, "dictionary size: centres at a farthest-point subset of the training inputs")
+      .real("width", &width, 0.0, 1e3, "starting width when scan = 0 (normalised input units)", true)
+      .real("min_width", &min_width, 0.0, 1e3, "lower bound of the widths", true)
+      .real("max_width", &max_width, 0.0, 1e3, "upper bound of the widths", true)
+      .flag("per_input_widths", &per_input_widths, "one width per input (else one for all)")
+      .integer("scan", &scan, 0, 100, "common widths tried log-spaced over [scan_min, scan_max] before the gradient search (0: start at width)")
+      .real("scan_min", &scan_min, 0.0, 1e3, "smallest width of the scan", true)
+      .real("scan_max", &scan_max, 0.0, 1e3, "largest width of the scan", true)
+      .integer("evaluations", &evaluations, 1, 10000, "evidence evaluations per gradient search")
+      .text("algorithm", &algorithm, "NLopt algorithm of the width search: LD_LBFGS, LD_MMA, LD_SLSQP (gradient) or LN_BOBYQA, ...")
+      .choice("noise", &noise, {"auto", "white", "coloured", "given"},
+              "noise model: white; coloured (white + random walk + Gauss-Markov by Allan fit, Kalman-whitened); auto: coloured when the evidence says so; given: the given_* options")
+      .integer("noise_passes", &noise_passes, 1, 10, "coloured: noise-model estimates, each from the previous fit's residual")
+      .real("given_white_dph_at_1hz", &given_white_dph_at_1hz, 0.0, 1e6, "noise=given: white noise, deg/h at 1 Hz")
+      .real("given_rrw_dph_rt_h", &given_rrw_dph_rt_h, 0.0, 1e6, "noise=given: rate random walk, deg/h/rt(h)")
+      .real("given_gm_sigma_dph", &given_gm_sigma_dph, 0.0, 1e6, "noise=given: Gauss-Markov sigma, deg/h")
+      .real("given_gm_tau_s", &given_gm_tau_s, 0.0, 1e9, "noise=given: Gauss-Markov correlation time, s");
+}
+
+std::string BayesFitOptions::validate() const {
+  const nlopt_algorithm a = nlopt_algorithm_from_string(algorithm.c_str());
+  if (static_cast<int>(a) < 0 || a >= NLOPT_NUM_ALGORITHMS) {
+    return str_cat("option 'algorithm' = '", algorithm, "' is not an NLopt algorithm (e.g. LD_LBFGS, LN_BOBYQA)");
+  }
+  if (algorithm.size() < 2 || algorithm[0] == 'G') return str_cat("option 'algorithm' = '", algorithm, "': use a local algorithm (LD_* or LN_*)");
+  if (!(min_width < max_width) || width < min_width || width > max_width) return "need min_width <= width <= max_width";
+  if (noise == "given" && !(given_white_dph_at_1hz > 0)) return "noise=given needs given_white_dph_at_1hz > 0";
+  if (noise == "given" && given_gm_sigma_dph > 0 && !(given_gm_tau_s > 0)) return "noise=given with a Gauss-Markov sigma needs given_gm_tau_s > 0";
+  if (noise != "given" && (given_white_dph_at_1hz > 0 || given_rrw_dph_rt_h > 0 || given_gm_sigma_dph > 0)) {
+    return "the given_* noise options need noise=given";
+  }
+  if (scan > 0 && !(scan_min <= scan_max && scan_min >= min_width && scan_max <= max_width)) {
+    return "need min_width <= scan_min <= scan_max <= max_width";
+  }
+  return "";
+}
+
+NoiseModel scaled(NoiseModel m, double factor) {
+  const double f2 = factor * factor;
+  m.white_var *= f2, m.rw_q *= f2, m.gm_var *= f2;
+  return m;
+}
+
+NoiseModel given_noise_model(const BayesFitOptions& o, double dt, double y_scale) {
+  const double to_y = units::dph_to_radps(1.0) / y_scale;
+  NoiseModel m;
+  m.dt_s = dt;
+  m.white_var = std::pow(o.given_white_dph_at_1hz * to_y, 2) / dt;  // sigma at 1 Hz -> per sample of dt seconds
+  m.rw_q = std::pow(units::dph_rt_h_to_rad_s_rt_s(o.given_rrw_dph_rt_h) / y_scale, 2) * dt;
+  m.gm_var = std::pow(o.given_gm_sigma_dph * to_y, 2);
+  m.gm_tau_s = o.given_gm_tau_s;
+  return m;
+}
+
+double median_interval(const std::vector<double>& t_s) {
+  std::vector<double> steps;
+  for (std::size_t i = 1; i < t_s.size(); ++i) steps.push_back(t_s[i] - t_s[i - 1]);
+  if (steps.empty()) return 1.0;
+  std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
+  return steps[steps.size() / 2];
+}
+
+namespace {
+
+// Sample times, their typical interval and the runs without gaps (for the Allan fit of the noise).
+struct TimeAxis {
+  std::vector<double> t_s;
+  double dt_s = 1.0;
+  std::vector<std::vector<Eigen::Index>> runs;
+};
+
+TimeAxis time_axis(const BayesProblem& p) {
+  TimeAxis a;
+  const Eigen::Index n = p.y.size();
+  a.t_s = p.t_s;
+  if (static_cast<Eigen::Index>(a.t_s.size()) != n) {
+    a.t_s.resize(static_cast<std::size_t>(n));
+    for (Eigen::Index i = 0; i < n; ++i) a.t_s[static_cast<std::size_t>(i)] = static_cast<double>(i);
+  }
+  a.dt_s = median_interval(a.t_s);
+  if (!(a.dt_s > 0)) fail("bayes: sample times must increase");
+  a.runs.emplace_back();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (i > 0 && a.t_s[static_cast<std::size_t>(i)] - a.t_s[static_cast<std::size_t>(i - 1)] > 1.5 * a.dt_s) a.runs.emplace_back();
+    a.runs.back().push_back(i);
+  }
+  return a;
+}
+
+// The evidence as a function of the log widths, for one noise model (one FixedPart); keeps the best point.
+class WidthSearch {
+ public:
+  WidthSearch(const BayesProblem& p, const Eigen::MatrixXd& centres, const FixedPart& fixed, bool fixed_beta,
+              SolveMonitor& monitor)
+      : p_(p), centres_(centres), fixed_(fixed), fixed_beta_(fixed_beta), monitor_(monitor) {}
+
+  // -log evidence / N at log widths rho (one per input, or one for all); fills the gradient if asked.
+  double operator()(const std::vector<double>& rho, std::vector<double>& gradient) {
+    const Eigen::RowVectorXd widths = widths_of(rho);
+    const Eigen::MatrixXd phi = gaussian_columns(p_.x, centres_, widths);
+    Eigen::MatrixXd phi_p = phi;
+    fixed_.project(phi_p);
+    RbfEvidence ev(phi_p, fixed_);
+    const double value = optimise(ev);
+    ++evaluations_;
+    const double n = static_cast<double>(p_.y.size());
+    monitor_.iteration(-value / n);
+    if (value > best_value_) best_value_ = value, best_rho_ = rho, best_ = ev.precisions();
+    if (!gradient.empty()) {
+      Eigen::MatrixXd g = ev.gradient_wrt_columns(phi_p, fixed_.y_projected());
+      if (fixed_.whitener()) g = fixed_.whitener()->apply_transpose(g, p_.y.size());
+      const Eigen::VectorXd dl = log_width_gradient(g, phi, p_.x, centres_, widths);
+      if (gradient.size() == 1) gradient[0] = -dl.sum() / n;
+      else
+        for (std::size_t k = 0; k < gradient.size(); ++k) gradient[k] = -dl(static_cast<Eigen::Index>(k)) / n;
+    }
+    return -value / n;
+  }
+
+  double optimise(RbfEvidence& ev) {
+    if (!fixed_beta_) return ev.optimise(warm_);
+    EvidenceBounds b;
+    b.min_log_beta = b.max_log_beta = 0.0;  // known noise: Sigma_0 is the noise covariance itself
+    return ev.optimise({warm_.log_alpha, 0.0}, b);
+  }
+
+  Eigen::RowVectorXd widths_of(const std::vector<double>& rho) const {
+    const Eigen::Index d = p_.x.cols();
+    Eigen::RowVectorXd w(d);
+    for (Eigen::Index k = 0; k < d; ++k) w(k) = std::exp(rho[rho.size() == 1 ? 0 : static_cast<std::size_t>(k)]);
+    return w;
+  }
+
+  void warm_start(const Precisions& p) { warm_ = p; }
+  const std::vector<double>& best_rho() const { return best_rho_; }
+  double best_value() const { return best_value_; }
+  const Precisions& best_precisions() const { return best_; }
+  int evaluations() const { return evaluations_; }
+
+ private:
+  const BayesProblem& p_;
+  const Eigen::MatrixXd& centres_;
+  const FixedPart& fixed_;
+  bool fixed_beta_;
+  SolveMonitor& monitor_;
+  Precisions warm_{0.0, std::log(10.0)}, best_;
+  std::vector<double> best_rho_;
+  double best_value_ = -INFINITY;
+  int evaluations_ = 0;
+};
+
+struct SearchOutcome {
+  Eigen::RowVectorXd widths;
+  Precisions precisions;
+  Termination termination = Termination::converged;
+  std::string message;
+};
+
+// Scan of one common width (unless a start is given), then the bounded search over the log widths.
+SearchOutcome search_widths(WidthSearch& search, const BayesFitOptions& o, Eigen::Index d, const std::vector<double>* start) {
+  std::vector<double> rho;
+  std::vector<double> none;
+  if (start) {
+    rho = *start;
+  } else if (o.scan > 0) {
+    double best = INFINITY;
+    for (int i = 0; i < o.scan; ++i) {
+      const double f = o.scan == 1 ? 0.5 : static_cast<double>(i) / (o.scan - 1);
+      const std::vector<double> r{std::log(o.scan_min) + f * (std::log(o.scan_max) - std::log(o.scan_min))};
+      const double v = search(r, none);
+      if (v < best) best = v, rho = r;
+    }
+  } else {
+    rho = {std::log(o.width)};
+  }
+  search.warm_start(search.best_precisions());
+  const std::size_t nv = o.per_input_widths ? static_cast<std::size_t>(d) : 1;
+  if (rho.size() != nv) rho.assign(nv, rho[0]);
+  BoundedSearchOptions so;
+  so.algorithm = o.algorithm, so.max_evaluations = o.evaluations, so.xtol_rel = 1e-3;
+  const BoundedSearchResult r = minimize_bounded(ObjectiveWithGradient(std::ref(search)), rho,
+                                                 std::vector<double>(nv, std::log(o.min_width)),
+                                                 std::vector<double>(nv, std::log(o.max_width)), so);
+  SearchOutcome out;
+  out.widths = search.widths_of(search.best_rho());
+  out.precisions = search.best_precisions();
+  out.termination = r.threw ? Termination::no_progress : termination_of(r.result);
+  out.message = r.message;
+  return out;
+}
+
+// Weights, covariance and residual at the chosen widths and precisions.
+void finish(const BayesProblem& p, const FixedPart& fixed, const SearchOutcome& s, bool fixed_beta, BayesFit& fit) {
+  fit.widths = s.widths;
+  const Eigen::MatrixXd phi = gaussian_columns(p.x, fit.centres, s.widths);
+  Eigen::MatrixXd phi_w = fixed.whitener() ? fixed.whitener()->apply(phi) : phi;
+  const Eigen::MatrixXd c = fixed.q().transpose() * phi_w;  // P x M
+  Eigen::MatrixXd& phi_p = phi_w;
+  if (fixed.columns() > 0) phi_p -= fixed.q() * c;
+  RbfEvidence ev(phi_p, fixed);
+  if (fixed_beta) {
+    EvidenceBounds b;
+    b.min_log_beta = b.max_log_beta = 0.0;
+    fit.log_evidence = ev.optimise({s.precisions.log_alpha, 0.0}, b);
+  } else {
+    fit.log_evidence = ev.optimise(s.precisions);
+  }
+  fit.log_alpha = ev.precisions().log_alpha, fit.log_beta = ev.precisions().log_beta, fit.gamma = ev.gamma();
+  const double beta = std::exp(fit.log_beta);
+  fit.rbf_weights = ev.mean();
+  const Eigen::MatrixXd cov_w = ev.covariance();
+  // Fixed weights given the RBF weights: v = R_F^-1 (Q_F' W y - C w), with covariance R_F^-1 R_F^-T / beta
+  // from the noise; jointly (flat prior on v) the covariance below.
+  const Eigen::Index m = fit.rbf_weights.size(), q = fixed.columns();
+  const auto r = fixed.r().triangularView<Eigen::Upper>();
+  fit.fixed_weights = r.solve(fixed.qy() - c * fit.rbf_weights);
+  const Eigen::MatrixXd k = r.solve(c);  // P x M
+  const Eigen::MatrixXd rinv = r.solve(Eigen::MatrixXd::Identity(q, q));
+  fit.covariance.resize(m + q, m + q);
+  fit.covariance.topLeftCorner(m, m) = cov_w;
+  fit.covariance.bottomLeftCorner(q, m) = -k * cov_w;
+  fit.covariance.topRightCorner(m, q) = fit.covariance.bottomLeftCorner(q, m).transpose();
+  fit.covariance.bottomRightCorner(q, q) = k * cov_w * k.transpose() + rinv * rinv.transpose() / beta;
+}
+
+Eigen::VectorXd residual(const BayesProblem& p, const BayesFit& fit) {
+  Eigen::VectorXd r = p.y - p.fixed * fit.fixed_weights;
+  if (fit.rbf_weights.size() > 0) r -= gaussian_columns(p.x, fit.centres, fit.widths) * fit.rbf_weights;
+  return r;
+}
+
+// One complete fit under one noise model (nullptr: white), starting the search at `start` if given.
+BayesFit fit_under(const BayesProblem& p, const BayesFitOptions& o, const Whitener* whitener, bool fixed_beta,
+                   const std::vector<double>* start, const Eigen::MatrixXd& centres, SolveMonitor& monitor) {
+  const FixedPart fixed(p.fixed, p.y, whitener);
+  BayesFit fit;
+  fit.centres = centres;
+  WidthSearch search(p, centres, fixed, fixed_beta, monitor);
+  SearchOutcome s;
+  if (centres.rows() == 0) {
+    s.widths = Eigen::RowVectorXd::Ones(p.x.cols());
+  } else {
+    s = search_widths(search, o, p.x.cols(), start);
+  }
+  finish(p, fixed, s, fixed_beta, fit);
+  fit.termination = s.termination, fit.message = s.message, fit.evaluations = search.evaluations();
+  return fit;
+}
+
+std::vector<double> log_widths(const BayesFit& fit, bool per_input) {
+  std::vector<double> rho;
+  for (Eigen::Index k = 0; k < (per_input ? fit.widths.size() : 1); ++k) rho.push_back(std::log(fit.widths(k)));
+  return rho;
+}
+
+std::string describe(const NoiseModel& m, double to_dph) {
+  std::ostringstream s;
+  s << "white " << format_significant(std::sqrt(m.white_var) * to_dph, 3) << " deg/h per sample";
+  if (m.rw_q > 0) s << ", random walk " << format_significant(std::sqrt(m.rw_q / m.dt_s) * to_dph * 60.0, 3) << " deg/h/rt(h)";
+  if (m.gm_var > 0) s << ", Gauss-Markov " << format_significant(std::sqrt(m.gm_var) * to_dph, 3) << " deg/h, tau " << format_significant(m.gm_tau_s, 3) << " s";
+  return s.str();
+}
+
+}  // namespace
+
+nlohmann::json BayesFit::details(double y_scale) const {
+  nlohmann::json j = {{"width", std::vector<double>(widths.data(), widths.data() + widths.size())},
+                      {"alpha", std::exp(log_alpha)}, {"beta", std::exp(log_beta)},
+                      {"effective_parameters", gamma}, {"log_evidence", log_evidence},
+                      {"noise_sigma_radps", noise_sigma * y_scale}, {"noise_choice", noise_choice},
+                      {"evaluations", evaluations}};
+  if (noise) j["noise_model_dph"] = scaled(*noise, y_scale * 180.0 / 3.14159265358979323846 * 3600.0).to_json();
+  return j;
+}
+
+BayesFit fit_bayes(const BayesProblem& p, const BayesFitOptions& o, SolveMonitor& monitor) {
+  if (p.x.rows() != p.y.size() || p.fixed.rows() != p.y.size()) fail("bayes: inputs, target and fixed columns differ in length");
+  const Eigen::MatrixXd centres = o.nodes > 0 ? rows_of(p.x, select_candidates(p.x, o.nodes)) : Eigen::MatrixXd(0, p.x.cols());
+  const TimeAxis axis = time_axis(p);
+  std::vector<Eigen::Index> rows(static_cast<std::size_t>(p.y.size()));
+  for (Eigen::Index i = 0; i < p.y.size(); ++i) rows[static_cast<std::size_t>(i)] = i;
+  if (p.given_noise) {  // known noise: one fit, beta = 1
+    const Whitener w(*p.given_noise, rows, axis.t_s, RandomWalkStart::zero);
+    BayesFit fit = fit_under(p, o, &w, true, nullptr, centres, monitor);
+    fit.noise = *p.given_noise;
+    fit.noise_sigma = std::sqrt(p.given_noise->white_var);
+    fit.noise_choice = "given: " + describe(*p.given_noise, p.report_scale);
+    return fit;
+  }
+  BayesFit white = fit_under(p, o, nullptr, false, nullptr, centres, monitor);
+  white.noise_sigma = std::exp(-0.5 * white.log_beta);
+  white.noise_choice = "white (option noise=white)";
+  if (o.noise == "white") return white;
+
+  BayesFit current = white;
+  std::optional<BayesFit> coloured;
+  for (int pass = 0; pass < o.noise_passes; ++pass) {
+    const NoiseModel model = fit_noise_model(residual(p, current), axis.runs, axis.dt_s);
+    if (model.rw_q <= 0 && model.gm_var <= 0) break;  // the residual looks white
+    const Whitener w(model, rows, axis.t_s, RandomWalkStart::zero);
+    const std::vector<double> start = log_widths(current, o.per_input_widths);
+    BayesFit fit = fit_under(p, o, &w, false, &start, centres, monitor);
+    fit.noise = scaled(model, std::exp(-0.5 * fit.log_beta));
+    fit.noise_sigma = std::sqrt(fit.noise->white_var);
+    fit.evaluations += current.evaluations;
+    coloured = fit;
+    current = fit;
+  }
+  if (!coloured) {
+    white.noise_choice = "white: the residual's Allan deviation shows no random walk or Gauss-Markov drift";
+    return white;
+  }
+  const int extra = coloured->noise->parameters() - 1;
+  const double penalty = 0.5 * extra * std::log(static_cast<double>(p.y.size()));
+  const double gain = coloured->log_evidence - white.log_evidence;
+  const std::string model = describe(*coloured->noise, p.report_scale);
+  if (o.noise == "coloured" || gain > penalty) {
+    coloured->noise_choice = str_cat("coloured (", model, "): log evidence +", format_significant(gain, 3),
+                                     " over white noise, above BIC's penalty ", format_significant(penalty, 3), " for the drift parameters");
+    return *coloured;
+  }
+  white.noise_choice = str_cat("white: the coloured model (", model, ") gains ", format_significant(gain, 3),
+                               " in log evidence, below BIC's penalty ", format_significant(penalty, 3));
+  white.evaluations = coloured->evaluations;
+  return white;
+}
+
+}  // namespace gyrosid

@@ -1,0 +1,84 @@
+// Type-II maximum likelihood of a Gaussian RBF network plus flat-prior fixed columns (evidence.h): the
+// per-input widths shared by every node by NLopt (gradient-based, analytic gradient; a coarse scan of one
+// common width first), the prior precision alpha and the noise precision beta by MacKay's fixed point inside
+// every evaluation. Centres come from a candidate dictionary: a farthest-point subset of the training inputs
+// (solvers/common/candidates.h).
+//
+// Noise: white, or coloured - white + rate random walk + Gauss-Markov (sensor/noise_model.h) fitted by Allan
+// deviation to the residual of the white fit, the problem whitened by its Kalman filter (generalised least
+// squares without an N x N covariance, thesis s5.5.3's open problem), and refitted; the noise model is
+// re-estimated from each new residual (`noise_passes`). `auto` keeps the coloured fit when its evidence beats
+// the white fit's by more than BIC's penalty for the extra noise parameters. A given noise model (known
+// noise: the Cramer-Rao floor) fixes beta = 1.
+//
+// Shared by the `bayes` RBF solver (fixed column: the constant) and the hybrid model (fixed columns: the
+// grey-box physics terms).
+#pragma once
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/solve_summary.h"
+#include "sensor/noise_model.h"
+#include "solvers/common/options.h"
+
+namespace gyrosid {
+
+struct BayesFitOptions {
+  int nodes = 200;                 // dictionary size (0: no RBF part, the fixed columns alone)
+  double width = 0.3, min_width = 0.02, max_width = 4.0;  // normalised input units
+  bool per_input_widths = true;
+  int scan = 6;                    // common widths tried, log-spaced over [scan_min, scan_max], before the search
+  double scan_min = 0.06, scan_max = 1.0;
+  int evaluations = 30;            // evidence evaluations of each gradient search
+  std::string algorithm = "LD_LBFGS";
+  std::string noise = "auto";      // auto | white | coloured | given
+  int noise_passes = 2;            // coloured: noise-model estimates, each from the previous fit's residual
+  // noise = given: the recording's noise is known (e.g. from `gyrosid allan`, or the truth of a simulation
+  // for the Cramer-Rao floor): white (deg/h at 1 Hz), rate random walk (deg/h/rt(h)), Gauss-Markov.
+  double given_white_dph_at_1hz = 0.0, given_rrw_dph_rt_h = 0.0, given_gm_sigma_dph = 0.0, given_gm_tau_s = 0.0;
+  // Adds the options to a table (shared by the bayes solver and the hybrid fitter).
+  void bind(OptionTable& table);
+  std::string validate() const;
+};
+
+// A problem in normalised inputs: target y (unit RMS), fixed columns f (N x P, flat prior).
+struct BayesProblem {
+  Eigen::MatrixXd x;           // N x d normalised inputs
+  Eigen::VectorXd y;           // N
+  Eigen::MatrixXd fixed;       // N x P
+  std::vector<double> t_s;     // sample times (empty: unit spacing)
+  std::optional<NoiseModel> given_noise;  // known noise model (variances in y units): no estimation, beta = 1
+  double report_scale = 1.0;   // y units -> deg/h, for the noise figures in noise_choice
+};
+
+struct BayesFit {
+  Eigen::MatrixXd centres;     // M x d
+  Eigen::RowVectorXd widths;   // d, shared by every node
+  Eigen::VectorXd rbf_weights; // M
+  Eigen::VectorXd fixed_weights;  // P
+  Eigen::MatrixXd covariance;  // (M + P) x (M + P), order [rbf, fixed], y units^2
+  double log_alpha = 0.0, log_beta = 0.0, gamma = 0.0, log_evidence = 0.0;
+  double noise_sigma = 0.0;    // per-sample white noise sigma, y units
+  std::optional<NoiseModel> noise;  // the coloured model trained under (variances in y units, beta applied)
+  std::string noise_choice;    // what was decided about the noise, and why
+  Termination termination = Termination::converged;
+  std::string message;
+  int evaluations = 0;
+  nlohmann::json details(double y_scale) const;  // figures for the solve summary (noise in y_scale units)
+};
+
+BayesFit fit_bayes(const BayesProblem& problem, const BayesFitOptions& options, SolveMonitor& monitor);
+
+// The noise model (variances) scaled by `factor`^2 (e.g. from unit-RMS target units to deg/h).
+NoiseModel scaled(NoiseModel model, double factor);
+// The given noise (options noise=given) for sampling interval dt_s, in units of y_scale rad/s.
+NoiseModel given_noise_model(const BayesFitOptions& options, double dt_s, double y_scale);
+// The median sampling interval of t_s (1 when there are fewer than two samples).
+double median_interval(const std::vector<double>& t_s);
+
+}  // namespace gyrosid
