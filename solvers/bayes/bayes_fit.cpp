@@ -108,6 +108,32 @@ TimeAxis time_axis(const BayesProblem& p) {
   return a;
 }
 
+double optimise_precisions(RbfEvidence& ev, Precisions warm, bool fixed_beta) {
+  if (!fixed_beta) return ev.optimise(warm);
+  EvidenceBounds b;
+  b.min_log_beta = b.max_log_beta = 0.0;  // known noise: Sigma_0 is the noise covariance itself
+  return ev.optimise({warm.log_alpha, 0.0}, b);
+}
+
+}  // namespace
+
+EvidenceAt evidence_at(const BayesProblem& p, const Eigen::MatrixXd& centres, const Eigen::RowVectorXd& widths, const FixedPart& fixed,
+                       bool fixed_beta, Precisions warm, Eigen::VectorXd* gradient) {
+  const Eigen::MatrixXd phi = gaussian_columns(p.x, centres, widths);
+  Eigen::MatrixXd phi_p = phi;
+  fixed.project(phi_p);
+  RbfEvidence ev(phi_p, fixed);
+  EvidenceAt out{optimise_precisions(ev, warm, fixed_beta), ev.precisions()};
+  if (gradient) {
+    Eigen::MatrixXd g = ev.gradient_wrt_columns(phi_p, fixed.y_projected());
+    if (fixed.whitener()) g = fixed.whitener()->apply_transpose(g, p.y.size());
+    *gradient = log_width_gradient(g, phi, p.x, centres, widths);
+  }
+  return out;
+}
+
+namespace {
+
 // The evidence as a function of the log widths, for one noise model (one FixedPart); keeps the best point.
 class WidthSearch {
  public:
@@ -117,32 +143,16 @@ class WidthSearch {
 
   // -log evidence / N at log widths rho (one per input, or one for all); fills the gradient if asked.
   double operator()(const std::vector<double>& rho, std::vector<double>& gradient) {
-    const Eigen::RowVectorXd widths = widths_of(rho);
-    const Eigen::MatrixXd phi = gaussian_columns(p_.x, centres_, widths);
-    Eigen::MatrixXd phi_p = phi;
-    fixed_.project(phi_p);
-    RbfEvidence ev(phi_p, fixed_);
-    const double value = optimise(ev);
+    Eigen::VectorXd g;
+    const EvidenceAt at = evidence_at(p_, centres_, widths_of(rho), fixed_, fixed_beta_, warm_, gradient.empty() ? nullptr : &g);
     ++evaluations_;
     const double n = static_cast<double>(p_.y.size());
-    monitor_.iteration(-value / n);
-    if (value > best_value_) best_value_ = value, best_rho_ = rho, best_ = ev.precisions();
-    if (!gradient.empty()) {
-      Eigen::MatrixXd g = ev.gradient_wrt_columns(phi_p, fixed_.y_projected());
-      if (fixed_.whitener()) g = fixed_.whitener()->apply_transpose(g, p_.y.size());
-      const Eigen::VectorXd dl = log_width_gradient(g, phi, p_.x, centres_, widths);
-      if (gradient.size() == 1) gradient[0] = -dl.sum() / n;
-      else
-        for (std::size_t k = 0; k < gradient.size(); ++k) gradient[k] = -dl(static_cast<Eigen::Index>(k)) / n;
-    }
-    return -value / n;
-  }
-
-  double optimise(RbfEvidence& ev) {
-    if (!fixed_beta_) return ev.optimise(warm_);
-    EvidenceBounds b;
-    b.min_log_beta = b.max_log_beta = 0.0;  // known noise: Sigma_0 is the noise covariance itself
-    return ev.optimise({warm_.log_alpha, 0.0}, b);
+    monitor_.iteration(-at.value / n);
+    if (at.value > best_value_) best_value_ = at.value, best_rho_ = rho, best_ = at.precisions;
+    if (gradient.size() == 1) gradient[0] = -g.sum() / n;
+    else
+      for (std::size_t k = 0; k < gradient.size(); ++k) gradient[k] = -g(static_cast<Eigen::Index>(k)) / n;
+    return -at.value / n;
   }
 
   Eigen::RowVectorXd widths_of(const std::vector<double>& rho) const {
@@ -219,13 +229,7 @@ void finish(const BayesProblem& p, const FixedPart& fixed, const SearchOutcome& 
   Eigen::MatrixXd& phi_p = phi_w;
   if (fixed.columns() > 0) phi_p -= fixed.q() * c;
   RbfEvidence ev(phi_p, fixed);
-  if (fixed_beta) {
-    EvidenceBounds b;
-    b.min_log_beta = b.max_log_beta = 0.0;
-    fit.log_evidence = ev.optimise({s.precisions.log_alpha, 0.0}, b);
-  } else {
-    fit.log_evidence = ev.optimise(s.precisions);
-  }
+  fit.log_evidence = optimise_precisions(ev, s.precisions, fixed_beta);
   fit.log_alpha = ev.precisions().log_alpha, fit.log_beta = ev.precisions().log_beta, fit.gamma = ev.gamma();
   const double beta = std::exp(fit.log_beta);
   fit.rbf_weights = ev.mean();

@@ -24,6 +24,7 @@
 
 #include "core/solve_summary.h"
 #include "sensor/noise_model.h"
+#include "solvers/bayes/evidence.h"
 #include "solvers/common/options.h"
 
 namespace gyrosid {
@@ -73,6 +74,16 @@ struct BayesFit {
 };
 
 BayesFit fit_bayes(const BayesProblem& problem, const BayesFitOptions& options, SolveMonitor& monitor);
+
+// The log evidence at given widths (shared by every node) with (alpha, beta) at their optimum from `warm`
+// (beta = 1 when fixed_beta: a known noise model), and its gradient with respect to the log widths when
+// `gradient` is not null - one evaluation of the width search.
+struct EvidenceAt {
+  double value;
+  Precisions precisions;
+};
+EvidenceAt evidence_at(const BayesProblem& problem, const Eigen::MatrixXd& centres, const Eigen::RowVectorXd& widths,
+                       const FixedPart& fixed, bool fixed_beta, Precisions warm, Eigen::VectorXd* gradient);
 
 // The noise model (variances) scaled by `factor`^2 (e.g. from unit-RMS target units to deg/h).
 NoiseModel scaled(NoiseModel model, double factor);
