@@ -278,6 +278,45 @@ std::vector<double> log_widths(const BayesFit& fit, bool per_input) {
   return rho;
 }
 
+// Type-II maximum likelihood of the noise model at fixed widths: the evidence with beta = 1 (Sigma_0 is the
+// noise covariance itself) over the logs of the white variance, the random-walk increment variance, the
+// Gauss-Markov variance and time, by BOBYQA from `start` (the Allan fit of a residual, whose drift terms a
+// first fit has partly absorbed). A term driven to its lower bound is dropped.
+NoiseModel noise_by_evidence(const BayesProblem& p, const Eigen::MatrixXd& centres, const Eigen::RowVectorXd& widths, const TimeAxis& axis,
+                             const std::vector<Eigen::Index>& rows, const NoiseModel& start, Precisions& warm, SolveMonitor& monitor) {
+  const double span = std::max(axis.t_s.back() - axis.t_s.front(), 10 * axis.dt_s);
+  const double w0 = std::max(start.white_var, 1e-10);
+  const std::vector<double> lower{std::log(1e-12), std::log(1e-9 * w0 * axis.dt_s / span), std::log(1e-6 * w0), std::log(2 * axis.dt_s)};
+  const std::vector<double> upper{std::log(10.0), std::log(10.0 * axis.dt_s / span), std::log(10.0), std::log(2 * span)};
+  auto model_of = [&](const std::vector<double>& v) {
+    NoiseModel m;
+    m.dt_s = axis.dt_s;
+    m.white_var = std::exp(v[0]);
+    m.rw_q = v[1] <= lower[1] + 1e-6 ? 0.0 : std::exp(v[1]);
+    m.gm_var = v[2] <= lower[2] + 1e-6 ? 0.0 : std::exp(v[2]);
+    m.gm_tau_s = m.gm_var > 0 ? std::exp(v[3]) : 0.0;
+    return m;
+  };
+  std::vector<double> v{std::log(w0), std::log(std::max(start.rw_q, 0.01 * w0 * axis.dt_s / span)),
+                        std::log(std::max(start.gm_var, 0.01 * w0)), std::log(start.gm_var > 0 ? start.gm_tau_s : 0.1 * span)};
+  for (std::size_t k = 0; k < v.size(); ++k) v[k] = std::clamp(v[k], lower[k], upper[k]);
+  const Eigen::MatrixXd phi = gaussian_columns(p.x, centres, widths);
+  const std::function<double(const std::vector<double>&)> objective = [&](const std::vector<double>& x) {
+    const Whitener w(model_of(x), rows, axis.t_s, RandomWalkStart::zero);
+    const FixedPart fixed(p.fixed, p.y, &w);
+    Eigen::MatrixXd phi_p = phi;
+    fixed.project(phi_p);
+    RbfEvidence ev(phi_p, fixed);
+    const double value = optimise_precisions(ev, warm, true);
+    monitor.iteration(-value / static_cast<double>(p.y.size()));
+    return -value;
+  };
+  BoundedSearchOptions so;
+  so.algorithm = "LN_BOBYQA", so.max_evaluations = 60, so.xtol_rel = 1e-3;
+  const BoundedSearchResult r = minimize_bounded(objective, v, lower, upper, so);
+  return model_of(r.x);
+}
+
 std::string describe(const NoiseModel& m, double to_dph) {
   std::ostringstream s;
   s << "white " << format_significant(std::sqrt(m.white_var) * to_dph, 3) << " deg/h per sample";
@@ -317,25 +356,30 @@ BayesFit fit_bayes(const BayesProblem& p, const BayesFitOptions& o, SolveMonitor
   white.noise_choice = "white (option noise=white)";
   if (o.noise == "white") return white;
 
-  BayesFit current = white;
+  const NoiseModel allan = fit_noise_model(residual(p, white), axis.runs, axis.dt_s);
   std::optional<BayesFit> coloured;
-  for (int pass = 0; pass < o.noise_passes; ++pass) {
-    const NoiseModel model = fit_noise_model(residual(p, current), axis.runs, axis.dt_s);
-    if (model.rw_q <= 0 && model.gm_var <= 0) break;  // the residual looks white
-    const Whitener w(model, rows, axis.t_s, RandomWalkStart::zero);
-    const std::vector<double> start = log_widths(current, o.per_input_widths);
-    BayesFit fit = fit_under(p, o, &w, false, &start, centres, monitor);
-    fit.noise = scaled(model, std::exp(-0.5 * fit.log_beta));
-    fit.noise_sigma = std::sqrt(fit.noise->white_var);
-    fit.evaluations += current.evaluations;
-    coloured = fit;
-    current = fit;
+  if (allan.rw_q > 0 || allan.gm_var > 0 || o.noise == "coloured") {
+    BayesFit current = white;
+    NoiseModel model = allan;
+    Precisions warm{white.log_alpha, 0.0};
+    for (int pass = 0; pass < o.noise_passes; ++pass) {
+      model = noise_by_evidence(p, centres, current.widths, axis, rows, model, warm, monitor);
+      const Whitener w(model, rows, axis.t_s, RandomWalkStart::zero);
+      const std::vector<double> start = log_widths(current, o.per_input_widths);
+      BayesFit fit = fit_under(p, o, &w, true, &start, centres, monitor);
+      fit.evaluations += current.evaluations;
+      fit.noise = model;
+      fit.noise_sigma = std::sqrt(model.white_var);
+      warm = {fit.log_alpha, 0.0};
+      current = fit;
+    }
+    coloured = current;
   }
   if (!coloured) {
-    white.noise_choice = "white: the residual's Allan deviation shows no random walk or Gauss-Markov drift";
+    white.noise_choice = "white: the Allan deviation of the residual shows no random walk or Gauss-Markov drift";
     return white;
   }
-  const int extra = coloured->noise->parameters() - 1;
+  const int extra = std::max(1, coloured->noise->parameters() - 1);
   const double penalty = 0.5 * extra * std::log(static_cast<double>(p.y.size()));
   const double gain = coloured->log_evidence - white.log_evidence;
   const std::string model = describe(*coloured->noise, p.report_scale);
