@@ -2,7 +2,7 @@
 """Importer: the PAN CubeSat thermal-vacuum cooling log (../shared/realdata/psim, see its SOURCES.md) to
 gyrosid recordings, one single-gyro recording per axis.
 
-    experiments/cubesat_tvc/import_psim.py [--source ../shared/realdata/psim/MATLAB/sensor_models/TVCtest3_7_20.csv]
+    experiments/cubesat_tvc/import_psim.py [--source <ancestor>/shared/realdata/psim/MATLAB/sensor_models/TVCtest3_7_20.csv]
                                            [--out experiments/cubesat_tvc/data]
 
 Conversions (each one stated in the recordings' metadata):
@@ -26,12 +26,24 @@ import os
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
-DEFAULT = os.path.join(ROOT, "..", "shared", "realdata", "psim", "MATLAB", "sensor_models", "TVCtest3_7_20.csv")
+SOURCE = os.path.join("shared", "realdata", "psim", "MATLAB", "sensor_models", "TVCtest3_7_20.csv")
+
+
+def default_source():
+    """The log under the first ancestor of the repository that holds shared/realdata (a checkout at /work/main
+    or a worktree at /work/wt/<name> both find /work/shared)."""
+    d = os.path.dirname(ROOT)
+    while True:
+        if os.path.exists(os.path.join(d, SOURCE)):
+            return os.path.join(d, SOURCE)
+        if os.path.dirname(d) == d:
+            return os.path.join(os.path.dirname(ROOT), SOURCE)
+        d = os.path.dirname(d)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--source", default=DEFAULT)
+    ap.add_argument("--source", default=default_source())
     ap.add_argument("--out", default=os.path.join(HERE, "data"))
     args = ap.parse_args()
     with open(args.source, "rb") as f:
