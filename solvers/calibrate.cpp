@@ -5,7 +5,7 @@
 #include "core/config.h"
 #include "core/error.h"
 #include "model/classical_model.h"
-#include "model/greybox_model.h"
+#include "model/greybox_fit.h"
 #include "solvers/bayes/hybrid_fit.h"
 #include "solvers/common/candidates.h"
 #include "solvers/solver.h"
@@ -87,13 +87,7 @@ std::unique_ptr<ModelFitter> classical_fitter(const CalibrationRequest& r) {
 std::unique_ptr<ModelFitter> greybox_fitter(const CalibrationRequest& r) {
   const GreyboxOptions o = greybox_options(r.options);
   return std::make_unique<DatasetFitter>(greybox_features(o), ModelTarget::error, [o](const Dataset& d, SolveSummary& s) {
-    std::unique_ptr<CalibrationModel> model;
-    s = timed_solve("greybox", [&](SolveMonitor&) {
-      GreyboxFitSummary g;
-      model = fit_greybox(d, o, &g);
-      return SolveOutcome{Termination::converged, "", g.to_json()};  // (the fit's own termination: issue 14, explain stream)
-    });
-    return model;
+    return std::unique_ptr<CalibrationModel>(fit_greybox(d, o, &s));
   });
 }
 

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "model/dataset.h"
+#include "model/terms/term_kinds.h"
 #include "solvers/common/candidates.h"
 
 namespace gyrosid {
@@ -35,21 +36,21 @@ std::string HybridOptions::validate() const {
 }
 
 std::vector<Term> HybridOptions::terms() const {
-  std::vector<Term> t{Term::of(TermKind::bias)};
+  std::vector<Term> t{bias_term()};
   if (bias_order > 0) {
     std::vector<int> orders;
     for (int k = 1; k <= bias_order; ++k) orders.push_back(k);
-    t.push_back(Term::temperature_orders(orders));
+    t.push_back(temperature_polynomial(orders));
   }
   if (!surface_temperatures_c.empty()) {
-    t.push_back(Term::surface(parse_list(surface_temperatures_c, "surface_temperatures_c"), parse_list(surface_rates_dps, "surface_rates_dps")));
+    t.push_back(scale_factor_surface(parse_list(surface_temperatures_c, "surface_temperatures_c"), parse_list(surface_rates_dps, "surface_rates_dps")));
   } else {
-    Term sf = Term::of(TermKind::scale_factor);
+    ScaleFactorPolynomial::Orders sf;
     for (int i = 0; i <= sf_temperature_order; ++i)
-      for (int j = 0; j <= sf_rate_order; ++j) sf.sf_orders.push_back({i, j});
-    t.push_back(sf);
+      for (int j = 0; j <= sf_rate_order; ++j) sf.push_back({i, j});
+    t.push_back(scale_factor_polynomial(sf));
   }
-  if (asymmetry) t.push_back(Term::of(TermKind::asymmetry));
+  if (asymmetry) t.push_back(asymmetry_term());
   return t;
 }
 

@@ -2,19 +2,6 @@
 
 namespace gyrosid {
 
-Termination termination_of(nlopt_result result) {
-  switch (result) {
-    case NLOPT_SUCCESS:
-    case NLOPT_STOPVAL_REACHED:
-    case NLOPT_FTOL_REACHED:
-    case NLOPT_XTOL_REACHED: return Termination::converged;
-    case NLOPT_MAXEVAL_REACHED: return Termination::evaluation_limit;
-    case NLOPT_MAXTIME_REACHED: return Termination::iteration_limit;
-    case NLOPT_ROUNDOFF_LIMITED: return Termination::no_progress;
-    default: return Termination::failed;
-  }
-}
-
 Termination termination_of(ceres::TerminationType type) {
   switch (type) {
     case ceres::CONVERGENCE:

@@ -4,15 +4,11 @@
 
 #include <ceres/types.h>
 #include <coin/IpAlgTypes.hpp>
-#include <nlopt.h>
-
+#include "core/bounded_search.h"  // termination_of(nlopt_result), beside the NLopt search it serves
 #include "core/solve_summary.h"
 
 namespace gyrosid {
 
-// SUCCESS, STOPVAL, FTOL, XTOL -> converged; MAXEVAL -> evaluation_limit; MAXTIME -> iteration_limit;
-// ROUNDOFF_LIMITED -> no_progress (the best point so far is kept); every failure code -> failed.
-Termination termination_of(nlopt_result result);
 // CONVERGENCE, USER_SUCCESS -> converged; NO_CONVERGENCE (iteration or time cap) -> iteration_limit;
 // FAILURE, USER_FAILURE -> failed.
 Termination termination_of(ceres::TerminationType type);

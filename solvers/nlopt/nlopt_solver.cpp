@@ -85,7 +85,7 @@ SolveOutcome NloptRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, Sol
   const BoundedSearchResult best = minimize_bounded(objective, v, lb, ub, search);
   if (!std::isfinite(best.value)) fail("nlopt: no hyper-parameter setting gave a valid fit");
   // NLopt's exceptions (round-off, forced stop) keep the best point seen: no progress, not a failure.
-  const Termination termination = best.threw ? Termination::no_progress : termination_of(best.result);
+  const Termination termination = termination_of(best);
 
   configure(best.x);
   const ForwardSelectionResult r = forward_select(problem.x, problem.y, fs);

@@ -7,6 +7,7 @@
 #include "core/format.h"
 #include "core/recording.h"
 #include "explain/explain.h"
+#include "report/explain_json.h"
 #include "report/explain_report.h"
 
 namespace gyrosid::cli {
@@ -23,22 +24,25 @@ void run_explain(ExplainCommand c) {
   const Recording rec = read_recording(c.recording);
   const explain::ExplainResult r = explain::explain_recording(rec, c.options);
   write_explain_outputs(r, c.out);
-  const auto& j = r.summary;
-  std::cout << "verdict: " << j["verdict"].get<std::string>();
-  for (const auto& e : j["effects"]) {
-    std::cout << "\n  effect " << e["id"].get<std::string>() << " (dBIC " << format_significant(e["delta_bic"].get<double>(), 3) << ", p "
-              << format_significant(e["p_value"].get<double>(), 2) << ")";
-    if (!e["alternatives"].empty()) std::cout << ", cannot be told apart from " << e["alternatives"].dump();
+  const explain::ExplainSummary& j = r.summary;
+  std::cout << "verdict: " << to_string(j.verdict);
+  for (const auto& e : j.effects) {
+    std::cout << "\n  effect " << e.id << " (dBIC " << format_significant(e.delta_bic, 3) << ", p " << format_significant(e.p_value, 2) << ")";
+    if (!e.alternatives.empty()) std::cout << ", cannot be told apart from " << nlohmann::json(e.alternatives).dump();
   }
-  for (const auto& u : j["unexplained"]) {
-    std::cout << "\n  unexplained " << u["kind"].get<std::string>() << (u["channel"].is_null() ? "" : " " + u["channel"].get<std::string>());
-  }
-  const auto& f = j["fit"];
-  std::cout << "\nresidual rms " << format_significant(f["rms_before_dph"].get<double>(), 4) << " -> " << format_significant(f["rms_after_dph"].get<double>(), 4)
-            << " deg/h (held out " << format_significant(f["heldout_rms_before_dph"].get<double>(), 4) << " -> "
-            << format_significant(f["heldout_rms_after_dph"].get<double>(), 4) << "), noise floor "
-            << format_significant(j["noise"]["noise_floor_dph"].get<double>(), 4) << " deg/h\nwrote " << c.out
+  for (const auto& u : j.unexplained) std::cout << "\n  unexplained " << to_string(u.kind) << (u.channel ? " " + *u.channel : "");
+  const auto& f = j.fit;
+  std::cout << "\nresidual rms " << format_significant(f.rms_before_dph, 4) << " -> " << format_significant(f.rms_after_dph, 4)
+            << " deg/h (held out " << format_significant(f.heldout_rms_before_dph, 4) << " -> " << format_significant(f.heldout_rms_after_dph, 4)
+            << "), noise floor " << format_significant(j.noise.floor_dph, 4) << " deg/h\nwrote " << c.out
             << "/explain.json, residuals.csv, model.json, report.md\n";
+}
+
+// The effect library for --help, from the registry.
+std::string effects_help() {
+  std::string out;
+  for (const auto& e : explain::effect_registry().entries()) out += "  " + e.name + ": " + e.help() + "\n";
+  return out;
 }
 
 }  // namespace
@@ -60,17 +64,19 @@ void register_explain(CLI::App& app, Action& action) {
   cmd->add_option("--bootstrap", c->options.selection.bootstrap, "Block-bootstrap resamples for the p-values")->capture_default_str();
   cmd->add_option("--max-effects", c->options.selection.max_effects, "Forward-selection steps at most")->capture_default_str();
   cmd->add_option("--seed", c->options.selection.seed, "Seed of the bootstrap")->capture_default_str();
+  cmd->add_option("--heldout-every", c->options.input.heldout_every,
+                  "Hold out every n-th block (from the third when n > 2): it only confirms, never fits")
+      ->capture_default_str();
   cmd->add_option("--out", c->out, "Output directory: explain.json, residuals.csv, model.json, report.md, plots")->required();
-  cmd->footer(
+  cmd->footer(str_cat(
       "The simulation: with --model a saved model predicts the recording; with --baseline the baseline family (bias\n"
       "cubic in T, scale factor a polynomial of order 3 in T and omega) is fitted on that calibration recording; with\n"
       "neither it is fitted on this recording's training blocks. Its coefficients are re-estimated either way.\n"
-      "Effects: temperature_bias, shupe, thermal_lag, thermal_hysteresis, warmup_transient, aging_trend,\n"
-      "scale_factor_asymmetry, scale_factor_nonlinearity, scale_factor_temperature, g_sensitivity, g2_sensitivity\n"
-      "(accel_*_mps2 columns), magnetic_sensitivity (mag*_ut columns), cross_axis_coupling (triads).\n"
-      "Blocks: whole thermal cycles when the recording has four or more, else eight spans of time; every fourth block\n"
-      "from the third is held out and only confirms.\n"
-      "Example: gyrosid explain --recording lab.csv --model sim.json --out why/");
+      "Effects (--effects; parameters with their units):\n",
+      effects_help(),
+      "Blocks: whole thermal cycles when the recording has four or more, else eight spans of time; every\n"
+      "--heldout-every-th block (default ", explain::InputOptions{}.heldout_every, ") from the third is held out and only confirms.\n"
+      "Example: gyrosid explain --recording lab.csv --model sim.json --out why/"));
   cmd->callback([c, &action] { action = [c] { run_explain(*c); }; });
 }
 

@@ -4,6 +4,23 @@
 
 namespace gyrosid {
 
+Termination termination_of(nlopt_result result) {
+  switch (result) {
+    case NLOPT_SUCCESS:
+    case NLOPT_STOPVAL_REACHED:
+    case NLOPT_FTOL_REACHED:
+    case NLOPT_XTOL_REACHED: return Termination::converged;
+    case NLOPT_MAXEVAL_REACHED: return Termination::evaluation_limit;
+    case NLOPT_MAXTIME_REACHED: return Termination::iteration_limit;
+    case NLOPT_ROUNDOFF_LIMITED: return Termination::no_progress;
+    default: return Termination::failed;
+  }
+}
+
+Termination termination_of(const BoundedSearchResult& search) {
+  return search.threw ? Termination::no_progress : termination_of(search.result);
+}
+
 BoundedSearchResult minimize_bounded(const std::function<double(const std::vector<double>&)>& objective, std::vector<double> start,
                                      const std::vector<double>& lower, const std::vector<double>& upper,
                                      const BoundedSearchOptions& o) {

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "core/solve_summary.h"
+
 namespace gyrosid {
 
 struct BoundedSearchOptions {
@@ -30,6 +32,13 @@ struct BoundedSearchResult {
   bool threw = false;                    // NLopt stopped by an exception (round-off, forced stop)
   std::string message;                   // NLopt's result name or the exception's text
 };
+
+// NLopt's stopping codes on the shared Termination: SUCCESS, STOPVAL, FTOL, XTOL -> converged; MAXEVAL ->
+// evaluation_limit; MAXTIME -> iteration_limit; ROUNDOFF_LIMITED -> no_progress (the best point so far is
+// kept); every failure code -> failed.
+Termination termination_of(nlopt_result result);
+// A search's termination: stopped by an exception (round-off, with its best point) reads no_progress.
+Termination termination_of(const BoundedSearchResult& search);
 
 BoundedSearchResult minimize_bounded(const std::function<double(const std::vector<double>&)>& objective, std::vector<double> start,
                                      const std::vector<double>& lower, const std::vector<double>& upper,

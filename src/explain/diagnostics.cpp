@@ -42,30 +42,34 @@ double lagged_correlation(const Eigen::VectorXd& a, const Eigen::VectorXd& b, co
   return count ? sum / static_cast<double>(n) : 0.0;
 }
 
-}  // namespace
+// The residual whitened by the noise model over every sample, and standardised.
+struct Whitened {
+  Whitened(const ExplainInput& in, const Eigen::VectorXd& residual, const NoiseModel& noise)
+      : w(noise, all_rows(in.size()), in.signals.t_s), e(standardized(w.apply(residual))), n(static_cast<double>(e.size())) {}
+  static std::vector<Eigen::Index> all_rows(Eigen::Index count) {
+    std::vector<Eigen::Index> all(static_cast<std::size_t>(count));
+    for (Eigen::Index i = 0; i < count; ++i) all[static_cast<std::size_t>(i)] = i;
+    return all;
+  }
+  Whitener w;
+  Eigen::VectorXd e;
+  double n;
+};
 
-Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, const NoiseModel& noise, double alpha) {
-  Diagnostics d;
-  std::vector<Eigen::Index> all(static_cast<std::size_t>(in.size()));
-  for (Eigen::Index i = 0; i < in.size(); ++i) all[static_cast<std::size_t>(i)] = i;
-  const Whitener w(noise, all, in.signals.t_s);
-  const Eigen::VectorXd e_raw = w.apply(residual);
-  const Eigen::VectorXd e = standardized(e_raw);
-  const auto n = static_cast<double>(e.size());
-  d.noise = noise;
-
-  // Whiteness.
+void whiteness(const Whitened& x, const NoiseModel& noise, Diagnostics& d) {
   d.ljung_box_lags = 20;
   double q = 0.0;
   for (int k = 1; k <= d.ljung_box_lags; ++k) {
-    const double r = lagged_correlation(e, e, w.rows(), k);
-    q += r * r / (n - k);
+    const double r = lagged_correlation(x.e, x.e, x.w.rows(), k);
+    q += r * r / (x.n - k);
   }
-  d.ljung_box_q = n * (n + 2.0) * q;
+  d.ljung_box_q = x.n * (x.n + 2.0) * q;
   d.ljung_box_dof = std::max(1, d.ljung_box_lags - noise.parameters());
   d.ljung_box_p = 1.0 - stats::chi2_cdf(d.ljung_box_q, d.ljung_box_dof);
+}
 
-  // Correlation with every channel, through the same whitening filter.
+// The slow channels every recording has, then the recorded ones.
+std::vector<std::pair<std::string, Eigen::VectorXd>> diagnostic_channels(const ExplainInput& in) {
   std::vector<std::pair<std::string, Eigen::VectorXd>> channels;
   const Signals& s = in.signals;
   const CoilTemperature probe = coil_temperature(s, 0.0);
@@ -77,7 +81,13 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
   for (const auto* group : {&in.accel, &in.magnetic, &in.cross_axis, &in.aux}) {
     for (const auto& name : *group) channels.emplace_back(name, s.channel(name));
   }
-  const Eigen::Index max_lag = std::max<Eigen::Index>(1, std::min<Eigen::Index>(static_cast<Eigen::Index>(600.0 / in.dt_s), e.size() / 10));
+  return channels;
+}
+
+// Correlation with every channel through the same whitening filter, at lags up to 600 s either way.
+void channel_correlations(const ExplainInput& in, const Whitened& x, double alpha, Diagnostics& d) {
+  const auto channels = diagnostic_channels(in);
+  const Eigen::Index max_lag = std::max<Eigen::Index>(1, std::min<Eigen::Index>(static_cast<Eigen::Index>(600.0 / in.dt_s), x.e.size() / 10));
   std::vector<Eigen::Index> lags;
   for (int k = -20; k <= 20; ++k) {
     const Eigen::Index lag = static_cast<Eigen::Index>(std::llround(static_cast<double>(max_lag) * k / 20.0));
@@ -87,12 +97,12 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
   for (const auto& [name, values] : channels) {
     ChannelCorrelation c;
     c.channel = name;
-    c.threshold = z_channel / std::sqrt(n);
+    c.threshold = z_channel / std::sqrt(x.n);
     const double span = values.maxCoeff() - values.minCoeff();
     if (!(span > 1e-9 * std::max(1.0, values.cwiseAbs().maxCoeff()))) continue;  // constant: nothing to correlate
-    const Eigen::VectorXd cw = standardized(w.apply(values));
+    const Eigen::VectorXd cw = standardized(x.w.apply(values));
     for (Eigen::Index lag : lags) {
-      const double r = lagged_correlation(e, cw, w.rows(), lag);
+      const double r = lagged_correlation(x.e, cw, x.w.rows(), lag);
       c.lag_s.push_back(static_cast<double>(lag) * in.dt_s);
       c.r.push_back(r);
       if (std::abs(r) > std::abs(c.peak_r)) c.peak_r = r, c.peak_lag_s = static_cast<double>(lag) * in.dt_s;
@@ -100,9 +110,14 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
     c.significant = std::abs(c.peak_r) > c.threshold;
     d.channels.push_back(c);
   }
+}
 
-  // Change points in time: binary segmentation by CUSUM of the whitened residual; each final segment's mean
-  // against the rest's, with the noise model's variance of means of that length.
+// Change points in time: binary segmentation by CUSUM of the whitened residual; each final segment's mean
+// against the rest's, with the noise model's variance of means of that length.
+void time_windows(const ExplainInput& in, const Eigen::VectorXd& residual, const Whitened& x, double alpha, Diagnostics& d) {
+  const Eigen::VectorXd& e = x.e;
+  const double n = x.n;
+  const Signals& s = in.signals;
   const auto total = static_cast<Eigen::Index>(e.size());
   const Eigen::Index min_len = std::max<Eigen::Index>(30, total / 50);
   const int max_tests = 31;
@@ -127,7 +142,7 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
   };
   split(0, total, 0);
   d.window_threshold = stats::normal_quantile(1.0 - alpha / (2.0 * static_cast<double>(segments.size())));
-  const auto& rows = w.rows();
+  const auto& rows = x.w.rows();
   for (const auto& [lo, hi] : segments) {
     TimeWindow t;
     const Eigen::Index first = rows[static_cast<std::size_t>(lo)], last = rows[static_cast<std::size_t>(hi - 1)];
@@ -142,8 +157,14 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
     t.z = rest > 0 ? (mean_in - mean_out) / std::sqrt(1.0 / len + 1.0 / rest) : 0.0;
     d.windows.push_back(t);
   }
+}
 
-  // Mean residual over (T, omega), heating and cooling apart.
+// Mean residual over (T, omega), heating and cooling apart.
+void grid_cells(const ExplainInput& in, const Eigen::VectorXd& residual, const Whitened& x, double alpha, Diagnostics& d) {
+  const Eigen::VectorXd& e = x.e;
+  const auto& rows = x.w.rows();
+  const Signals& s = in.signals;
+  const CoilTemperature probe = coil_temperature(s, 0.0);
   const Eigen::VectorXd branch = thermal_branch(s, probe, TermScaling{});
   const double t_lo = s.temp_c.minCoeff(), t_hi = s.temp_c.maxCoeff();
   const Eigen::VectorXd rate_dps = s.rate / units::kDegToRad;
@@ -191,8 +212,10 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
     g.t_start_s = first[k], g.t_end_s = last[k];
     d.cells.push_back(g);
   }
+}
 
-  // Noise terms from the Allan deviation of the longest uniformly sampled stretch.
+// Noise terms from the Allan deviation of the longest uniformly sampled stretch.
+void noise_terms(const ExplainInput& in, const Eigen::VectorXd& residual, const NoiseModel& noise, Diagnostics& d) {
   Eigen::Index best_lo = 0, best_len = 0;
   for (Eigen::Index i = 0, lo = 0; i <= residual.size(); ++i) {
     if (i == residual.size() || in.segment[static_cast<std::size_t>(i)] != in.segment[static_cast<std::size_t>(lo)]) {
@@ -219,27 +242,30 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
     if (noise.gm_var > 0) d.noise_terms.push_back({"gauss_markov", {{"sigma_dph", std::sqrt(noise.gm_var)}, {"tau_s", noise.gm_tau_s}}});
     if (noise.rw_q > 0) d.noise_terms.push_back({"rate_random_walk", {{"k_dph_per_rt_h", std::sqrt(noise.rw_q / noise.dt_s) * 60.0}}});
   }
+}
+
+}  // namespace
+
+Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, const NoiseModel& noise, double alpha) {
+  Diagnostics d;
+  d.noise = noise;
+  const Whitened x(in, residual, noise);
+  whiteness(x, noise, d);
+  channel_correlations(in, x, alpha, d);
+  time_windows(in, residual, x, alpha, d);
+  grid_cells(in, residual, x, alpha, d);
+  noise_terms(in, residual, noise, d);
   return d;
 }
 
-nlohmann::json Diagnostics::to_json() const {
-  nlohmann::json ch = nlohmann::json::array();
-  for (const auto& c : channels) {
-    ch.push_back({{"channel", c.channel}, {"peak_r", c.peak_r}, {"peak_lag_s", c.peak_lag_s}, {"threshold", c.threshold},
-                  {"significant", c.significant}});
-  }
-  nlohmann::json win = nlohmann::json::array();
-  for (const auto& t : windows) win.push_back({{"t_start_s", t.t_start_s}, {"t_end_s", t.t_end_s}, {"mean_dph", t.mean_dph}, {"z", t.z}});
-  nlohmann::json cl = nlohmann::json::array();
-  for (const auto& g : cells) {
-    cl.push_back({{"temp_c", {g.temp_lo_c, g.temp_hi_c}}, {"rate_dps", {g.rate_lo_dps, g.rate_hi_dps}}, {"branch", g.heating ? "heating" : "cooling"},
-                  {"samples", g.samples}, {"mean_dph", g.mean_dph}, {"z", g.z}});
-  }
-  return {{"ljung_box", {{"q", ljung_box_q}, {"lags", ljung_box_lags}, {"dof", ljung_box_dof}, {"p_value", ljung_box_p}}},
-          {"noise_model", noise.to_json()},
-          {"channels", ch},
-          {"time_windows", {{"threshold_z", window_threshold}, {"windows", win}}},
-          {"grid", {{"threshold_z", cell_threshold}, {"cells", cl}}}};
+std::string_view describe_noise(std::string_view id) {
+  if (id == "white") return "angle random walk: white rate noise (photon shot noise, detector electronics); Allan slope -1/2";
+  if (id == "quantization") return "quantization of the output; Allan slope -1";
+  if (id == "bias_instability") return "flicker noise of the bias; the flat floor of the Allan curve";
+  if (id == "gauss_markov") return "exponentially correlated bias noise; a bump in the Allan curve";
+  if (id == "rate_random_walk") return "random walk of the bias; Allan slope +1/2";
+  if (id == "rate_ramp") return "a steady bias ramp over the record; Allan slope +1";
+  return "";
 }
 
 }  // namespace gyrosid::explain

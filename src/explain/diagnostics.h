@@ -14,9 +14,10 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <nlohmann/json.hpp>
 
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "explain/explain_input.h"
@@ -45,10 +46,14 @@ struct GridCell {
   double t_start_s = 0.0, t_end_s = 0.0;
 };
 
+// An IEEE Std 952 noise term of the residual: its id (white, quantization, bias_instability, gauss_markov,
+// rate_random_walk, rate_ramp) and its coefficients by name, with units in the names.
 struct NoiseTerm {
   std::string id;
-  nlohmann::json coefficients;
+  std::vector<std::pair<std::string, double>> coefficients;
 };
+// What a noise term is, in a sentence.
+std::string_view describe_noise(std::string_view noise_id);
 
 struct Diagnostics {
   double ljung_box_q = 0.0, ljung_box_p = 1.0;
@@ -62,7 +67,6 @@ struct Diagnostics {
   AllanCoefficients allan_fit;
   std::vector<NoiseTerm> noise_terms;
   NoiseModel noise;                         // the whitening model the tests assume
-  nlohmann::json to_json() const;
 };
 
 // `residual_dph` on every sample; `noise` the whitening model.

@@ -3,26 +3,27 @@
 //
 //   1. the simulation: a saved model (--model), the baseline family fitted on a calibration recording
 //      (--baseline), or the baseline family fitted on this recording's training blocks; its existing
-//      coefficients are always re-estimated, so a mis-set coefficient is never reported as missing physics;
-//   2. candidates from the effect library, projected off what the simulation can absorb, selected forward
-//      by BIC with block-bootstrap p-values and Holm's correction (selection.h);
+//      coefficients are always re-estimated, so a mis-set coefficient is never reported as missing physics
+//      (simulation.h);
+//   2. candidates from the effect library (effect.h), projected off what the simulation can absorb,
+//      selected forward by BIC with block-bootstrap p-values and Holm's correction (selection.h);
 //   3. every selected effect must survive leave-one-block-out refits (stability) and must not make the
-//      held-out blocks worse; the model is refitted jointly in Ceres with confidence intervals (refit.h);
+//      held-out blocks worse (judge.h); the model is refitted jointly in Ceres with confidence intervals
+//      (refit.h);
 //   4. the residual is diagnosed before and after (diagnostics.h); significant structure no effect
 //      explains is reported as unexplained and localised in time, in (T, omega) and by channel.
 #pragma once
 
 #include <Eigen/Core>
-#include <nlohmann/json.hpp>
 
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "core/recording.h"
-#include "explain/diagnostics.h"
+#include "explain/baseline.h"
 #include "explain/explain_input.h"
-#include "explain/selection.h"
+#include "explain/explain_result.h"
 #include "model/explained_model.h"
 
 namespace gyrosid::explain {
@@ -39,13 +40,12 @@ struct ExplainOptions {
 };
 
 struct ExplainResult {
-  nlohmann::json summary;                 // explain.json
-  std::unique_ptr<ExplainedModel> model;  // the refitted model
+  ExplainSummary summary;                   // explain.json (report/explain_json.h)
+  std::unique_ptr<ExplainedModel> model;    // the refitted model
   ExplainInput input;
   Eigen::VectorXd simulation_residual_dph;  // recording - simulation as given (before re-estimation)
   Eigen::VectorXd residual_before_dph;      // with the simulation's coefficients re-estimated
   Eigen::VectorXd residual_after_dph;       // with the effects added
-  Diagnostics before, after;
 };
 
 ExplainResult explain_recording(const Recording& recording, const ExplainOptions& options);

@@ -30,26 +30,15 @@ Whitener training_whitener(const ExplainInput& in, const NoiseModel& noise) {
   return Whitener(noise, rows, in.signals.t_s);
 }
 
-ModelSpec with_effect(const ModelSpec& model, const Candidate& c, double tau) {
-  ModelSpec m = model;
-  if (c.nonlinear == NonlinearParameter::lag_tau) {
-    m.lag_tau_s = tau;
-  } else {
-    Term t = c.term;
-    if (c.nonlinear == NonlinearParameter::warmup_tau) t.tau_s = tau;
-    m.terms.push_back(t);
-  }
-  return m;
+Eigen::MatrixXd candidate_columns(const Candidate& c, double tau, const ModelSpec& model, const Eigen::VectorXd& beta, const Signals& s,
+                                  const TermScaling& scaling) {
+  return c.effect->columns(c, tau, ModelColumns{model.terms, model.lag_tau_s, beta, s, scaling});
 }
 
 namespace {
 
 std::vector<double> grid_of(const Candidate& c) {
   return c.nonlinear == NonlinearParameter::none ? std::vector<double>{std::numeric_limits<double>::quiet_NaN()} : c.tau_grid_s;
-}
-
-Eigen::MatrixXd model_columns(const ModelSpec& m, const Signals& s, const TermScaling& sc) {
-  return design_matrix(m.terms, s, coil_temperature(s, m.lag_tau_s), sc);
 }
 
 // The noise model from the residual of everything at once (base plus every candidate, nonlinear ones at three
@@ -74,7 +63,7 @@ NoiseModel full_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, co
     const std::vector<double> grid = grid_of(c);
     std::vector<double> points = grid;
     if (grid.size() > 3) points = {grid[grid.size() / 6], grid[grid.size() / 2], grid[grid.size() * 5 / 6]};
-    for (double tau : points) blocks.push_back(candidate_columns(c, tau, base.terms, base.lag_tau_s, beta, in.signals, sc));
+    for (double tau : points) blocks.push_back(candidate_columns(c, tau, base, beta, in.signals, sc));
   }
   Eigen::Index cols = 0;
   for (const auto& b : blocks) cols += b.cols();
@@ -120,13 +109,13 @@ double delta_bic(double rss, double stat, double n, int params) {
 Evaluated evaluate(const Candidate& c, const ModelSpec& model, const ExplainInput& in, const TermScaling& sc, const Whitener& w,
                    const WhitenedFit& fit) {
   Evaluated e;
-  e.score.id = c.id;
+  e.score.id = std::string(c.id());
   e.tau = grid_of(c);
   const double n = static_cast<double>(fit.residual.size());
   double best = -1.0;
   for (double tau : e.tau) {
     Eigen::MatrixXd z =
-        new_directions(w.apply(candidate_columns(c, tau, model.terms, model.lag_tau_s, fit.beta, in.signals, sc)), fit.basis);
+        new_directions(w.apply(candidate_columns(c, tau, model, fit.beta, in.signals, sc)), fit.basis);
     const double stat = z.cols() ? (z.transpose() * fit.residual).squaredNorm() : 0.0;
     if (stat > best) {
       best = stat;
@@ -136,7 +125,7 @@ Evaluated evaluate(const Candidate& c, const ModelSpec& model, const ExplainInpu
     e.z.push_back(std::move(z));
   }
   e.score.delta_rss = std::max(best, 0.0);
-  const int q = c.nonlinear == NonlinearParameter::none ? 0 : 1;
+  const int q = c.nonlinear_parameters();
   e.score.lr = e.score.columns ? n * std::log(fit.rss / std::max(fit.rss - e.score.delta_rss, 1e-300 * fit.rss)) : 0.0;
   e.score.delta_bic = e.score.columns ? delta_bic(fit.rss, e.score.delta_rss, n, e.score.columns + q) : -std::numeric_limits<double>::infinity();
   return e;
@@ -185,6 +174,110 @@ WhitenedFit fit_model(const ModelSpec& m, const ExplainInput& in, const Eigen::V
   return fit_whitened(w.apply(model_columns(m, in.signals, sc)), yw);
 }
 
+// One forward step: the current model fitted in the whitened space of the step's noise model.
+struct Step {
+  const ExplainInput& in;
+  const Eigen::VectorXd& y;
+  const TermScaling& sc;
+  const Whitener& w;
+  const Eigen::VectorXd& yw;
+  const ModelSpec& model;
+  const WhitenedFit& fit;
+};
+
+// Bootstrap p-values: the same maximisation over each candidate's grid on every resample of the residual.
+void bootstrap_p_values(std::vector<Evaluated>& ev, const WhitenedFit& fit, const SelectionOptions& o, int step) {
+  const Eigen::MatrixXd resamples = block_bootstrap(fit.residual, o.bootstrap, o.seed, step);
+  parallel_for(static_cast<std::ptrdiff_t>(ev.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (std::ptrdiff_t i = begin; i < end; ++i) {
+      Evaluated& e = ev[static_cast<std::size_t>(i)];
+      if (e.score.columns == 0) continue;
+      Eigen::VectorXd null_max = Eigen::VectorXd::Zero(o.bootstrap);
+      for (const auto& z : e.z) {
+        if (z.cols() == 0) continue;
+        null_max = null_max.cwiseMax((z.transpose() * resamples).colwise().squaredNorm().transpose());
+      }
+      const auto exceed = (null_max.array() >= e.score.delta_rss).count();
+      e.score.p_value = (1.0 + static_cast<double>(exceed)) / (1.0 + o.bootstrap);
+    }
+  }, 1);
+}
+
+// Holm's step-down over the testable candidates: the family-wise error at alpha.
+void holm(std::vector<Evaluated>& ev, double alpha) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < ev.size(); ++i) {
+    if (ev[i].score.columns > 0) order.push_back(i);
+  }
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ev[a].score.p_value < ev[b].score.p_value; });
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (ev[order[k]].score.p_value > alpha / static_cast<double>(order.size() - k)) break;
+    ev[order[k]].score.significant = true;
+  }
+}
+
+// Every open candidate scored against the step's model: statistic, dBIC, bootstrap p-value, Holm.
+std::vector<Evaluated> score_candidates(const std::vector<Candidate>& open, const Step& c, const SelectionOptions& o, int step) {
+  std::vector<Evaluated> ev(open.size());
+  parallel_for(static_cast<std::ptrdiff_t>(open.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (std::ptrdiff_t i = begin; i < end; ++i) ev[static_cast<std::size_t>(i)] = evaluate(open[static_cast<std::size_t>(i)], c.model, c.in, c.sc, c.w, c.fit);
+  }, 1);
+  bootstrap_p_values(ev, c.fit, o, step);
+  holm(ev, o.alpha);
+  return ev;
+}
+
+// The strongest significant candidate (by dBIC) that also wins when the noise is re-estimated by maximum
+// likelihood with and without it; -1 if none.
+std::ptrdiff_t gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate>& open, const Step& c,
+                                  const std::vector<Eigen::Index>& rows, const NoiseModel& noise) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < ev.size(); ++i) {
+    if (ev[i].score.significant && ev[i].score.delta_bic > 0) order.push_back(i);
+  }
+  if (order.empty()) return -1;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ev[a].score.delta_bic > ev[b].score.delta_bic; });
+  const double l0 = max_log_likelihood(model_columns(c.model, c.in.signals, c.sc), c.y, rows, c.in.signals.t_s, noise);
+  const double n = static_cast<double>(c.yw.size());
+  for (std::size_t i : order) {
+    const ModelSpec with = with_effect(c.model, open[i], ev[i].score.tau_s);
+    const double l1 = max_log_likelihood(model_columns(with, c.in.signals, c.sc), c.y, rows, c.in.signals.t_s, noise);
+    ev[i].score.ml_delta_bic = 2.0 * (l1 - l0) - (ev[i].score.columns + open[i].nonlinear_parameters()) * std::log(n);
+    if (ev[i].score.ml_delta_bic > 0) return static_cast<std::ptrdiff_t>(i);
+  }
+  return -1;
+}
+
+// Alternatives: close in dBIC, and each makes the other redundant. Weaker alternatives: explain at least
+// half as much on their own and nothing once the chosen effect is in - the data prefer the chosen one, but
+// this recording alone does not make them impossible.
+void find_alternatives(SelectedEffect& chosen, std::size_t b, const std::vector<Evaluated>& ev, const std::vector<Candidate>& open,
+                       const Step& c, const ModelSpec& next, const WhitenedFit& next_fit, double ambiguity_bic) {
+  for (std::size_t i = 0; i < ev.size(); ++i) {
+    if (i == b || !(ev[i].score.delta_bic > ambiguity_bic) || ev[i].score.delta_bic < 0.5 * ev[b].score.delta_bic) continue;
+    const double other_given_best = evaluate(open[i], next, c.in, c.sc, c.w, next_fit).score.delta_bic;
+    if (ev[i].score.delta_bic < ev[b].score.delta_bic - ambiguity_bic) {
+      if (other_given_best < ambiguity_bic) chosen.weaker_alternatives.push_back(std::string(open[i].id()));
+      continue;
+    }
+    const ModelSpec swapped = with_effect(c.model, open[i], ev[i].score.tau_s);
+    Candidate fixed = open[b];
+    if (fixed.nonlinear != NonlinearParameter::none) fixed.tau_grid_s = {ev[b].score.tau_s};
+    const double best_given_other = evaluate(fixed, swapped, c.in, c.sc, c.w, fit_model(swapped, c.in, c.yw, c.sc, c.w)).score.delta_bic;
+    if (other_given_best < ambiguity_bic && best_given_other < ambiguity_bic) chosen.alternatives.push_back(std::string(open[i].id()));
+  }
+}
+
+// The noise model from what the current model leaves (ordinary least squares on the training rows).
+NoiseModel current_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& model, const TermScaling& sc,
+                               const std::vector<Eigen::Index>& rows) {
+  const Eigen::MatrixXd x = model_columns(model, in.signals, sc);
+  const WhitenedFit ols = fit_whitened(training_rows(x, rows), training_rows(y, rows));
+  Eigen::VectorXd residual = Eigen::VectorXd::Zero(in.size());
+  for (std::size_t r = 0; r < rows.size(); ++r) residual(rows[r]) = ols.residual(static_cast<Eigen::Index>(r));
+  return fit_noise_model(residual, contiguous_runs(rows, in.segment), in.dt_s);
+}
+
 }  // namespace
 
 SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const TermScaling& sc,
@@ -196,106 +289,30 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
   for (Eigen::Index i = 0; i < in.size(); ++i) {
     if (!in.heldout[static_cast<std::size_t>(i)]) rows.push_back(i);
   }
-  const auto runs = contiguous_runs(rows, in.segment);
   if (o.noise_model == NoiseModelSource::full) result.noise = full_model_noise(in, y, base, sc, candidates);
 
   std::vector<Candidate> open = candidates;
   Progress progress("explain: selecting effects", static_cast<std::size_t>(std::max(1, o.max_effects)));
   for (int step = 0; step < o.max_effects && !open.empty(); ++step) {
     progress.update(static_cast<std::size_t>(step));
-    if (o.noise_model == NoiseModelSource::current) {
-      // The noise model from what the current model leaves (ordinary least squares on the training rows).
-      const Eigen::MatrixXd x = model_columns(result.model, in.signals, sc);
-      const WhitenedFit ols = fit_whitened(training_rows(x, rows), training_rows(y, rows));
-      Eigen::VectorXd residual = Eigen::VectorXd::Zero(in.size());
-      for (std::size_t r = 0; r < rows.size(); ++r) residual(rows[r]) = ols.residual(static_cast<Eigen::Index>(r));
-      result.noise = fit_noise_model(residual, runs, in.dt_s);
-    }
+    if (o.noise_model == NoiseModelSource::current) result.noise = current_model_noise(in, y, result.model, sc, rows);
     const Whitener w(result.noise, rows, in.signals.t_s);
     const Eigen::VectorXd yw = w.apply(y);
     result.whitened_samples = static_cast<std::size_t>(yw.size());
     const WhitenedFit fit = fit_model(result.model, in, yw, sc, w);
-    std::vector<Evaluated> ev(open.size());
-    parallel_for(static_cast<std::ptrdiff_t>(open.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-      for (std::ptrdiff_t i = begin; i < end; ++i) ev[static_cast<std::size_t>(i)] = evaluate(open[static_cast<std::size_t>(i)], result.model, in, sc, w, fit);
-    }, 1);
-    // Bootstrap p-values: the same maximisation over each candidate's grid on every resample.
-    const Eigen::MatrixXd resamples = block_bootstrap(fit.residual, o.bootstrap, o.seed, step);
-    parallel_for(static_cast<std::ptrdiff_t>(open.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-      for (std::ptrdiff_t i = begin; i < end; ++i) {
-        Evaluated& e = ev[static_cast<std::size_t>(i)];
-        if (e.score.columns == 0) continue;
-        Eigen::VectorXd null_max = Eigen::VectorXd::Zero(o.bootstrap);
-        for (const auto& z : e.z) {
-          if (z.cols() == 0) continue;
-          null_max = null_max.cwiseMax((z.transpose() * resamples).colwise().squaredNorm().transpose());
-        }
-        const auto exceed = (null_max.array() >= e.score.delta_rss).count();
-        e.score.p_value = (1.0 + static_cast<double>(exceed)) / (1.0 + o.bootstrap);
-      }
-    }, 1);
-    // Holm's step-down over the testable candidates.
-    std::vector<std::size_t> order;
-    for (std::size_t i = 0; i < ev.size(); ++i) {
-      if (ev[i].score.columns > 0) order.push_back(i);
-    }
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ev[a].score.p_value < ev[b].score.p_value; });
-    for (std::size_t k = 0; k < order.size(); ++k) {
-      if (ev[order[k]].score.p_value > o.alpha / static_cast<double>(order.size() - k)) break;
-      ev[order[k]].score.significant = true;
-    }
+    const Step c{in, y, sc, w, yw, result.model, fit};
+    std::vector<Evaluated> ev = score_candidates(open, c, o, step);
+    const std::ptrdiff_t best = gate_by_likelihood(ev, open, c, rows, result.noise);
     std::vector<CandidateScore> scores;
     for (const auto& e : ev) scores.push_back(e.score);
-
-    // The strongest significant candidate that also wins when the noise is re-estimated by maximum
-    // likelihood with and without it.
-    std::vector<std::size_t> order_bic;
-    for (std::size_t i = 0; i < ev.size(); ++i) {
-      if (ev[i].score.significant && ev[i].score.delta_bic > 0) order_bic.push_back(i);
-    }
-    std::sort(order_bic.begin(), order_bic.end(), [&](std::size_t a, std::size_t b) { return ev[a].score.delta_bic > ev[b].score.delta_bic; });
-    std::ptrdiff_t best = -1;
-    if (!order_bic.empty()) {
-      const Eigen::MatrixXd x0 = model_columns(result.model, in.signals, sc);
-      const double l0 = max_log_likelihood(x0, y, rows, in.signals.t_s, result.noise);
-      const double n = static_cast<double>(yw.size());
-      for (std::size_t i : order_bic) {
-        const ModelSpec with = with_effect(result.model, open[i], ev[i].score.tau_s);
-        const double l1 = max_log_likelihood(model_columns(with, in.signals, sc), y, rows, in.signals.t_s, result.noise);
-        const int q = open[i].nonlinear == NonlinearParameter::none ? 0 : 1;
-        ev[i].score.ml_delta_bic = 2.0 * (l1 - l0) - (ev[i].score.columns + q) * std::log(n);
-        scores[i].ml_delta_bic = ev[i].score.ml_delta_bic;
-        if (ev[i].score.ml_delta_bic > 0) {
-          best = static_cast<std::ptrdiff_t>(i);
-          break;
-        }
-      }
-    }
     result.steps.push_back(scores);
     if (best < 0) break;
     const auto b = static_cast<std::size_t>(best);
     SelectedEffect chosen{open[b], ev[b].score, {}, {}};
-    const ModelSpec next = with_effect(result.model, open[b], ev[b].score.tau_s);
-    const WhitenedFit next_fit = fit_model(next, in, yw, sc, w);
-
-    // Alternatives: close in dBIC, and each makes the other redundant. Weaker alternatives: explain at least
-    // half as much on their own and nothing once the chosen effect is in - the data prefer the chosen one,
-    // but this recording alone does not make them impossible.
-    for (std::size_t i = 0; i < ev.size(); ++i) {
-      if (i == b || !(ev[i].score.delta_bic > o.ambiguity_bic) || ev[i].score.delta_bic < 0.5 * ev[b].score.delta_bic) continue;
-      const double other_given_best = evaluate(open[i], next, in, sc, w, next_fit).score.delta_bic;
-      if (ev[i].score.delta_bic < ev[b].score.delta_bic - o.ambiguity_bic) {
-        if (other_given_best < o.ambiguity_bic) chosen.weaker_alternatives.push_back(open[i].id);
-        continue;
-      }
-      const ModelSpec swapped = with_effect(result.model, open[i], ev[i].score.tau_s);
-      Candidate fixed = open[b];
-      if (fixed.nonlinear != NonlinearParameter::none) fixed.tau_grid_s = {ev[b].score.tau_s};
-      const double best_given_other = evaluate(fixed, swapped, in, sc, w, fit_model(swapped, in, yw, sc, w)).score.delta_bic;
-      if (other_given_best < o.ambiguity_bic && best_given_other < o.ambiguity_bic) chosen.alternatives.push_back(open[i].id);
-    }
+    ModelSpec next = with_effect(result.model, open[b], ev[b].score.tau_s);
+    find_alternatives(chosen, b, ev, open, c, next, fit_model(next, in, yw, sc, w), o.ambiguity_bic);
     result.effects.push_back(chosen);
-    result.model = next;
+    result.model = std::move(next);
     open.erase(open.begin() + best);
   }
   progress.finish();

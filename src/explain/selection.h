@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "explain/effect_library.h"
+#include "explain/effect.h"
 #include "sensor/noise_model.h"
 
 namespace gyrosid::explain {
@@ -57,14 +57,8 @@ struct SelectionOptions {
   std::string validate() const;
 };
 
-// A model in the linear framework: terms (columns) and the coil's thermal lag.
-struct ModelSpec {
-  std::vector<Term> terms;
-  double lag_tau_s = 0.0;
-};
-
 struct CandidateScore {
-  EffectId id;
+  std::string id;             // the effect's
   double tau_s = std::numeric_limits<double>::quiet_NaN();  // best nonlinear parameter, if any
   int columns = 0;            // new directions after projecting off the model
   double delta_rss = 0.0;     // whitened
@@ -79,8 +73,8 @@ struct CandidateScore {
 struct SelectedEffect {
   Candidate candidate;
   CandidateScore score;
-  std::vector<EffectId> alternatives;         // the data cannot tell these apart from it
-  std::vector<EffectId> weaker_alternatives;  // explain much of the same, but clearly less well
+  std::vector<std::string> alternatives;         // the data cannot tell these apart from it
+  std::vector<std::string> weaker_alternatives;  // explain much of the same, but clearly less well
 };
 
 struct SelectionResult {
@@ -93,8 +87,9 @@ struct SelectionResult {
 
 // The whitener of the training samples for a noise model.
 Whitener training_whitener(const ExplainInput& in, const NoiseModel& noise);
-// The model with a candidate added at parameter tau (thermal_lag sets the coil lag; others add a term).
-ModelSpec with_effect(const ModelSpec& model, const Candidate& c, double tau_s);
+// The columns a candidate adds to a model fitted with coefficients beta (deg/h per column unit).
+Eigen::MatrixXd candidate_columns(const Candidate& c, double tau_s, const ModelSpec& model, const Eigen::VectorXd& beta,
+                                  const Signals& s, const TermScaling& scaling);
 
 // `y` is the target in deg/h on every sample (the error, minus any fixed offset).
 SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base,

@@ -12,7 +12,7 @@ std::vector<std::string> explained_features(const std::vector<Term>& terms, cons
     if (std::find(f.begin(), f.end(), name) == f.end()) f.push_back(name);
   };
   for (const auto& t : terms) {
-    for (const auto& c : t.channels) add(c);
+    for (const auto& c : t->channels()) add(c);
   }
   if (prior) {
     for (const auto& c : prior->features()) add(c);
@@ -29,8 +29,7 @@ ExplainedModel::ExplainedModel(TermScaling scaling, double lag_tau_s, std::vecto
       coefficients_(std::move(coefficients)),
       prior_(std::move(prior)),
       prior_gain_(prior_gain) {
-  int cols = 0;
-  for (const auto& t : terms_) cols += t.size();
+  const int cols = total_columns(terms_);
   if (cols != coefficients_.size()) fail("explained model: ", coefficients_.size(), " coefficients for ", cols, " term columns");
   if (lag_tau_s_ < 0) fail("explained model: negative thermal lag");
   if (prior_ && prior_->target() != ModelTarget::error) fail("explained model: the prior model must predict the rate error");
@@ -103,9 +102,7 @@ double ExplainedModel::predict(const double* x) const {
     error = offset;
     Eigen::Index at = 0;
     for (const auto& t : terms_) {
-      const bool steady_zero = t.kind == TermKind::warmup || t.kind == TermKind::aging || t.kind == TermKind::hysteresis ||
-                               t.kind == TermKind::shupe;
-      if (!steady_zero) error += (term_columns(t, s, coil, scaling_).row(0) * coefficients_.segment(at, t.size()))(0);
+      if (t->memory() == TermMemory::none) error += (term_columns(t, s, coil, scaling_).row(0) * coefficients_.segment(at, t.size()))(0);
       at += t.size();
     }
   }
@@ -138,12 +135,6 @@ std::unique_ptr<ExplainedModel> ExplainedModel::from_json(const nlohmann::json& 
 void ExplainedModel::export_c_body(CExport& out) const {
   if (prior_) fail("C export: this explained model contains a prior model; export the prior separately");
   if (lag_tau_s_ > 0) fail("C export: the thermal lag needs the temperature history; not exportable as a stateless function");
-  for (const auto& t : terms_) {
-    if (t.kind == TermKind::warmup || t.kind == TermKind::aging || t.kind == TermKind::hysteresis || t.kind == TermKind::shupe) {
-      fail("C export: the term '", to_string(t.kind), "' needs time or the temperature history; not exportable as a stateless function");
-    }
-    if (t.kind == TermKind::scale_factor_surface) fail("C export: the scale-factor surface term is not exportable yet; refit with --baseline-form polynomial");
-  }
   out.array("beta", coefficients_.data(), static_cast<std::size_t>(coefficients_.size()));
   const std::string p = out.prefix;
   std::ostringstream body;
@@ -152,29 +143,16 @@ void ExplainedModel::export_c_body(CExport& out) const {
        << "  const double dT = (x[1] - " << scaling_.t_ref_c << ") / " << scaling_.t_scale_c << ";\n"
        << "  const double u = w / " << scaling_.rate_scale_radps << ";\n"
        << "  double e = 0.0;\n";
-  int c = 0;
-  auto input = [&](const std::string& name) {
-    const auto it = std::find(features_.begin(), features_.end(), name);
-    return str_cat("x[", it - features_.begin(), "]");
-  };
+  int first = 0, index = 0;
   for (const auto& t : terms_) {
-    switch (t.kind) {
-      case TermKind::bias: body << "  e += " << p << "_beta[" << c++ << "];\n"; break;
-      case TermKind::bias_temperature:
-        for (int k : t.orders) body << "  e += " << p << "_beta[" << c++ << "] * pow(dT, " << k << ");\n";
-        break;
-      case TermKind::scale_factor:
-        for (const auto& o : t.sf_orders) body << "  e += " << p << "_beta[" << c++ << "] * w * pow(dT, " << o[0] << ") * pow(u, " << o[1] << ");\n";
-        break;
-      case TermKind::asymmetry: body << "  e += " << p << "_beta[" << c++ << "] * fabs(w);\n"; break;
-      case TermKind::channel:
-        for (const auto& ch : t.channels) body << "  e += " << p << "_beta[" << c++ << "] * " << input(ch) << ";\n";
-        break;
-      case TermKind::channel_squared:
-        for (const auto& ch : t.channels) body << "  e += " << p << "_beta[" << c++ << "] * " << input(ch) << " * " << input(ch) << ";\n";
-        break;
-      default: break;
-    }
+    TermCode code{out, body, coefficients_.segment(first, t.size()), [&, first](int k) { return str_cat(p, "_beta[", first + k, "]"); },
+                  [&](const std::string& name) {
+                    const auto it = std::find(features_.begin(), features_.end(), name);
+                    return str_cat("x[", it - features_.begin(), "]");
+                  },
+                  str_cat("t", index++, "_")};
+    if (const std::string why = t->export_c(code); !why.empty()) fail("C export: ", why);
+    first += t.size();
   }
   body << "  (void)u;\n  (void)dT;\n  return e;\n}\n\n"
        << "/* The terms are functions of the true rate: solve w = m - e(w) by fixed-point iteration. */\n"

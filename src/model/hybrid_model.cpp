@@ -3,13 +3,11 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "model/explained_model.h"
+#include "model/terms/term_kinds.h"
 
 namespace gyrosid {
 
-bool hybrid_supports(TermKind kind) {
-  return kind == TermKind::bias || kind == TermKind::bias_temperature || kind == TermKind::scale_factor ||
-         kind == TermKind::scale_factor_surface || kind == TermKind::asymmetry;
-}
+bool hybrid_supports(const Term& term) { return term->memory() == TermMemory::none && term->channels().empty(); }
 
 HybridModel::HybridModel(TermScaling scaling, std::vector<Term> terms, Eigen::VectorXd coefficients, RbfNetwork rbf,
                          std::optional<WeightPosterior> posterior)
@@ -21,15 +19,15 @@ HybridModel::HybridModel(TermScaling scaling, std::vector<Term> terms, Eigen::Ve
       posterior_(std::move(posterior)) {
   Eigen::Index cols = 0;
   for (const auto& t : terms_) {
-    if (!hybrid_supports(t.kind)) fail("hybrid model: the term '", to_string(t.kind), "' is not a static physics term");
+    if (!hybrid_supports(t)) fail("hybrid model: the term '", t.kind(), "' is not a static physics term");
     std::optional<SplineSurface> surface;
-    if (t.kind == TermKind::scale_factor_surface) {
-      const auto nt = static_cast<Eigen::Index>(t.grid_temps_c.size()), nw = static_cast<Eigen::Index>(t.grid_rates_dps.size());
+    if (const auto* grid = t.as<ScaleFactorSurface>()) {
+      const auto nt = static_cast<Eigen::Index>(grid->temps_c().size()), nw = static_cast<Eigen::Index>(grid->rates_dps().size());
       if (cols + nt * nw <= coefficients_.size()) {
         // Column (i, j) is the surface through a unit value at node (i, j), stored row-major (physics_terms.cpp).
         const Eigen::MatrixXd values = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
             coefficients_.data() + cols, nt, nw);
-        surface = SplineSurface(t.grid_temps_c, t.grid_rates_dps, values, OutsideGridPolicy::clamp);
+        surface = SplineSurface(grid->temps_c(), grid->rates_dps(), values, OutsideGridPolicy::clamp);
       }
     }
     surfaces_.push_back(std::move(surface));
@@ -132,9 +130,6 @@ std::unique_ptr<HybridModel> HybridModel::from_json(const nlohmann::json& j, std
 void HybridModel::export_c_body(CExport& out) const {
   // The physics part through the explained model's exporter (its static <prefix>_physics_error(x, w)), the
   // RBF part through the network's (<prefix>_rbf_predict(x)); here the sum at the inverted true rate.
-  for (const auto& t : terms_) {
-    if (t.kind == TermKind::scale_factor_surface) fail("C export: the hybrid's scale-factor surface term is not exportable yet; use the polynomial form");
-  }
   CExport physics, rbf;
   physics.prefix = out.prefix + "_physics";
   rbf.prefix = out.prefix + "_rbf";

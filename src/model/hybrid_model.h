@@ -63,6 +63,6 @@ class HybridModel : public CalibrationModel {
 };
 
 // The static terms a hybrid supports (no time, history or channels).
-bool hybrid_supports(TermKind kind);
+bool hybrid_supports(const Term& term);
 
 }  // namespace gyrosid

@@ -9,6 +9,7 @@
 #include "core/format.h"
 #include "core/gnuplot.h"
 #include "core/units.h"
+#include "report/explain_json.h"
 #include "report/plots.h"
 
 namespace gyrosid {
@@ -82,7 +83,7 @@ void plot_correlations(const ExplainResult& r, const std::filesystem::path& png)
   std::string blocks, plots;
   double threshold = 0.0;
   int i = 0;
-  for (const auto& c : r.after.channels) {
+  for (const auto& c : r.summary.after.channels) {
     std::vector<std::vector<double>> rows;
     for (std::size_t k = 0; k < c.lag_s.size(); ++k) rows.push_back({c.lag_s[k], c.r[k]});
     blocks += datablock(str_cat("c", i), rows);
@@ -98,89 +99,108 @@ void plot_correlations(const ExplainResult& r, const std::filesystem::path& png)
              PngSize{1200, 640});
 }
 
-std::string parameters_text(const nlohmann::json& params, const nlohmann::json& ci) {
+std::string parameters_text(std::vector<explain::PhysicalParameter> params) {
+  std::sort(params.begin(), params.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
   std::string out;
-  for (auto it = params.begin(); it != params.end(); ++it) {
-    out += (out.empty() ? "" : "; ") + it.key() + " = " + format_significant(it.value().get<double>(), 4);
-    if (ci.contains(it.key())) {
-      out += " [" + format_significant(ci[it.key()][0].get<double>(), 3) + ", " + format_significant(ci[it.key()][1].get<double>(), 3) + "]";
-    }
+  for (const auto& p : params) {
+    out += (out.empty() ? "" : "; ") + p.name + " = " + format_significant(p.value, 4);
+    if (!p.reference) out += " [" + format_significant(p.low, 3) + ", " + format_significant(p.high, 3) + "]";
   }
   return out;
 }
 
-std::string report_markdown(const ExplainResult& r) {
-  const auto& j = r.summary;
-  std::ostringstream md;
-  md << "# gyrosid explain: " << j["recording"]["source"].get<std::string>() << "\n\n"
-     << "**Verdict: " << j["verdict"].get<std::string>() << "**. Simulation: " << j["simulation"].get<std::string>() << ". "
-     << j["recording"]["samples"].get<int>() << " samples over " << format_significant(j["recording"]["duration_s"].get<double>() / 3600.0, 3)
-     << " h; " << j["recording"]["blocks"].get<int>() << " blocks (" << (j["recording"]["blocks_are_thermal_cycles"].get<bool>() ? "whole thermal cycles" : "equal spans of time")
-     << "), every fourth from the third held out. Run time " << format_significant(j["run_time_s"].get<double>(), 3) << " s.\n\n";
-  const auto& fit = j["fit"];
-  md << "## Fit (residual rms, deg/h)\n\n| | training | held-out |\n|---|---|---|\n"
-     << "| simulation as given | " << format_significant(fit["rms_simulation_dph"].get<double>(), 4) << " | |\n"
-     << "| before (its coefficients re-estimated) | " << format_significant(fit["rms_before_dph"].get<double>(), 4) << " | "
-     << format_significant(fit["heldout_rms_before_dph"].get<double>(), 4) << " |\n"
-     << "| after (effects added, refitted) | " << format_significant(fit["rms_after_dph"].get<double>(), 4) << " | "
-     << format_significant(fit["heldout_rms_after_dph"].get<double>(), 4) << " |\n"
-     << "| noise floor (the noise model alone) | " << format_significant(j["noise"]["noise_floor_dph"].get<double>(), 4) << " | |\n\n";
+std::string ordinal(int n) {
+  static const char* words[] = {"zeroth", "first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth", "tenth"};
+  return n >= 0 && n <= 10 ? words[n] : str_cat(n, "th");
+}
+
+// Which blocks were held out, as explain_input.h's rule: block b when b % every == 2 % every.
+std::string heldout_text(int every) { return str_cat("every ", ordinal(every), " from the ", ordinal(2 % every + 1), " held out"); }
+
+void effects_markdown(const explain::ExplainSummary& j, std::ostringstream& md) {
   md << "## Effects found\n\n";
-  if (j["effects"].empty()) md << "None.\n\n";
-  for (const auto& e : j["effects"]) {
-    md << "### " << e["id"].get<std::string>() << "\n\n" << e["description"].get<std::string>() << "\n\n"
-       << "- parameters (95 % intervals): " << parameters_text(e["parameters"], e["confidence"]) << "\n"
-       << "- dBIC " << format_significant(e["delta_bic"].get<double>(), 4) << ", bootstrap p " << format_significant(e["p_value"].get<double>(), 3)
-       << ", stability " << format_significant(e["stability"].get<double>(), 2) << ", held-out: "
-       << (e["heldout_confirmed"].is_null() ? "not testable there" : e["heldout_confirmed"].get<bool>() ? "confirmed" : "not confirmed") << "\n";
-    for (const auto& s : e["separating_experiments"]) {
-      const std::string a = s["alternative"].get<std::string>();
-      const bool weaker = std::find(e["weaker_alternatives"].begin(), e["weaker_alternatives"].end(), a) != e["weaker_alternatives"].end();
-      md << (weaker ? "- a weaker alternative explanation is " + a + " (clearly less likely here); to rule it out: "
-                    : "- **cannot be told apart from " + a + "** by this recording; to separate them: ")
-         << s["experiment"].get<std::string>() << "\n";
+  if (j.effects.empty()) md << "None.\n\n";
+  for (const auto& e : j.effects) {
+    md << "### " << e.id << "\n\n" << e.description << "\n\n"
+       << "- parameters (95 % intervals): " << parameters_text(e.parameters) << "\n"
+       << "- dBIC " << format_significant(e.delta_bic, 4) << ", bootstrap p " << format_significant(e.p_value, 3) << ", stability "
+       << format_significant(e.stability, 2) << ", held-out: "
+       << (!e.heldout_z ? "not testable there" : e.heldout_confirmed() ? "confirmed" : "not confirmed") << "\n";
+    for (const auto& s : e.separating) {
+      const bool weaker = std::find(e.weaker_alternatives.begin(), e.weaker_alternatives.end(), s.alternative) != e.weaker_alternatives.end();
+      md << (weaker ? "- a weaker alternative explanation is " + s.alternative + " (clearly less likely here); to rule it out: "
+                    : "- **cannot be told apart from " + s.alternative + "** by this recording; to separate them: ")
+         << s.experiment << "\n";
     }
     md << "\n";
   }
+}
+
+void unexplained_markdown(const explain::ExplainSummary& j, std::ostringstream& md) {
   md << "## Unexplained structure after the refit\n\n";
-  if (j["unexplained"].empty()) md << "None significant.\n\n";
-  for (const auto& u : j["unexplained"]) {
-    md << "- " << u["kind"].get<std::string>() << (u["channel"].is_null() ? "" : " with `" + u["channel"].get<std::string>() + "`") << ", t "
-       << format_significant(u["t_start_s"].get<double>(), 5) << " .. " << format_significant(u["t_end_s"].get<double>(), 5)
-       << " s, statistic " << format_significant(u["statistic"].get<double>(), 3);
-    if (u.contains("temp_c")) md << ", T " << u["temp_c"].dump() << " C, rate " << u["rate_dps"].dump() << " deg/s, " << u["branch"].get<std::string>();
+  if (j.unexplained.empty()) md << "None significant.\n\n";
+  for (const auto& u : j.unexplained) {
+    md << "- " << to_string(u.kind) << (u.channel ? " with `" + *u.channel + "`" : "") << ", t " << format_significant(u.t_start_s, 5) << " .. "
+       << format_significant(u.t_end_s, 5) << " s, statistic " << format_significant(u.statistic, 3);
+    if (u.kind == explain::UnexplainedKind::temperature_rate_cell) {
+      md << ", T " << nlohmann::json(u.temp_c).dump() << " C, rate " << nlohmann::json(u.rate_dps).dump() << " deg/s, "
+         << (u.heating ? "heating" : "cooling");
+    }
     md << "\n";
   }
-  md << "\n## Noise terms of the residual\n\n";
-  for (const auto& t : j["noise"]["terms"]) md << "- " << t["id"].get<std::string>() << ": " << t["coefficients"].dump() << " - " << t["description"].get<std::string>() << "\n";
-  md << "\nWhitening model of the residual (white + random walk + Gauss-Markov, from its Allan deviation): "
-     << j["noise"]["whitening_model"].dump() << ". Whiteness after whitening (Ljung-Box, "
-     << j["diagnostics"]["after"]["ljung_box"]["lags"].get<int>() << " lags): p = "
-     << format_significant(j["diagnostics"]["after"]["ljung_box"]["p_value"].get<double>(), 3) << ".\n\n";
+}
+
+void selection_markdown(const explain::ExplainSummary& j, std::ostringstream& md) {
   md << "## Selection\n\nEvery candidate at every forward step (dBIC, bootstrap p; * significant after Holm):\n\n";
   int step = 0;
-  for (const auto& row : j["selection"]["steps"]) {
+  for (const auto& row : j.selection.steps) {
     md << "- step " << ++step << ":";
     for (const auto& c : row) {
-      md << " " << c["id"].get<std::string>() << " ";
-      if (c["delta_bic"].is_null()) md << "(absorbed)";
-      else md << format_significant(c["delta_bic"].get<double>(), 3) << "/" << format_significant(c["p_value"].get<double>(), 2) << (c["significant"].get<bool>() ? "*" : "");
+      md << " " << c.id << " ";
+      if (c.columns == 0) md << "(absorbed)";
+      else md << format_significant(c.delta_bic, 3) << "/" << format_significant(c.p_value, 2) << (c.significant ? "*" : "");
       md << ";";
     }
     md << "\n";
   }
-  for (const auto& d : j["selection"]["dropped"]) md << "- dropped " << d["id"].get<std::string>() << ": " << d["reason"].get<std::string>() << "\n";
-  for (const auto& u : j["selection"]["untestable"]) md << "- not testable: " << u.get<std::string>() << "\n";
+  for (const auto& d : j.selection.dropped) md << "- dropped " << d.id << ": " << d.reason << "\n";
+  for (const auto& u : j.selection.untestable) md << "- not testable: " << u << "\n";
+}
+
+std::string report_markdown(const ExplainResult& r) {
+  const explain::ExplainSummary& j = r.summary;
+  std::ostringstream md;
+  md << "# gyrosid explain: " << j.recording.source << "\n\n"
+     << "**Verdict: " << to_string(j.verdict) << "**. Simulation: " << j.simulation << ". " << j.recording.samples << " samples over "
+     << format_significant(j.recording.duration_s / 3600.0, 3) << " h; " << j.recording.blocks << " blocks ("
+     << (j.recording.thermal_cycles ? "whole thermal cycles" : "equal spans of time") << "), " << heldout_text(j.recording.heldout_every)
+     << ". Run time " << format_significant(j.run_time_s, 3) << " s.\n\n";
+  const auto& fit = j.fit;
+  md << "## Fit (residual rms, deg/h)\n\n| | training | held-out |\n|---|---|---|\n"
+     << "| simulation as given | " << format_significant(fit.rms_simulation_dph, 4) << " | |\n"
+     << "| before (its coefficients re-estimated) | " << format_significant(fit.rms_before_dph, 4) << " | "
+     << format_significant(fit.heldout_rms_before_dph, 4) << " |\n"
+     << "| after (effects added, refitted) | " << format_significant(fit.rms_after_dph, 4) << " | " << format_significant(fit.heldout_rms_after_dph, 4)
+     << " |\n"
+     << "| noise floor (the noise model alone) | " << format_significant(j.noise.floor_dph, 4) << " | |\n\n";
+  effects_markdown(j, md);
+  unexplained_markdown(j, md);
+  md << "\n## Noise terms of the residual\n\n";
+  const nlohmann::json noise = to_json(j)["noise"];
+  for (const auto& t : noise["terms"]) md << "- " << t["id"].get<std::string>() << ": " << t["coefficients"].dump() << " - " << t["description"].get<std::string>() << "\n";
+  md << "\nWhitening model of the residual (white + random walk + Gauss-Markov, from its Allan deviation): " << noise["whitening_model"].dump()
+     << ". Whiteness after whitening (Ljung-Box, " << j.after.ljung_box_lags << " lags): p = " << format_significant(j.after.ljung_box_p, 3) << ".\n\n";
+  selection_markdown(j, md);
   md << "\n## Plots\n\n![residual in time](residual_time.png)\n\n![residual over (T, omega)](residual_grid.png)\n\n"
      << "![correlations](correlations.png)\n\n";
-  if (!r.after.allan.empty()) md << "![Allan deviation of the residual](allan.png)\n";
+  if (!j.after.allan.empty()) md << "![Allan deviation of the residual](allan.png)\n";
   return md.str();
 }
 
 }  // namespace
 
 void write_explain_outputs(const ExplainResult& r, const std::filesystem::path& dir) {
-  write_file_atomic(dir / "explain.json", r.summary.dump(2) + "\n");
+  write_file_atomic(dir / "explain.json", to_json(r.summary).dump(2) + "\n");
   write_file_atomic(dir / "residuals.csv", [&](std::ostream& out) {
     out << "t_s,residual_before_dph,residual_after_dph,heldout\n";
     for (Eigen::Index i = 0; i < r.input.size(); ++i) {
@@ -188,11 +208,11 @@ void write_explain_outputs(const ExplainResult& r, const std::filesystem::path& 
           << format_number(r.residual_after_dph(i)) << ',' << (r.input.heldout[static_cast<std::size_t>(i)] ? 1 : 0) << '\n';
     }
   });
-  save_model(dir / "model.json", *r.model, {{"training", {{"recording", r.input.source}, {"explain", r.summary["simulation"]}}}});
+  save_model(dir / "model.json", *r.model, {{"training", {{"recording", r.input.source}, {"explain", r.summary.simulation}}}});
   plot_residual_time(r, dir / "residual_time.png");
   plot_residual_grid(r, dir / "residual_grid.png");
   plot_correlations(r, dir / "correlations.png");
-  if (!r.after.allan.empty()) plot_allan(dir / "allan.png", r.after.allan, r.after.allan_fit, "Allan deviation of the residual after the refit", "deg/h");
+  if (!r.summary.after.allan.empty()) plot_allan(dir / "allan.png", r.summary.after.allan, r.summary.after.allan_fit, "Allan deviation of the residual after the refit", "deg/h");
   write_file_atomic(dir / "report.md", report_markdown(r));
 }
 

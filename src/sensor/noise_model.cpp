@@ -26,6 +26,18 @@ nlohmann::json NoiseModel::to_json() const {
   return j;
 }
 
+NoiseModel NoiseModel::from_json(const nlohmann::json& j) {
+  NoiseModel m;
+  m.dt_s = j.at("dt_s").get<double>();
+  m.white_var = std::pow(j.at("white_sigma").get<double>(), 2);
+  if (j.contains("rate_random_walk_per_rt_h")) m.rw_q = std::pow(j["rate_random_walk_per_rt_h"].get<double>() / 60.0, 2) * m.dt_s;
+  if (j.contains("gauss_markov")) {
+    m.gm_var = std::pow(j["gauss_markov"].at("sigma").get<double>(), 2);
+    m.gm_tau_s = j["gauss_markov"].at("tau_s").get<double>();
+  }
+  return m;
+}
+
 std::vector<std::vector<Eigen::Index>> contiguous_runs(const std::vector<Eigen::Index>& rows, const std::vector<int>& segment) {
   std::vector<std::vector<Eigen::Index>> runs;
   for (std::size_t k = 0; k < rows.size(); ++k) {

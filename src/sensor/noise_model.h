@@ -31,6 +31,7 @@ struct NoiseModel {
   double allan_variance(double tau_s) const;   // the model's Allan variance at averaging time tau
   double stationary_sigma() const;             // sqrt(white + Gauss-Markov variance), per sample
   nlohmann::json to_json() const;              // in the residual's units (deg/h)
+  static NoiseModel from_json(const nlohmann::json& j);  // what to_json wrote
 };
 
 // Runs: the rows (sample indices, ascending) split wherever the index jumps or the segment id changes.

@@ -14,6 +14,7 @@
 #include "sensor/noise_model.h"
 #include "model/dataset.h"
 #include "model/explained_model.h"
+#include "model/terms/term_kinds.h"
 #include "sensor/sensor_config.h"
 #include "sensor/spline_surface.h"
 #include "sim/simulate.h"
@@ -65,11 +66,30 @@ ExplainOptions fast() {
   return o;
 }
 
-const nlohmann::json* effect(const nlohmann::json& summary, const std::string& id) {
-  for (const auto& e : summary["effects"]) {
-    if (e["id"] == id) return &e;
+const FoundEffect* effect(const ExplainSummary& summary, const std::string& id) {
+  for (const auto& e : summary.effects) {
+    if (e.id == id) return &e;
   }
   return nullptr;
+}
+
+const PhysicalParameter& parameter(const FoundEffect& e, const std::string& name) {
+  for (const auto& p : e.parameters) {
+    if (p.name == name) return p;
+  }
+  throw std::runtime_error("no parameter " + name + " in " + e.id);
+}
+
+std::string ids(const ExplainSummary& s) {
+  std::string out;
+  for (const auto& e : s.effects) out += e.id + " ";
+  return out;
+}
+
+std::string unexplained(const ExplainSummary& s) {
+  std::string out;
+  for (const auto& u : s.unexplained) out += std::string(to_string(u.kind)) + (u.channel ? ":" + *u.channel : "") + " ";
+  return out;
 }
 
 // White noise plus a rate random walk: the Allan fit recovers its curve, and the Kalman whitener turns the
@@ -154,7 +174,7 @@ TEST(PhysicsTerms, SurfaceBasisReproducesTheBicubicSpline) {
     s.temp_c(k) = -20 + 80 * rng.uniform();
     s.rate(k) = units::dps_to_radps(-100 + 200 * rng.uniform());
   }
-  const Eigen::MatrixXd x = term_columns(Term::surface(temps, rates), s, coil_temperature(s, 0.0), TermScaling::of(s));
+  const Eigen::MatrixXd x = term_columns(scale_factor_surface(temps, rates), s, coil_temperature(s, 0.0), TermScaling::of(s));
   Eigen::VectorXd v(36);
   for (Eigen::Index i = 0; i < 6; ++i)
     for (Eigen::Index j = 0; j < 6; ++j) v(i * 6 + j) = values(i, j);
@@ -168,9 +188,8 @@ TEST(ExplainedModel, CompensationInvertsTheModelAndSurvivesJson) {
   Signals s;
   TermScaling sc;
   sc.t_ref_c = 20, sc.t_scale_c = 40, sc.rate_scale_radps = units::dps_to_radps(100);
-  Term sf = Term::of(TermKind::scale_factor);
-  sf.sf_orders = {{0, 0}, {0, 2}, {1, 0}};
-  const std::vector<Term> terms{Term::of(TermKind::bias), Term::temperature_orders({1, 2}), sf, Term::of(TermKind::asymmetry)};
+  const std::vector<Term> terms{bias_term(), temperature_polynomial({1, 2}), scale_factor_polynomial({{0, 0}, {0, 2}, {1, 0}}),
+                                asymmetry_term()};
   Eigen::VectorXd beta(7);
   beta << units::dph_to_radps(-15), units::dph_to_radps(3), units::dph_to_radps(-1), 5e-4, -8e-4, 1e-4, 2e-4;
   const ExplainedModel model(sc, 0.0, terms, beta);
@@ -202,24 +221,23 @@ TEST(ExplainedModel, CompensationInvertsTheModelAndSurvivesJson) {
 
 TEST(Explain, NothingMissingGivesNoMissingPhysics) {
   const ExplainResult r = explain_recording(simulate_with("", 11), fast());
-  EXPECT_EQ(r.summary["verdict"], "no_missing_physics") << r.summary["effects"].dump() << r.summary["unexplained"].dump();
+  EXPECT_EQ(r.summary.verdict, Verdict::no_missing_physics) << ids(r.summary) << unexplained(r.summary);
   // The residual is the sensor's white noise: 10 deg/h per 1-Hz sample.
-  EXPECT_NEAR(r.summary["fit"]["heldout_rms_after_dph"].get<double>(), 10.0, 0.5);
+  EXPECT_NEAR(r.summary.fit.heldout_rms_after_dph, 10.0, 0.5);
 }
 
 TEST(Explain, PlantedShupeIsFoundWithItsCoefficient) {
   const ExplainResult r = explain_recording(simulate_with("shupe_dph_per_c_per_min: 2\n", 12), fast());
-  ASSERT_EQ(r.summary["verdict"], "missing_physics");
-  const nlohmann::json* e = effect(r.summary, "shupe");
-  ASSERT_NE(e, nullptr) << r.summary["effects"].dump();
-  const double k = (*e)["parameters"]["k_dph_per_cpm"];
-  const auto ci = (*e)["confidence"]["k_dph_per_cpm"];
-  EXPECT_NEAR(k, 2.0, 0.2);
-  EXPECT_LT(ci[0].get<double>(), 2.0);
-  EXPECT_GT(ci[1].get<double>(), 2.0);
+  ASSERT_EQ(r.summary.verdict, Verdict::missing_physics);
+  const FoundEffect* e = effect(r.summary, "shupe");
+  ASSERT_NE(e, nullptr) << ids(r.summary);
+  const PhysicalParameter& k = parameter(*e, "k_dph_per_cpm");
+  EXPECT_NEAR(k.value, 2.0, 0.2);
+  EXPECT_LT(k.low, 2.0);
+  EXPECT_GT(k.high, 2.0);
   // Held out, the refitted model is at the noise floor again.
-  EXPECT_LT(r.summary["fit"]["heldout_rms_after_dph"].get<double>(), 10.5);
-  EXPECT_GT(r.summary["fit"]["heldout_rms_before_dph"].get<double>(), 11.0);
+  EXPECT_LT(r.summary.fit.heldout_rms_after_dph, 10.5);
+  EXPECT_GT(r.summary.fit.heldout_rms_before_dph, 11.0);
 }
 
 TEST(Explain, PlantedThermalLagIsFoundWithItsTimeConstant) {
@@ -227,9 +245,9 @@ TEST(Explain, PlantedThermalLagIsFoundWithItsTimeConstant) {
   SensorSpec sensor = load_sensor(ConfigNode::parse(kSensor, "test sensor"));
   std::get<GyroSensor>(sensor).thermal.coil_tau_s = 400.0;
   const ExplainResult r = explain_recording(simulate_sensor(sensor, 13), fast());
-  const nlohmann::json* e = effect(r.summary, "thermal_lag");
-  ASSERT_NE(e, nullptr) << r.summary["effects"].dump();
-  EXPECT_NEAR((*e)["parameters"]["tau_s"].get<double>(), 400.0, 60.0);
+  const FoundEffect* e = effect(r.summary, "thermal_lag");
+  ASSERT_NE(e, nullptr) << ids(r.summary);
+  EXPECT_NEAR(parameter(*e, "tau_s").value, 400.0, 60.0);
 }
 
 TEST(Explain, AnAuxiliaryChannelOutsideTheLibraryIsReportedAsUnexplained) {
@@ -245,9 +263,9 @@ TEST(Explain, AnAuxiliaryChannelOutsideTheLibraryIsReportedAsUnexplained) {
   rec.set_column("gyro_dps", gyro);
   const ExplainResult r = explain_recording(rec, fast());
   bool follows = false;
-  for (const auto& u : r.summary["unexplained"]) follows = follows || (u["channel"].is_string() && u["channel"] == "supply_v");
-  EXPECT_TRUE(follows) << r.summary["unexplained"].dump();
-  EXPECT_NE(r.summary["verdict"], "no_missing_physics");
+  for (const auto& u : r.summary.unexplained) follows = follows || (u.channel && *u.channel == "supply_v");
+  EXPECT_TRUE(follows) << unexplained(r.summary);
+  EXPECT_NE(r.summary.verdict, Verdict::no_missing_physics);
 }
 
 TEST(Explain, ShupeFromOneRampRateWithoutLagIsReportedWithItsAmbiguity) {
@@ -260,14 +278,11 @@ TEST(Explain, ShupeFromOneRampRateWithoutLagIsReportedWithItsAmbiguity) {
   std::get<GyroSensor>(sensor).thermal.tau_s = 0.0;  // the probe follows the chamber's zig-zag
   std::get<GyroSensor>(sensor).thermal.coil_tau_s = 0.0;
   const ExplainResult r = explain_recording(simulate_sensor(sensor, 16), fast());
-  ASSERT_EQ(r.summary["verdict"], "missing_physics");
-  const auto& first = r.summary["effects"][0];
-  const std::string id = first["id"];
-  ASSERT_TRUE(id == "shupe" || id == "thermal_hysteresis") << r.summary["effects"].dump();
-  const std::string twin = id == "shupe" ? "thermal_hysteresis" : "shupe";
-  bool listed = false;
-  for (const auto& a : first["alternatives"]) listed = listed || a == twin;
-  EXPECT_TRUE(listed) << first.dump();
+  ASSERT_EQ(r.summary.verdict, Verdict::missing_physics);
+  const FoundEffect& first = r.summary.effects[0];
+  ASSERT_TRUE(first.id == "shupe" || first.id == "thermal_hysteresis") << ids(r.summary);
+  const std::string twin = first.id == "shupe" ? "thermal_hysteresis" : "shupe";
+  EXPECT_NE(std::find(first.alternatives.begin(), first.alternatives.end(), twin), first.alternatives.end()) << first.id;
 }
 
 TEST(Explain, PlantedCrossAxisCouplingIsFoundWithItsAngle) {
@@ -295,13 +310,13 @@ TEST(Explain, PlantedCrossAxisCouplingIsFoundWithItsAngle) {
   ExplainOptions o = fast();
   o.input.axis = "x";
   const ExplainResult r = explain_recording(rec, o);
-  const nlohmann::json* e = effect(r.summary, "cross_axis_coupling");
-  ASSERT_NE(e, nullptr) << r.summary["effects"].dump();
-  EXPECT_NEAR((*e)["parameters"]["k_y_mrad"].get<double>(), 0.2, 0.02);
-  const auto ci = (*e)["confidence"]["k_z_mrad"];  // no coupling planted towards z
-  EXPECT_LT(ci[0].get<double>(), 0.0);
-  EXPECT_GT(ci[1].get<double>(), 0.0);
-  EXPECT_LT(r.summary["fit"]["heldout_rms_after_dph"].get<double>(), 10.5);
+  const FoundEffect* e = effect(r.summary, "cross_axis_coupling");
+  ASSERT_NE(e, nullptr) << ids(r.summary);
+  EXPECT_NEAR(parameter(*e, "k_y_mrad").value, 0.2, 0.02);
+  const PhysicalParameter& kz = parameter(*e, "k_z_mrad");  // no coupling planted towards z
+  EXPECT_LT(kz.low, 0.0);
+  EXPECT_GT(kz.high, 0.0);
+  EXPECT_LT(r.summary.fit.heldout_rms_after_dph, 10.5);
 }
 
 TEST(Explain, OptionsAndInputsAreValidated) {

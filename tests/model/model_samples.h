@@ -14,6 +14,7 @@
 #include "model/explained_model.h"
 #include "model/greybox_model.h"
 #include "model/hybrid_model.h"
+#include "model/terms/term_kinds.h"
 #include "model/rbf_network.h"
 
 namespace gyrosid::testing_support {
@@ -58,23 +59,22 @@ inline std::unique_ptr<CalibrationModel> sample_greybox() {
 }
 
 inline std::unique_ptr<CalibrationModel> sample_explained() {
-  std::vector<Term> terms{Term::of(TermKind::bias), Term::temperature_orders({1, 2}), Term::of(TermKind::asymmetry)};
-  Term sf = Term::of(TermKind::scale_factor);
-  sf.sf_orders = {{0, 0}, {1, 0}, {0, 2}};
-  terms.push_back(sf);
+  std::vector<Term> terms{bias_term(), temperature_polynomial({1, 2}), asymmetry_term(),
+                          scale_factor_polynomial({{0, 0}, {1, 0}, {0, 2}}),
+                          scale_factor_surface({-20, 10, 40, 60}, {-100, -30, 0, 20, 100})};
   TermScaling scaling;
   scaling.t_ref_c = 20.0, scaling.t_scale_c = 40.0, scaling.rate_scale_radps = 1.7;
-  Eigen::VectorXd beta(7);
-  beta << units::dph_to_radps(-12.0), units::dph_to_radps(3.0), units::dph_to_radps(-1.0), 2e-4, 1e-4, -5e-5, 3e-4;
+  Eigen::VectorXd beta(27);
+  beta << units::dph_to_radps(-12.0), units::dph_to_radps(3.0), units::dph_to_radps(-1.0), 2e-4, 1e-4, -5e-5, 3e-4, Eigen::VectorXd::Zero(20);
+  RandomStream r(7, "explained surface");
+  for (Eigen::Index i = 7; i < 27; ++i) beta(i) = 1e-4 * r.normal();
   return std::make_unique<ExplainedModel>(scaling, 0.0, terms, beta);
 }
 
 // Physics (bias cubic, a scale-factor polynomial, asymmetry) plus four nodes on (true rate, temperature), with
 // a posterior over all twelve weights.
 inline std::unique_ptr<CalibrationModel> sample_hybrid() {
-  Term sf = Term::of(TermKind::scale_factor);
-  sf.sf_orders = {{0, 0}, {1, 0}, {0, 2}};
-  std::vector<Term> terms{Term::of(TermKind::bias), Term::temperature_orders({1, 2, 3}), sf, Term::of(TermKind::asymmetry)};
+  std::vector<Term> terms{bias_term(), temperature_polynomial({1, 2, 3}), scale_factor_polynomial({{0, 0}, {1, 0}, {0, 2}}), asymmetry_term()};
   TermScaling scaling;
   scaling.t_ref_c = 20.0, scaling.t_scale_c = 40.0, scaling.rate_scale_radps = 1.7;
   Eigen::VectorXd beta(8);

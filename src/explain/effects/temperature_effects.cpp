@@ -1,0 +1,148 @@
+// Effects of the coil temperature beyond the simulation's: a bias drifting further with T, the Shupe bias
+// (thesis eq 3.3), a thermal lag between probe and coil (s4.4), heating/cooling hysteresis.
+#include <algorithm>
+#include <cmath>
+
+#include "explain/effects/effects.h"
+#include "model/terms/term_kinds.h"
+
+namespace gyrosid::explain::effects {
+namespace {
+
+constexpr const char* kStatic = "the temperature does not vary";
+
+class TemperatureBias : public Effect {
+ public:
+  std::string_view id() const override { return "temperature_bias"; }
+  std::string_view description() const override {
+    return "The bias drifts with the coil temperature beyond what the simulation's bias polynomial allows (source "
+           "wavelength, coil birefringence and electronic offsets all move with temperature).";
+  }
+  std::string_view parameters_help() const override {
+    return "c1_dph_per_c, c2_dph_per_c2, ...: the added powers of (T - t_ref_c); t_ref_c (deg C)";
+  }
+  Proposal propose(const CandidateContext& c) const override {
+    if (!c.temp_varies) return {{}, kStatic};
+    const int max_bias = c.bias_orders.empty() ? 0 : *c.bias_orders.rbegin();
+    std::vector<int> orders;
+    for (int k : {1, 2, 3, max_bias + 1, max_bias + 2}) {
+      if (k <= 6 && !c.bias_orders.count(k) && std::find(orders.begin(), orders.end(), k) == orders.end()) orders.push_back(k);
+    }
+    if (orders.empty()) return {{}, "the simulation's bias polynomial already has every order up to 6"};
+    std::sort(orders.begin(), orders.end());
+    return {{candidate(temperature_polynomial(orders))}, ""};
+  }
+  std::vector<PhysicalParameter> parameters(const Term& t, const Eigen::VectorXd& beta, const Eigen::VectorXd& sigma,
+                                            const TermScaling& sc) const override {
+    std::vector<PhysicalParameter> out;
+    const auto& orders = t.as<TemperaturePolynomial>()->orders();
+    for (std::size_t c = 0; c < orders.size(); ++c) {
+      const int k = orders[c];
+      const double f = 1.0 / std::pow(sc.t_scale_c, k);
+      const auto i = static_cast<Eigen::Index>(c);
+      out.push_back(PhysicalParameter::estimate(k == 1 ? "c1_dph_per_c" : str_cat("c", k, "_dph_per_c", k), beta(i) * f, sigma(i) * f));
+    }
+    out.push_back(PhysicalParameter::reference_value("t_ref_c", sc.t_ref_c));
+    return out;
+  }
+};
+
+class Shupe : public Effect {
+ public:
+  std::string_view id() const override { return "shupe"; }
+  std::string_view description() const override {
+    return "A bias proportional to the rate of change of the coil temperature (Shupe effect): a thermal gradient "
+           "across the coil gives the counter-propagating waves different, time-varying optical paths.";
+  }
+  std::string_view parameters_help() const override { return "k_dph_per_cpm: bias per coil-temperature rate, (deg/h) per (deg C/min)"; }
+  Proposal propose(const CandidateContext& c) const override {
+    if (!c.temp_varies) return {{}, kStatic};
+    if (c.base_has<ShupeTerm>()) return {};
+    return {{candidate(shupe_term())}, ""};
+  }
+  std::vector<PhysicalParameter> parameters(const Term&, const Eigen::VectorXd& beta, const Eigen::VectorXd& sigma,
+                                            const TermScaling&) const override {
+    return {PhysicalParameter::estimate("k_dph_per_cpm", beta(0) / 60.0, sigma(0) / 60.0)};
+  }
+  std::string separating_experiment(std::string_view other) const override {
+    if (other == "thermal_hysteresis") {
+      return "ramp at two or more rates (e.g. 1 and 3 C/min) with plateaus between: the Shupe bias scales with the ramp "
+             "rate and vanishes on a plateau, a hysteresis offset does neither";
+    }
+    if (other == "thermal_lag") {
+      return "ramp at one rate through several temperature ranges: a lag's bias follows the local slope of the "
+             "bias-temperature curve, Shupe's does not depend on temperature; or put a second probe on the coil";
+    }
+    return "";
+  }
+};
+
+// The coil lags the probe by tau: one column, the change of the model's prediction (its coefficients) when
+// the coil lags by tau instead of the base's lag - the Gauss-Newton direction of the one-parameter lag
+// model, not a free re-fit of every temperature column.
+class ThermalLag : public Effect {
+ public:
+  std::string_view id() const override { return "thermal_lag"; }
+  std::string_view description() const override {
+    return "The coil temperature lags the probe's by a first-order time constant, so during ramps the errors follow "
+           "a temperature the probe read earlier.";
+  }
+  std::string_view parameters_help() const override { return "tau_s: the first-order time constant from probe to coil (s)"; }
+  Proposal propose(const CandidateContext& c) const override {
+    if (!c.temp_varies) return {{}, kStatic};
+    const bool target = std::any_of(c.base.begin(), c.base.end(), [](const Term& t) {
+      const auto* sf = t.as<ScaleFactorPolynomial>();
+      return t.as<TemperaturePolynomial>() ||
+             (sf && std::any_of(sf->orders().begin(), sf->orders().end(), [](const auto& p) { return p[0] > 0; }));
+    });
+    if (!target) return {{}, "the simulation has no temperature-dependent term for a lag to act on"};
+    Candidate lag;
+    lag.effect = this;
+    lag.nonlinear = NonlinearParameter::coil_lag;
+    for (double tau : log_grid(10.0, std::clamp(c.duration_s / 4.0, 20.0, 3600.0), 12)) {
+      if (std::abs(tau - c.base_lag_tau_s) > 0.05 * tau) lag.tau_grid_s.push_back(tau);
+    }
+    return {{lag}, ""};
+  }
+  Eigen::MatrixXd columns(const Candidate&, double tau_s, const ModelColumns& m) const override {
+    const CoilTemperature coil = coil_temperature(m.signals, m.lag_tau_s), lagged = coil_temperature(m.signals, tau_s);
+    return (design_matrix(m.terms, m.signals, lagged, m.scaling) - design_matrix(m.terms, m.signals, coil, m.scaling)) * m.beta;
+  }
+  std::string separating_experiment(std::string_view other) const override {
+    if (other == "thermal_hysteresis") {
+      return "hold plateaus for several lag time constants after ramps in each direction: a lag's error decays to "
+             "zero, hysteresis stays";
+    }
+    return "";
+  }
+};
+
+class ThermalHysteresis : public Effect {
+ public:
+  std::string_view id() const override { return "thermal_hysteresis"; }
+  std::string_view description() const override {
+    return "The bias differs between the heating and the cooling branch at the same temperature (thermal "
+           "hysteresis): stresses in the coil potting and fibre jacket relax differently in each direction.";
+  }
+  std::string_view parameters_help() const override { return "offset_dph: heating-branch bias minus cooling-branch bias (deg/h)"; }
+  Proposal propose(const CandidateContext& c) const override {
+    if (!c.temp_varies) return {{}, kStatic};
+    if (c.base_has<HysteresisTerm>()) return {};
+    const Eigen::VectorXd branch = thermal_branch(c.in.signals, coil_temperature(c.in.signals, c.base_lag_tau_s), TermScaling{});
+    if (!((branch.array() > 0).any() && (branch.array() < 0).any())) return {{}, "the recording has no pair of heating and cooling branches"};
+    return {{candidate(hysteresis_term())}, ""};
+  }
+  std::vector<PhysicalParameter> parameters(const Term&, const Eigen::VectorXd& beta, const Eigen::VectorXd& sigma,
+                                            const TermScaling&) const override {
+    return {PhysicalParameter::estimate("offset_dph", beta(0), sigma(0))};
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Effect> temperature_bias() { return std::make_unique<TemperatureBias>(); }
+std::unique_ptr<Effect> shupe() { return std::make_unique<Shupe>(); }
+std::unique_ptr<Effect> thermal_lag() { return std::make_unique<ThermalLag>(); }
+std::unique_ptr<Effect> thermal_hysteresis() { return std::make_unique<ThermalHysteresis>(); }
+
+}  // namespace gyrosid::explain::effects

@@ -1,0 +1,79 @@
+// Effects of time since turn-on: a warm-up transient and a slow ageing trend of the bias.
+#include <algorithm>
+#include <cmath>
+
+#include "explain/effects/effects.h"
+#include "model/terms/term_kinds.h"
+
+namespace gyrosid::explain::effects {
+namespace {
+
+class WarmupTransient : public Effect {
+ public:
+  std::string_view id() const override { return "warmup_transient"; }
+  std::string_view description() const override {
+    return "An exponential drift after turn-on while the source, electronics and coil settle to their operating "
+           "equilibrium (warm-up transient).";
+  }
+  std::string_view parameters_help() const override { return "amplitude_dph: the drift at the first sample (deg/h); tau_s: its time constant (s)"; }
+  Proposal propose(const CandidateContext& c) const override {
+    if (c.base_has<WarmupTerm>()) return {};
+    const std::vector<double> grid = log_grid(std::max(30.0, 10.0 * c.in.dt_s), std::max(60.0, c.duration_s / 3.0), 12);
+    Candidate w = candidate(warmup_term(grid.front()));
+    w.nonlinear = NonlinearParameter::time_constant;
+    w.tau_grid_s = grid;
+    return {{w}, ""};
+  }
+  std::vector<PhysicalParameter> parameters(const Term&, const Eigen::VectorXd& beta, const Eigen::VectorXd& sigma,
+                                            const TermScaling&) const override {
+    return {PhysicalParameter::estimate("amplitude_dph", beta(0), sigma(0))};
+  }
+  std::string separating_experiment(std::string_view other) const override {
+    if (other == "thermal_lag" || other == "shupe") {
+      return "power the gyro on after a soak at constant chamber temperature: a warm-up transient appears without any "
+             "temperature change";
+    }
+    if (other == "aging_trend") {
+      return "record for several warm-up time constants after turn-on, or power-cycle the gyro: warm-up restarts, "
+             "ageing does not";
+    }
+    if (other == "temperature_bias") {
+      return "hold the chamber at one temperature for an hour after turn-on: a warm-up transient still decays, a "
+             "temperature bias does not move";
+    }
+    return "";
+  }
+};
+
+class AgingTrend : public Effect {
+ public:
+  std::string_view id() const override { return "aging_trend"; }
+  std::string_view description() const override {
+    return "A slow monotonic drift of the bias over the recording, independent of temperature (ageing, long-term "
+           "instability).";
+  }
+  std::string_view parameters_help() const override { return "k_dph_per_h: bias drift per hour of recording (deg/h per h)"; }
+  Proposal propose(const CandidateContext& c) const override {
+    if (c.base_has<AgingTerm>()) return {};
+    if (c.duration_s < 600.0) return {{}, "the recording is shorter than 10 minutes"};
+    return {{candidate(aging_term())}, ""};
+  }
+  std::vector<PhysicalParameter> parameters(const Term&, const Eigen::VectorXd& beta, const Eigen::VectorXd& sigma,
+                                            const TermScaling&) const override {
+    return {PhysicalParameter::estimate("k_dph_per_h", beta(0), sigma(0))};
+  }
+  std::string separating_experiment(std::string_view other) const override {
+    if (other == "temperature_bias") {
+      return "return to an earlier temperature later in the recording: ageing has moved on, a temperature bias "
+             "returns to its value";
+    }
+    return "";
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Effect> warmup_transient() { return std::make_unique<WarmupTransient>(); }
+std::unique_ptr<Effect> aging_trend() { return std::make_unique<AgingTrend>(); }
+
+}  // namespace gyrosid::explain::effects

@@ -1,0 +1,137 @@
+// What `gyrosid explain` concludes, as typed results: the verdict, the effects found with their parameters,
+// alternatives and held-out evidence, the structure left unexplained and where it sits, the noise, the fit
+// before and after, and the record of the selection. Written to and read from explain.json in one place
+// (report/explain_json.h).
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "core/enum_names.h"
+#include "explain/diagnostics.h"
+#include "explain/effect.h"
+#include "sensor/noise_model.h"
+#include "explain/selection.h"
+
+namespace gyrosid::explain {
+
+enum class Verdict { missing_physics, unexplained_residual, no_missing_physics };
+enum class UnexplainedKind { follows_channel, correlation, time_window, temperature_rate_cell };
+
+}  // namespace gyrosid::explain
+
+namespace gyrosid {
+template <>
+struct EnumNames<explain::Verdict> {
+  static constexpr std::string_view kNoun = "verdict";
+  static constexpr std::array<std::pair<explain::Verdict, std::string_view>, 3> kTable{
+      {{explain::Verdict::missing_physics, "missing_physics"},
+       {explain::Verdict::unexplained_residual, "unexplained_residual"},
+       {explain::Verdict::no_missing_physics, "no_missing_physics"}}};
+};
+template <>
+struct EnumNames<explain::UnexplainedKind> {
+  static constexpr std::string_view kNoun = "unexplained structure";
+  static constexpr std::array<std::pair<explain::UnexplainedKind, std::string_view>, 4> kTable{
+      {{explain::UnexplainedKind::follows_channel, "follows_channel"},
+       {explain::UnexplainedKind::correlation, "correlation"},
+       {explain::UnexplainedKind::time_window, "time_window"},
+       {explain::UnexplainedKind::temperature_rate_cell, "temperature_rate_cell"}}};
+};
+}  // namespace gyrosid
+
+namespace gyrosid::explain {
+
+struct SeparatingExperiment {
+  std::string alternative, experiment;
+};
+
+struct FoundEffect {
+  std::string id, description;
+  std::vector<PhysicalParameter> parameters;  // with 95 % intervals (time constants' asymmetric)
+  double delta_bic = 0.0, p_value = 1.0;
+  std::vector<std::string> alternatives;         // the recording cannot tell these apart from it
+  std::vector<std::string> weaker_alternatives;  // explain much of the same, clearly less well
+  std::vector<SeparatingExperiment> separating;  // for each alternative, the experiment that would separate
+  double stability = 1.0;                        // fraction of leave-one-block-out refits keeping it
+  std::optional<double> heldout_z;               // its held-out gain over its noise; none: the blocks cannot test it
+  bool heldout_confirmed() const { return heldout_z && *heldout_z > 2.0; }
+};
+
+// Structure no effect explains, and where it sits: in time, in (T, omega), or along a channel.
+struct Unexplained {
+  UnexplainedKind kind = UnexplainedKind::time_window;
+  std::optional<std::string> channel;
+  double t_start_s = 0.0, t_end_s = 0.0;
+  double statistic = 0.0;  // dBIC (follows_channel), peak correlation, or z
+  // follows_channel: the selection's p-value and the channel's coefficient.
+  double p_value = 1.0;
+  std::vector<PhysicalParameter> parameters;
+  // correlation: at which lag, against which threshold.
+  double lag_s = 0.0, threshold = 0.0;
+  // time_window, temperature_rate_cell: the mean residual there.
+  double mean_dph = 0.0;
+  // temperature_rate_cell: the cell.
+  std::array<double, 2> temp_c{}, rate_dps{};
+  bool heating = true;
+};
+
+// An effect the selection added but judging removed, and why.
+struct DroppedEffect {
+  std::string id;
+  double stability = 0.0, heldout_gain_dph2 = 0.0, heldout_z = 0.0;
+  std::string reason;
+};
+
+struct NoiseSummary {
+  std::vector<NoiseTerm> terms;  // IEEE Std 952 terms of the residual after the refit
+  NoiseModel whitening;          // the final whitening model
+  double floor_dph = 0.0;        // its stationary sigma
+};
+
+struct FitSummary {
+  double rms_simulation_dph = 0.0, rms_before_dph = 0.0, rms_after_dph = 0.0;  // training samples
+  double heldout_rms_before_dph = 0.0, heldout_rms_after_dph = 0.0;
+  std::string refit_solver = "ceres", refit_termination;
+  int refit_iterations = 0;
+  bool refit_covariance = false;
+};
+
+struct RecordingSummary {
+  std::string source, axis;
+  long samples = 0, training_samples = 0;
+  double duration_s = 0.0;
+  int blocks = 0;
+  bool thermal_cycles = false;
+  int heldout_every = 4;  // every heldout_every-th block from the third is held out
+  std::vector<std::string> skipped_channels;
+};
+
+struct SelectionRecord {
+  double alpha = 0.05;
+  int bootstrap = 0;
+  std::uint64_t seed = 0;
+  std::vector<std::vector<CandidateScore>> steps;
+  std::vector<std::string> untestable;
+  std::vector<DroppedEffect> dropped;
+  NoiseModel whitening;
+};
+
+struct ExplainSummary {
+  Verdict verdict = Verdict::no_missing_physics;
+  std::vector<FoundEffect> effects;
+  std::vector<Unexplained> unexplained;
+  NoiseSummary noise;
+  FitSummary fit;
+  RecordingSummary recording;
+  std::string simulation;  // what the recording was compared with
+  SelectionRecord selection;
+  Diagnostics before, after;
+  double run_time_s = 0.0;
+};
+
+}  // namespace gyrosid::explain

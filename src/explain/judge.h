@@ -1,0 +1,38 @@
+// Judging the selected effects before they are accepted: each must keep dBIC > 0 when one training block
+// is left out (stability) and, where the held-out blocks see it, improve them significantly - the gain
+// |d|^2 + 2 r'd in the whitened held-out residual (d the change the effect makes, r the residual with it)
+// against its noise 2 sigma |d|.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "explain/selection.h"
+
+namespace gyrosid::explain {
+
+struct Judged {
+  SelectedEffect effect;
+  std::optional<Term> term;      // the effect's term in the selected model; none for the coil lag
+  double stability = 1.0;        // fraction of leave-one-training-block-out refits with dBIC > 0
+  double heldout_gain = 0.0;     // held-out sum of squares without the effect minus with it, (deg/h)^2
+  double heldout_z = 0.0;        // that gain in the whitened held-out samples over its standard error
+  bool heldout_testable = false; // the held-out blocks see the effect (the two predictions differ there)
+
+  bool accepted(double min_stability) const { return stability >= min_stability && (!heldout_testable || heldout_z > 2.0); }
+};
+
+// `y` in deg/h on every sample; `w` the training whitener of the selection's noise model.
+std::vector<Judged> judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const SelectionResult& sel,
+                                  const TermScaling& scaling, const Whitener& w);
+
+// Generalised least squares on the rows a whitener covers: coefficients, RSS, count and rank.
+struct RowFit {
+  Eigen::VectorXd beta;
+  double rss = 0.0;
+  std::size_t n = 0;
+  int rank = 0;
+};
+RowFit gls(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Whitener& w);
+
+}  // namespace gyrosid::explain

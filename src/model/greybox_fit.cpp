@@ -1,0 +1,185 @@
+#include "model/greybox_fit.h"
+
+#include <Eigen/QR>
+
+#include <cmath>
+#include <functional>
+
+#include "core/bounded_search.h"
+#include "core/error.h"
+#include "core/units.h"
+#include "model/terms/term_kinds.h"
+
+namespace gyrosid {
+
+std::string GreyboxOptions::validate() const {
+  if (bias_order < 0 || bias_order > 8) return str_cat("bias_order = ", bias_order, " must be in [0, 8]");
+  if (sf_temperature_order < 0 || sf_temperature_order > 6) return "sf_temperature_order must be in [0, 6]";
+  if (sf_rate_order < 0 || sf_rate_order > 10) return "sf_rate_order must be in [0, 10]";
+  if (scale_factor == ScaleFactorForm::surface && (surface_temperatures_c.size() < 2 || surface_rates_dps.size() < 2)) {
+    return "surface grids need at least two temperatures and two rates";
+  }
+  if (!(lag_max_s > 1.0)) return "lag_max_s must exceed 1 s";
+  if (!(ridge >= 0 && ridge < 1)) return "ridge must be in [0, 1)";
+  return "";
+}
+
+std::vector<std::string> greybox_features(const GreyboxOptions& o) {
+  std::vector<std::string> f{"measured_rate", "temperature"};
+  if (o.g_sensitivity) {
+    for (const char* a : {"accel_x_mps2", "accel_y_mps2", "accel_z_mps2"}) f.emplace_back(a);
+  }
+  return f;
+}
+
+std::vector<Term> greybox_terms(const GreyboxOptions& o) {
+  std::vector<Term> terms{bias_term()};
+  if (o.bias_order > 0) {
+    std::vector<int> orders;
+    for (int k = 1; k <= o.bias_order; ++k) orders.push_back(k);
+    terms.push_back(temperature_polynomial(orders));
+  }
+  if (o.scale_factor == ScaleFactorForm::surface) {
+    terms.push_back(scale_factor_surface(o.surface_temperatures_c, o.surface_rates_dps));
+  } else {
+    ScaleFactorPolynomial::Orders sf;  // separable: eps_T(T) from the first order, eps(omega) from the zeroth
+    for (int i = 1; i <= o.sf_temperature_order; ++i) sf.push_back({i, 0});
+    for (int j = 0; j <= o.sf_rate_order; ++j) sf.push_back({0, j});
+    terms.push_back(scale_factor_polynomial(sf));
+  }
+  if (o.shupe) terms.push_back(shupe_term());
+  if (o.asymmetry) terms.push_back(asymmetry_term());
+  if (o.g_sensitivity) terms.push_back(channel_term({"accel_x_mps2", "accel_y_mps2", "accel_z_mps2"}));
+  return terms;
+}
+
+namespace {
+
+// The recording as term inputs: the physics acts on the true (reference) rate.
+Signals signals_of(const Dataset& d) {
+  Signals s;
+  s.t_s = d.t_s;
+  s.rate = d.reference;
+  s.temp_c = d.x.col(1);
+  for (std::size_t f = 2; f < d.features.size(); ++f) s.channels[d.features[f]] = d.x.col(static_cast<Eigen::Index>(f));
+  return s;
+}
+
+// Ridge-regularised least squares by pivoted QR on unit-norm columns; the RSS into *rss.
+Eigen::VectorXd ridge_solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& y, double ridge, double* rss) {
+  const Eigen::Index n = a.rows(), p = a.cols();
+  const Eigen::VectorXd norm = a.colwise().norm().transpose().cwiseMax(1e-300);
+  Eigen::MatrixXd aug(n + p, p);
+  aug.topRows(n) = a * norm.cwiseInverse().asDiagonal();
+  aug.bottomRows(p) = std::sqrt(ridge) * Eigen::MatrixXd::Identity(p, p);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + p);
+  rhs.head(n) = y;
+  const Eigen::VectorXd coeff = Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(aug).solve(rhs).cwiseQuotient(norm);
+  if (rss) *rss = (a * coeff - y).squaredNorm();
+  return coeff;
+}
+
+// The coefficients, in greybox_terms' order, as the sensor layer's error model (SI, unscaled).
+GyroErrorModel error_model_of(const GreyboxOptions& o, const TermScaling& sc, const Eigen::VectorXd& c) {
+  GyroErrorModel e;
+  Eigen::Index k = 0;
+  e.bias_temperature_radps.reference = sc.t_ref_c;
+  for (int i = 0; i <= o.bias_order; ++i) e.bias_temperature_radps.coefficients.push_back(c(k++) / std::pow(sc.t_scale_c, i));
+  if (o.scale_factor == ScaleFactorForm::surface) {
+    const auto nt = static_cast<Eigen::Index>(o.surface_temperatures_c.size()), nw = static_cast<Eigen::Index>(o.surface_rates_dps.size());
+    Eigen::MatrixXd v(nt, nw);
+    for (Eigen::Index a = 0; a < nt; ++a)
+      for (Eigen::Index b = 0; b < nw; ++b) v(a, b) = c(k++);
+    std::vector<double> rates;
+    for (double r : o.surface_rates_dps) rates.push_back(units::dps_to_radps(r));
+    e.scale_factor_surface = SplineSurface(o.surface_temperatures_c, rates, v, OutsideGridPolicy::clamp);
+  } else {
+    e.scale_factor_temperature.reference = sc.t_ref_c;
+    e.scale_factor_temperature.coefficients.push_back(0.0);
+    for (int i = 1; i <= o.sf_temperature_order; ++i) e.scale_factor_temperature.coefficients.push_back(c(k++) / std::pow(sc.t_scale_c, i));
+    for (int i = 0; i <= o.sf_rate_order; ++i) e.scale_factor_rate.coefficients.push_back(c(k++) / std::pow(sc.rate_scale_radps, i));
+  }
+  if (o.shupe) e.shupe_rad_per_c = c(k++);
+  if (o.asymmetry) e.scale_factor_asymmetry = 2.0 * c(k++);  // the column is |w| = (a/2)^-1 of dSF's jump
+  if (o.g_sensitivity) {
+    for (int i = 0; i < 3; ++i) e.g_sensitivity(i) = c(k++);
+  }
+  return e;
+}
+
+struct LagSearch {
+  double tau_s = 0.0;
+  int evaluations = 0;
+  SolveOutcome outcome{Termination::converged, "linear least squares by column-pivoted QR with a ridge", {}};
+};
+
+// The lag by a coarse log grid of tau over [1 s, lag_max] (tau = 0 included), then BOBYQA on log tau.
+LagSearch search_lag(const std::function<double(double)>& rss_at, const GreyboxOptions& o) {
+  LagSearch s;
+  double best_rss = rss_at(0.0), best_log = -INFINITY;
+  const double lo = 0.0, hi = std::log(o.lag_max_s);
+  for (int i = 0; i <= 12; ++i) {
+    const double lt = lo + (hi - lo) * i / 12.0;
+    const double r = rss_at(std::exp(lt));
+    if (r < best_rss) best_rss = r, best_log = lt;
+  }
+  s.evaluations = 14;
+  if (!std::isfinite(best_log)) {
+    s.outcome.message = "no lag: tau = 0 fits better than every grid value";
+    return s;
+  }
+  BoundedSearchOptions bobyqa;
+  bobyqa.xtol_abs = 1e-4;
+  bobyqa.max_evaluations = 60;
+  const BoundedSearchResult r = minimize_bounded([&](const std::vector<double>& x) { return rss_at(std::exp(x[0])); }, {best_log}, {lo}, {hi},
+                                                 bobyqa);
+  s.evaluations += r.evaluations;
+  s.tau_s = r.value <= best_rss ? std::exp(r.x[0]) : std::exp(best_log);
+  s.outcome = {termination_of(r), "lag by BOBYQA on log tau: " + r.message, {}};
+  return s;
+}
+
+}  // namespace
+
+std::unique_ptr<GreyboxModel> fit_greybox(const Dataset& data, const GreyboxOptions& o, SolveSummary* summary) {
+  if (auto p = o.validate(); !p.empty()) fail("greybox model: ", p);
+  if (data.features != greybox_features(o)) {
+    std::string want;
+    for (const auto& f : greybox_features(o)) want += (want.empty() ? "" : ", ") + f;
+    fail("greybox model: features must be ", want);
+  }
+  if (!data.target.allFinite()) fail("greybox model: the recording has no reference rate (ref_rate_dps) to fit against");
+  const Signals s = signals_of(data);
+  const TermScaling scaling = TermScaling::of(s);
+  const std::vector<Term> terms = greybox_terms(o);
+  const int p = total_columns(terms);
+  if (data.size() < 2 * p) fail("greybox model: ", data.size(), " samples for ", p, " coefficients");
+
+  std::unique_ptr<GreyboxModel> model;
+  const SolveSummary result = timed_solve("greybox", [&](SolveMonitor& monitor) {
+    auto rss_at = [&](double tau) {
+      double rss = 0.0;
+      ridge_solve(design_matrix(terms, s, coil_temperature(s, tau), scaling), data.target, o.ridge, &rss);
+      monitor.iteration(0.5 * rss);
+      monitor.evaluation();
+      return rss;
+    };
+    LagSearch lag;
+    if (o.thermal_lag) lag = search_lag(rss_at, o);
+    double rss = 0.0;
+    const Eigen::VectorXd c = ridge_solve(design_matrix(terms, s, coil_temperature(s, lag.tau_s), scaling), data.target, o.ridge, &rss);
+    if (!o.thermal_lag) monitor.iteration(0.5 * rss), monitor.evaluation();
+    if (!c.allFinite()) lag.outcome = {Termination::failed, "the linear solve gave non-finite coefficients", {}};
+    model = std::make_unique<GreyboxModel>(data.features, error_model_of(o, scaling, c), lag.tau_s);
+    lag.outcome.details = {{"samples", data.size()},
+                           {"parameters", p + (o.thermal_lag ? 1 : 0)},
+                           {"rms_residual_dph", units::radps_to_dph(std::sqrt(rss / static_cast<double>(data.size())))},
+                           {"lag_tau_s", lag.tau_s},
+                           {"lag_evaluations", o.thermal_lag ? lag.evaluations : 0}};
+    return lag.outcome;
+  });
+  if (summary) *summary = result;
+  return model;
+}
+
+}  // namespace gyrosid

@@ -1,0 +1,56 @@
+// Fitting the grey-box model (greybox_model.h) to a recording. Given the coil's lag tau every coefficient is
+// linear: the model's structure is a list of physics terms (physics_terms.h - the same columns explain
+// uses), fitted in the forward direction (the physics is defined on the true rate) by column-pivoted QR on
+// unit-norm columns with a small ridge. The lag is nonlinear: a coarse log grid of tau (the residual in tau
+// can have several dips), then NLopt's BOBYQA on log tau from the best point; tau = 0 stays a candidate.
+#pragma once
+
+#include <array>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "core/enum_names.h"
+#include "core/solve_summary.h"
+#include "model/greybox_model.h"
+#include "model/physics_terms.h"
+
+namespace gyrosid {
+
+enum class ScaleFactorForm { surface, polynomial };
+
+template <>
+struct EnumNames<ScaleFactorForm> {
+  static constexpr std::string_view kNoun = "scale-factor form";
+  static constexpr std::array<std::pair<ScaleFactorForm, std::string_view>, 2> kTable{
+      {{ScaleFactorForm::surface, "surface"}, {ScaleFactorForm::polynomial, "polynomial"}}};
+};
+
+struct GreyboxOptions {
+  int bias_order = 3;
+  ScaleFactorForm scale_factor = ScaleFactorForm::surface;
+  std::vector<double> surface_temperatures_c{-20, 0, 20, 25, 40, 60};  // the thesis grid
+  std::vector<double> surface_rates_dps{-100, -80, -60, -40, -20, -10, 10, 20, 40, 60, 80, 100};
+  int sf_temperature_order = 2;
+  int sf_rate_order = 6;
+  bool shupe = false;
+  bool asymmetry = false;
+  bool g_sensitivity = false;
+  bool thermal_lag = false;
+  double lag_max_s = 3600.0;
+  double ridge = 1e-9;  // relative to the scaled normal-matrix norm, for grid cells the data never visits
+  std::string validate() const;
+};
+
+// Features: measured_rate, temperature (+ accel_x_mps2, accel_y_mps2, accel_z_mps2 for g-sensitivity).
+std::vector<std::string> greybox_features(const GreyboxOptions& options);
+// The model's structure as physics terms, in the order of its coefficients.
+std::vector<Term> greybox_terms(const GreyboxOptions& options);
+
+// The summary's details: samples, parameters, rms_residual_dph, lag_tau_s, lag_evaluations. Its
+// termination is the lag search's (NLopt's code, or no_progress when it stopped on round-off with its best
+// point); a fit without a lag is one linear solve (converged).
+std::unique_ptr<GreyboxModel> fit_greybox(const Dataset& data, const GreyboxOptions& options, SolveSummary* summary = nullptr);
+
+}  // namespace gyrosid

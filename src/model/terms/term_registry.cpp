@@ -1,0 +1,48 @@
+// Every physics-term kind in one registry: its name (the "kind" of a term in a model file), what its columns
+// are, and its loader from the term's JSON fields.
+#include "model/terms/term_kinds.h"
+
+namespace gyrosid {
+namespace {
+
+template <typename T>
+std::vector<T> list(const nlohmann::json& j, const char* key) {
+  return j.at(key).get<std::vector<T>>();
+}
+
+}  // namespace
+
+const TermKindRegistry& term_kinds() {
+  static const TermKindRegistry registry = [] {
+    TermKindRegistry r("physics term");
+    auto none = [] { return std::string(); };
+    using P = std::unique_ptr<TermBasis>;
+    r.add({"bias", "a constant", none, [](const nlohmann::json&) -> P { return std::make_unique<BiasTerm>(); }})
+        .add({"bias_temperature", "dT^k for each order k (bias polynomial in the coil temperature)", none,
+              [](const nlohmann::json& j) -> P { return std::make_unique<TemperaturePolynomial>(list<int>(j, "orders")); }})
+        .add({"scale_factor", "omega dT^i u^j for each (i, j) (scale-factor polynomial)", none,
+              [](const nlohmann::json& j) -> P {
+                return std::make_unique<ScaleFactorPolynomial>(list<std::array<int, 2>>(j, "sf_orders"));
+              }})
+        .add({"scale_factor_surface", "omega B_ij(T, omega): bicubic-spline scale-factor surface on a (T, omega) grid", none,
+              [](const nlohmann::json& j) -> P {
+                const auto& g = j.at("grid");
+                return std::make_unique<ScaleFactorSurface>(list<double>(g, "temperatures_c"), list<double>(g, "rates_dps"));
+              }})
+        .add({"shupe", "dT_coil/dt, deg C/s", none, [](const nlohmann::json&) -> P { return std::make_unique<ShupeTerm>(); }})
+        .add({"hysteresis", "+1/2 on the heating branch, -1/2 on the cooling branch", none,
+              [](const nlohmann::json&) -> P { return std::make_unique<HysteresisTerm>(); }})
+        .add({"warmup", "exp(-(t - t0) / tau)", none,
+              [](const nlohmann::json& j) -> P { return std::make_unique<WarmupTerm>(j.value("tau_s", 0.0)); }})
+        .add({"aging", "(t - t0) / 1 h", none, [](const nlohmann::json&) -> P { return std::make_unique<AgingTerm>(); }})
+        .add({"asymmetry", "|omega|", none, [](const nlohmann::json&) -> P { return std::make_unique<AsymmetryTerm>(); }})
+        .add({"channel", "recorded channels as they are", none,
+              [](const nlohmann::json& j) -> P { return std::make_unique<ChannelTerm>(list<std::string>(j, "channels"), false); }})
+        .add({"channel_squared", "squares of recorded channels", none,
+              [](const nlohmann::json& j) -> P { return std::make_unique<ChannelTerm>(list<std::string>(j, "channels"), true); }});
+    return r;
+  }();
+  return registry;
+}
+
+}  // namespace gyrosid
