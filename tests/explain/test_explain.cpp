@@ -15,6 +15,7 @@
 #include "model/dataset.h"
 #include "model/explained_model.h"
 #include "model/terms/term_kinds.h"
+#include "report/explain_json.h"
 #include "sensor/sensor_config.h"
 #include "sensor/spline_surface.h"
 #include "sim/simulate.h"
@@ -238,6 +239,15 @@ TEST(Explain, PlantedShupeIsFoundWithItsCoefficient) {
   // Held out, the refitted model is at the noise floor again.
   EXPECT_LT(r.summary.fit.heldout_rms_after_dph, 10.5);
   EXPECT_GT(r.summary.fit.heldout_rms_before_dph, 11.0);
+  // explain.json reads back to the same result: written again, the same file (its noise models to round-off).
+  const nlohmann::json written = to_json(r.summary);
+  const nlohmann::json again = to_json(explain_summary_from_json(nlohmann::json::parse(written.dump())));
+  EXPECT_EQ(again["effects"], written["effects"]);
+  EXPECT_EQ(again["unexplained"], written["unexplained"]);
+  EXPECT_EQ(again["selection"]["steps"], written["selection"]["steps"]);
+  EXPECT_EQ(again["fit"], written["fit"]);
+  EXPECT_EQ(again["recording"], written["recording"]);
+  EXPECT_NEAR(again["noise"]["whitening_model"]["white_sigma"].get<double>(), written["noise"]["whitening_model"]["white_sigma"].get<double>(), 1e-12);
 }
 
 TEST(Explain, PlantedThermalLagIsFoundWithItsTimeConstant) {
