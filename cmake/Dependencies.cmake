@@ -58,6 +58,12 @@ if(NOT CLI11_FOUND)
   gyrosid_missing("CLI11" "libcli11-dev")
 endif()
 
+# MPI is optional: with it, the gyrosid-mpi executable spreads Monte Carlo runs over processes.
+find_package(MPI QUIET COMPONENTS CXX)
+if(NOT MPI_CXX_FOUND)
+  message(STATUS "gyrosid: MPI not found - gyrosid-mpi is not built (Debian: libopenmpi-dev openmpi-bin)")
+endif()
+
 find_program(GNUPLOT_EXECUTABLE gnuplot)
 if(NOT GNUPLOT_EXECUTABLE)
   gyrosid_missing("gnuplot (plots are rendered with it)" "gnuplot-nox")

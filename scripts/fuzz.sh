@@ -17,8 +17,8 @@ all=(recording sensor_config trajectory_config calibration_config flight_config 
 targets=("${@:-${all[@]}}")
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 
-scripts/setup.sh fuzz
 build="${GYROSID_BUILD_DIR:-build-fuzz}"
+[ "${GYROSID_FUZZ_NO_BUILD:-0}" = 1 ] || scripts/setup.sh fuzz   # GYROSID_FUZZ_NO_BUILD=1: use the build as it is
 
 seeds_of() {
   case "$1" in
@@ -42,7 +42,7 @@ for t in "${targets[@]}"; do
   [ -d "tests/fuzz/regressions/$t" ] && cp -n tests/fuzz/regressions/"$t"/* "$corpus"/ 2>/dev/null || true
   log="$build/fuzz_$t.log"
   echo "fuzz: $t for $seconds s (log $log)" >&2
-  if ! "$build/fuzz_$t" "$corpus" -max_total_time="$seconds" -max_len=65536 -rss_limit_mb=4096 -timeout=30 \
+  if ! "$build/tests/fuzz/fuzz_$t" "$corpus" -max_total_time="$seconds" -max_len=65536 -rss_limit_mb=4096 -timeout=30 \
         -artifact_prefix="$crashes/" -print_final_stats=1 > "$log" 2>&1; then
     echo "fuzz: $t CRASHED - see $log and $crashes/" >&2
     status=1

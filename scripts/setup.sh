@@ -26,6 +26,7 @@ packages=(
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox
+  libopenmpi-dev openmpi-bin
   python3 python3-numpy python3-scipy python3-sklearn python3-yaml
 )
 # libFuzzer comes with clang's runtime libraries.

@@ -1,5 +1,7 @@
 #include "core/config.h"
 
+#include <algorithm>
+
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -64,12 +66,42 @@ std::string config_text(const std::string& path) {
 
 ConfigNode ConfigNode::load(const std::string& path) { return parse(config_text(path), path); }
 
+namespace {
+
+// Every key of every map in the document must be a plain scalar, once per map: YAML allows keys that are
+// maps or lists ("? [a, b]: 1") and yaml-cpp allows repeated keys, but no gyrosid config means either. The
+// walk is bounded: aliases can make a short text expand to an enormous tree ("billion laughs").
+void check_keys(const YAML::Node& node, const std::string& source, int depth, long& budget) {
+  if (depth > 64) fail(source, mark_text(node), ": the document nests deeper than 64 levels");
+  if (--budget < 0) fail(source, ": the document expands to more than a million nodes (aliases?)");
+  if (node.IsMap()) {
+    std::vector<std::string> seen;
+    for (const auto& kv : node) {
+      if (!kv.first.IsScalar()) fail(source, mark_text(kv.first), ": a key must be a plain name, not a map or a list");
+      const std::string key = kv.first.Scalar();
+      if (std::find(seen.begin(), seen.end(), key) != seen.end()) fail(source, mark_text(kv.first), ": key '", key, "' appears twice");
+      seen.push_back(key);
+      check_keys(kv.second, source, depth + 1, budget);
+    }
+  } else if (node.IsSequence()) {
+    for (const auto& item : node) check_keys(item, source, depth + 1, budget);
+  }
+}
+
+}  // namespace
+
 ConfigNode ConfigNode::parse(const std::string& text, const std::string& source) {
+  YAML::Node root;
   try {
-    return ConfigNode(YAML::Load(text), source, "");
+    root = YAML::Load(text);
   } catch (const YAML::ParserException& e) {
     fail(source, ":", e.mark.line + 1, ":", e.mark.column + 1, ": YAML syntax error: ", e.msg);
+  } catch (const YAML::Exception& e) {
+    fail(source, ": not a YAML document: ", e.what());
   }
+  long budget = 1000000;
+  check_keys(root, source, 0, budget);
+  return ConfigNode(root, source, "");
 }
 
 std::string ConfigNode::child_path(std::string_view key) const {
@@ -106,7 +138,7 @@ std::optional<ConfigNode> ConfigNode::find(std::string_view key) const {
 std::vector<std::string> ConfigNode::keys() const {
   std::vector<std::string> out;
   if (!node_.IsMap()) return out;
-  for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
+  for (const auto& kv : node_) out.push_back(kv.first.Scalar());
   return out;
 }
 
@@ -118,7 +150,7 @@ void ConfigNode::allow_only(const std::vector<std::string>& allowed) const {
   if (node_.IsNull()) return;
   if (!node_.IsMap()) fail(where(), ": expected a map");
   for (const auto& kv : node_) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = kv.first.Scalar();
     bool ok = false;
     for (const auto& a : allowed) ok = ok || a == key;
     if (!ok) {

@@ -6,7 +6,7 @@
 //   3. calibrate the classical model on the soak and the RBF network on the dual scan;
 //   4. compare both with the true surface (Tables 5.2/5.3) and score both by the criterion of fit on the
 //      flights (Table 5.4), with a Monte Carlo on the short flight (s5.5);
-//   5. write report.md (tables, plots) and summary.json into `out`.
+//   5. write report.md and index.html (tables, plots, provenance) and summary.json into `out`.
 #pragma once
 
 #include <cstdint>
@@ -67,7 +67,7 @@ struct MainJobResult {
 // Runs the job and writes its outputs under options.out; Error (naming the option) for a bad request.
 MainJobResult run_main_job(const MainJobOptions& options);
 
-// report.md and summary.json of a finished job (main_job_report.cpp).
+// report.md, index.html (the same content with the plots inline) and summary.json of a finished job.
 void write_main_job_report(const MainJobOptions& options, const MainJobResult& result);
 
 }  // namespace gyrosid

@@ -5,7 +5,9 @@
 #include "core/atomic_file.h"
 #include "core/format.h"
 #include "pipeline/main_job.h"
+#include "core/version.h"
 #include "report/cof_json.h"
+#include "report/html.h"
 
 namespace gyrosid {
 namespace {
@@ -84,6 +86,23 @@ void noise_section(std::ostream& md, const MainJobResult& r) {
      << "![Allan deviation](allan/allan.png)\n";
 }
 
+// How to get the same report again, and where its inputs and products are.
+void provenance_section(std::ostream& md, const MainJobOptions& o) {
+  std::string command = "gyrosid run --out " + o.out.string() + " --sensor " + o.sensor + " --trajectory " + o.trajectory +
+                        " --soak " + o.soak + " --static-trajectory " + o.static_trajectory + " --classical-config " +
+                        o.classical_config + " --rbf-config " + o.rbf_config_used() + " --flights";
+  for (const auto& f : o.flights) command += " " + f;
+  command += " --start-temp-c " + format_number(o.start_temp_c) + " --seed " + std::to_string(o.seed) + (o.noisy ? " --noisy" : "");
+  md << "\n## Provenance\n\n"
+     << "- gyrosid " << version_string() << "\n"
+     << "- reproduce: `" << command << "` (same inputs and seed, same numbers)\n"
+     << "- configs: sensor `" << o.sensor << "`, RBF trajectory `" << o.trajectory << "`, soak `" << o.soak << "`, static run `"
+     << o.static_trajectory << "`, calibrations `" << o.classical_config << "` and `" << o.rbf_config_used() << "`\n"
+     << "- recordings: [dual scan](data/dual_scan.csv), [classical soak](data/classical_soak.csv)\n"
+     << "- models: [classical](models/classical.json), [RBF](models/rbf.json) (for gyrosid compensate, cof, export)\n"
+     << "- figures: [summary.json](summary.json), per-flight [cof.json](cof/) files\n";
+}
+
 nlohmann::json summary_json(const MainJobOptions& o, const MainJobResult& r) {
   nlohmann::json mc = nlohmann::json::object();
   for (const auto& c : r.short_monte_carlo) mc[c.request.model] = cof_json(c)["monte_carlo"];
@@ -118,8 +137,10 @@ void write_main_job_report(const MainJobOptions& o, const MainJobResult& r) {
   criterion_section(md, o, r);
   monte_carlo_section(md, r);
   noise_section(md, r);
+  provenance_section(md, o);
   write_file_atomic(o.out / "summary.json", summary_json(o, r).dump(2) + "\n");
   write_file_atomic(o.out / "report.md", md.str());
+  write_file_atomic(o.out / "index.html", markdown_to_html(md.str(), "gyrosid main job"));
 }
 
 }  // namespace gyrosid

@@ -72,5 +72,21 @@ TEST(Config, BuiltinConfigsAreEmbeddedAndResolveRelativePaths) {
               HasSubstr("builtin:sensors/open_loop_fog.yaml"));
 }
 
+// Found by fuzzing: keys that are maps or lists, repeated keys and alias bombs are located errors, not
+// yaml-cpp exceptions escaping the readers.
+TEST(Config, ComplexRepeatedAndExplodingKeysAreLocatedErrors) {
+  auto message = [](const std::string& text) { return testing_support::error_of([&] { ConfigNode::parse(text, "c.yaml"); }); };
+  EXPECT_THAT(message("? [a, b]\n: 1\n"), ::testing::HasSubstr("c.yaml:1:3: a key must be a plain name"));
+  EXPECT_THAT(message("a: 1\nb: 2\na: 3\n"), ::testing::HasSubstr("c.yaml:3:1: key 'a' appears twice"));
+  std::string bomb = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int k = 1; k < 8; ++k) {
+    bomb += "a" + std::to_string(k) + ": &a" + std::to_string(k) + " [";
+    for (int j = 0; j < 10; ++j) bomb += std::string(j ? ", " : "") + "*a" + std::to_string(k - 1);
+    bomb += "]\n";
+  }
+  EXPECT_THAT(message(bomb), ::testing::HasSubstr("more than a million nodes"));
+  EXPECT_EQ(ConfigNode::parse("a: 1\nb: {c: 2}\n", "ok.yaml").keys(), (std::vector<std::string>{"a", "b"}));
+}
+
 }  // namespace
 }  // namespace gyrosid
