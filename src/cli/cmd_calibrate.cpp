@@ -1,6 +1,7 @@
 // gyrosid calibrate: fit a calibration model to a recording (solvers/calibrate.h).
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "cli/app.h"
 #include "cli/triad_commands.h"
@@ -10,6 +11,7 @@
 #include "core/recording.h"
 #include "model/calibration_model.h"
 #include "solvers/calibrate.h"
+#include "solvers/preset_choice.h"
 #include "solvers/solver.h"
 
 namespace gyrosid::cli {
@@ -68,7 +70,18 @@ void run_calibrate(CalibrateOptions o) {
     request.options[key] = value;
   }
   const Recording rec = read_recording(o.recording);
-  const CalibrationResult result = calibrate(rec, request);
+  // Nothing chosen: characterise the noise and pick the preset for it, saying why.
+  const bool choose = o.config.empty() && o.model.empty() && o.solver.empty() && o.set.empty() && o.features.empty() &&
+                      o.target.empty() && o.normalization.empty();
+  std::optional<PresetChoice> choice;
+  if (choose) {
+    choice = choose_preset(rec);
+    request = choice->request;
+    for (const auto& line : choice->reasons) std::cout << line << "\n";
+  }
+  CalibrationResult result = calibrate(rec, request);
+  if (choice) result.training["preset"] = {{"chosen", choice->preset}, {"reasons", choice->reasons}};
+  if (result.summary.details.contains("noise_choice")) std::cout << "noise model: " << result.summary.details["noise_choice"].get<std::string>() << "\n";
   save_model(o.out, *result.model, {{"training", result.training}, {"summary", result.summary}});
   std::cout << "wrote " << o.out << ": " << result.model->kind() << " model";
   const SolveSummary& s = result.summary;
@@ -83,10 +96,10 @@ void run_calibrate(CalibrateOptions o) {
 
 void register_calibrate(CLI::App& app, Action& action) {
   auto o = std::make_shared<CalibrateOptions>();
-  CLI::App* cmd = app.add_subcommand("calibrate", "Fit a calibration model (rbf, classical, greybox) to a recording");
+  CLI::App* cmd = app.add_subcommand("calibrate", "Fit a calibration model (rbf, classical, greybox, hybrid) to a recording; without options, a preset chosen from its noise");
   cmd->add_option("--recording", o->recording, "Training recording (single gyro, with ref_rate_dps)");
-  cmd->add_option("--model", o->model, "rbf (default), classical, greybox, or triad (three gyros: misalignment, biases, surfaces)");
-  cmd->add_option("--solver", o->solver, "RBF solver: ols (default), lrols_loo, ofs_loo, ceres, nlopt, ipopt; triad: ceres (default), nlopt, ipopt");
+  cmd->add_option("--model", o->model, "rbf, classical, greybox, hybrid (physics + Bayesian RBF), or triad (three gyros: misalignment, biases, surfaces)");
+  cmd->add_option("--solver", o->solver, "RBF solver: ols (default with --model rbf), lrols_loo, ofs_loo, ceres, nlopt, ipopt, bayes; triad: ceres (default), nlopt, ipopt");
   cmd->add_option("--surfaces", o->surfaces, "triad: per-gyro error surfaces none (default), classical, greybox or rbf");
   cmd->add_flag("--joint", o->joint, "triad: estimate everything in one least-squares problem (default)");
   cmd->add_flag("--sequential", o->sequential, "triad: misalignment and biases first, then the surfaces");
@@ -104,6 +117,8 @@ void register_calibrate(CLI::App& app, Action& action) {
       "  gyrosid calibrate --options-of ceres\n"
       "  gyrosid calibrate --model triad --recording triad.csv --surfaces classical --solver ceres --joint --out triad.json\n"
       "  gyrosid calibrate --options-of triad      (triad options, nls back-ends)\n"
+      "Without --model, --solver, --set or --config the recording's noise is characterised and a preset chosen\n"
+      "(builtin:calibration/rbf_noise_free.yaml or rbf_noisy.yaml); what was measured and why is printed.\n"
       "The thesis's configuration: --solver ols --normalization units --set width=17.5 --set criterion=bic\n"
       "(Orr's toolbox on deg/s and deg C with node scale 17.5).");
   cmd->callback([o, &action] { action = [o] { run_calibrate(*o); }; });

@@ -27,6 +27,7 @@ void register_compensate(CLI::App& app, Action& action) {
       if (r.rms_before_dph) {
         std::cout << "; rms error against " << (triad ? "ref_rate_{x,y,z}_dps " : "ref_rate_dps ") << format_significant(*r.rms_before_dph, 4) << " -> "
                   << format_significant(*r.rms_after_dph, 4) << " deg/h";
+        if (r.coverage_95) std::cout << "; the 95 % predictive band (compensated_sigma_dps) covers " << format_significant(100 * *r.coverage_95, 3) << " %";
       }
       std::cout << "\n";
     };

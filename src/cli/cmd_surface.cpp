@@ -51,7 +51,8 @@ void run_surface(const SurfaceOptions& o) {
   const std::filesystem::path dir = o.out;
   const Eigen::MatrixXd diff = c.difference_dph();
   write_file_atomic(dir / "surface.csv", [&](std::ostream& out) {
-    out << "temp_c,rate_dps,measured_rate_dps,true_dph,estimated_dph,difference_dph\n";
+    const bool sigma = c.sigma_dph.size() > 0;
+    out << "temp_c,rate_dps,measured_rate_dps,true_dph,estimated_dph,difference_dph" << (sigma ? ",sigma_dph" : "") << "\n";
     for (std::size_t i = 0; i < c.temps_c.size(); ++i)
       for (std::size_t j = 0; j < c.rates_dps.size(); ++j) {
         const auto ii = static_cast<Eigen::Index>(i), jj = static_cast<Eigen::Index>(j);
@@ -59,13 +60,16 @@ void run_surface(const SurfaceOptions& o) {
         const double measured = c.rates_dps[j] + c.true_dph(ii, jj) / 3600.0;
         out << format_number(c.temps_c[i]) << ',' << format_number(c.rates_dps[j]) << ',' << format_number(measured) << ','
             << format_number(c.true_dph(ii, jj))
-            << ',' << format_number(c.estimated_dph(ii, jj)) << ',' << format_number(diff(ii, jj)) << '\n';
+            << ',' << format_number(c.estimated_dph(ii, jj)) << ',' << format_number(diff(ii, jj));
+        if (sigma) out << ',' << format_number(c.sigma_dph(ii, jj));
+        out << '\n';
       }
   });
   nlohmann::json j = {{"model", o.model}, {"kind", model->kind()}, {"sensor", o.sensor},
                       {"grid", {{"temp_c", {grid.temp_min_c, grid.temp_max_c}}, {"rate_dps", {grid.rate_min_dps, grid.rate_max_dps}},
                                 {"points", {grid.temp_points, grid.rate_points}}}},
                       {"difference", c.stats.to_json()}};
+  if (c.sigma_dph.size() > 0) j["sigma"] = c.sigma_stats.to_json();
   const auto* rbf = dynamic_cast<const RbfNetwork*>(model.get());
   if (rbf) j["nodes"] = rbf->nodes();
   write_file_atomic(dir / "surface.json", j.dump(2) + "\n");
@@ -74,6 +78,12 @@ void run_surface(const SurfaceOptions& o) {
                     "Estimated error surface (" + std::string(model->kind()) + ")", "error (deg/h)");
   plot_grid_surface(dir / "difference.png", c.temps_c, c.rates_dps, diff,
                     "Estimated - true (rms " + format_significant(c.stats.rms_dph, 3) + " deg/h)", "difference (deg/h)");
+  if (c.sigma_dph.size() > 0) {
+    plot_grid_surface(dir / "sigma.png", c.temps_c, c.rates_dps, c.sigma_dph,
+                      "Predictive sigma of the estimate (rms " + format_significant(c.sigma_stats.rms_sigma_dph, 3) + " deg/h; 95 % band covers " +
+                          format_significant(100 * c.sigma_stats.coverage_95, 3) + " % of |estimated - true|)",
+                      "sigma (deg/h)");
+  }
   if (rbf) {
     // Node centres back in physical units (rate in deg/s, temperature in C) where the inputs allow.
     std::vector<std::array<double, 2>> nodes;
@@ -91,7 +101,12 @@ void run_surface(const SurfaceOptions& o) {
             << grid.temp_min_c << ", " << grid.temp_max_c << "] C x omega [" << grid.rate_min_dps << ", " << grid.rate_max_dps
             << "] deg/s: mean " << format_significant(c.stats.mean_dph, 3) << ", sigma " << format_significant(c.stats.sigma_dph, 3)
             << ", max " << format_significant(c.stats.max_dph, 3) << ", min " << format_significant(c.stats.min_dph, 3)
-            << ", rms " << format_significant(c.stats.rms_dph, 3) << " deg/h\n";
+            << ", rms " << format_significant(c.stats.rms_dph, 3) << " deg/h";
+  if (c.sigma_dph.size() > 0) {
+    std::cout << "; predictive sigma rms " << format_significant(c.sigma_stats.rms_sigma_dph, 3) << " deg/h, 95 % band covers "
+              << format_significant(100 * c.sigma_stats.coverage_95, 3) << " % of the grid";
+  }
+  std::cout << "\n";
 }
 
 }  // namespace
@@ -104,7 +119,7 @@ void register_surface(CLI::App& app, Action& action) {
   cmd->add_option("--temp-range", o->temp_range, "lo,hi in C (default: the training temperatures within the sensor's grid)");
   cmd->add_option("--rate-range", o->rate_range, "lo,hi in deg/s (default -100,100)");
   cmd->add_option("--points", o->points, "grid points: temperatures,rates (default 81,101)");
-  cmd->add_option("--out", o->out, "Output directory: surface.json, surface.csv, PNG plots")->required();
+  cmd->add_option("--out", o->out, "Output directory: surface.json, surface.csv, PNG plots (sigma.png: the predictive sigma map of a model with a posterior)")->required();
   cmd->footer("Statistics of estimated - true, in deg/h, as the thesis's Tables 5.2/5.3: mean, sigma, max, min (and rms).");
   cmd->callback([o, &action] { action = [o] { run_surface(*o); }; });
 }

@@ -1,6 +1,7 @@
 // Compensation of a whole recording (thesis figs 4.17-4.19): the recording with the model's compensated
 // rate added as compensated_dps, and the rms error against the reference before and after where the
-// recording has one.
+// recording has one. A model with a posterior also adds compensated_sigma_dps, the predictive sigma of its
+// estimate (steady state), and the fraction of samples whose compensated - reference lies inside 1.96 sigma.
 #pragma once
 
 #include <optional>
@@ -15,6 +16,7 @@ struct CompensatedRecording {
   Recording recording;                  // the input plus compensated_dps
   std::optional<double> rms_before_dph;  // gyro - ref, when ref_rate_dps is recorded everywhere
   std::optional<double> rms_after_dph;   // compensated - ref
+  std::optional<double> coverage_95;     // |compensated - ref| <= 1.96 sigma, models with a posterior
 };
 
 CompensatedRecording compensate_recording(const CalibrationModel& model, Recording recording);

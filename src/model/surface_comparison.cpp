@@ -19,6 +19,10 @@ nlohmann::json SurfaceStats::to_json() const {
   return {{"mean_dph", mean_dph}, {"sigma_dph", sigma_dph}, {"max_dph", max_dph}, {"min_dph", min_dph}, {"rms_dph", rms_dph}};
 }
 
+nlohmann::json SigmaStats::to_json() const {
+  return {{"rms_sigma_dph", rms_sigma_dph}, {"max_sigma_dph", max_sigma_dph}, {"coverage_95", coverage_95}};
+}
+
 SurfaceStats surface_stats(const Eigen::MatrixXd& diff) {
   SurfaceStats s;
   const double n = static_cast<double>(diff.size());
@@ -39,6 +43,7 @@ SurfaceComparison compare_surfaces(const CalibrationModel& model, const GyroSens
   c.estimated_dph.resize(g.temp_points, g.rate_points);
   const double gravity = earth::normal_gravity(0.0);
   std::vector<double> x(model.features().size());
+  Eigen::MatrixXd inputs(g.temp_points * g.rate_points, static_cast<Eigen::Index>(x.size()));  // row i * rates + j
   for (int i = 0; i < g.temp_points; ++i) {
     for (int j = 0; j < g.rate_points; ++j) {
       GyroEnvironment env;
@@ -55,6 +60,7 @@ SurfaceComparison compare_surfaces(const CalibrationModel& model, const GyroSens
         else if (f == "accel_z_mps2") x[k] = gravity;
         else fail("surface comparison: no steady-state value for model input '", f, "'");
       }
+      for (std::size_t k = 0; k < x.size(); ++k) inputs(i * g.rate_points + j, static_cast<Eigen::Index>(k)) = x[k];
       const double p = model.predict(x.data());
       const double estimated_error = model.target() == ModelTarget::error ? p : wm - p;
       c.true_dph(i, j) = units::radps_to_dph(wm - w);
@@ -62,6 +68,19 @@ SurfaceComparison compare_surfaces(const CalibrationModel& model, const GyroSens
     }
   }
   c.stats = surface_stats(c.difference_dph());
+  if (model.posterior()) {
+    const Eigen::VectorXd sigma = model.predict_with_sigma(inputs).sigma;
+    c.sigma_dph.resize(g.temp_points, g.rate_points);
+    int inside = 0;
+    for (int i = 0; i < g.temp_points; ++i)
+      for (int j = 0; j < g.rate_points; ++j) {
+        c.sigma_dph(i, j) = units::radps_to_dph(sigma(i * g.rate_points + j));
+        inside += std::abs(c.estimated_dph(i, j) - c.true_dph(i, j)) <= 1.96 * c.sigma_dph(i, j);
+      }
+    c.sigma_stats.rms_sigma_dph = std::sqrt(c.sigma_dph.squaredNorm() / static_cast<double>(c.sigma_dph.size()));
+    c.sigma_stats.max_sigma_dph = c.sigma_dph.maxCoeff();
+    c.sigma_stats.coverage_95 = static_cast<double>(inside) / static_cast<double>(c.sigma_dph.size());
+  }
   return c;
 }
 

@@ -25,11 +25,21 @@ struct SurfaceStats {
   nlohmann::json to_json() const;
 };
 
+// The predictive sigma of a model with a posterior (CalibrationModel::predict_with_sigma) over the grid, and
+// how well it describes the actual error: rms sigma, and the fraction of grid points whose |estimated -
+// true| lies inside the 95 % band (1.96 sigma).
+struct SigmaStats {
+  double rms_sigma_dph = 0, max_sigma_dph = 0, coverage_95 = 0;
+  nlohmann::json to_json() const;
+};
+
 struct SurfaceComparison {
   std::vector<double> temps_c, rates_dps;       // grid axes (rates: true rate)
   Eigen::MatrixXd true_dph, estimated_dph;      // temps x rates
+  Eigen::MatrixXd sigma_dph;                    // temps x rates; empty for a model without a posterior
   Eigen::MatrixXd difference_dph() const { return estimated_dph - true_dph; }
   SurfaceStats stats;
+  SigmaStats sigma_stats;                       // when sigma_dph is filled
 };
 
 SurfaceComparison compare_surfaces(const CalibrationModel& model, const GyroSensor& truth, const SurfaceGridSpec& grid);

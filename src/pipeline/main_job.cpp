@@ -56,6 +56,12 @@ void compare_with_truth(CalibratedModel& c, const GyroSensor& truth, const Surfa
   plot_grid_surface(dir / "surfaces" / (c.label + "_difference.png"), c.surface.temps_c, c.surface.rates_dps, c.surface.difference_dph(),
                     c.label + ": estimated - true rate error (rms " + format_significant(c.surface.stats.rms_dph, 3) + " deg/h)",
                     "difference (deg/h)");
+  if (c.surface.sigma_dph.size() > 0) {  // a model with a posterior: its predictive sigma beside the error
+    plot_grid_surface(dir / "surfaces" / (c.label + "_sigma.png"), c.surface.temps_c, c.surface.rates_dps, c.surface.sigma_dph,
+                      c.label + ": predictive sigma (rms " + format_significant(c.surface.sigma_stats.rms_sigma_dph, 3) + " deg/h, 95 % band covers " +
+                          format_significant(100 * c.surface.sigma_stats.coverage_95, 3) + " %)",
+                      "sigma (deg/h)");
+  }
 }
 
 // Step 2: the noise of a static run (gyro - reference), Allan deviation.

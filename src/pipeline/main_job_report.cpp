@@ -37,6 +37,13 @@ void surfaces_section(std::ostream& md, const MainJobResult& r) {
        << cell(s.rms_dph) << " |\n";
   }
   md << "\n![classical](surfaces/classical_difference.png)\n\n![rbf](surfaces/rbf_difference.png)\n\n";
+  for (const CalibratedModel* c : {&r.classical, &r.rbf}) {
+    if (c->surface.sigma_dph.size() == 0) continue;
+    const auto& s = c->surface.sigma_stats;
+    md << "The " << c->label << " model's predictive sigma (its posterior): rms " << cell(s.rms_sigma_dph) << " deg/h, max "
+       << cell(s.max_sigma_dph) << " deg/h; the 95 % band covers " << cell(100 * s.coverage_95) << " % of |estimated - true|.\n\n![" << c->label
+       << " sigma](surfaces/" << c->label << "_sigma.png)\n\n";
+  }
 }
 
 void criterion_section(std::ostream& md, const MainJobOptions& o, const MainJobResult& r) {
@@ -110,6 +117,7 @@ nlohmann::json summary_json(const MainJobOptions& o, const MainJobResult& r) {
                       {"start_temp_c", o.start_temp_c}, {"monte_carlo_short", mc}};
   for (const CalibratedModel* c : {&r.classical, &r.rbf}) {
     j["models"][c->label] = {{"config", c->config}, {"surface", c->surface.stats.to_json()}, {"summary", c->result.summary}};
+    if (c->surface.sigma_dph.size() > 0) j["models"][c->label]["sigma"] = c->surface.sigma_stats.to_json();
   }
   for (const auto& s : r.flights) {
     j["criterion_of_fit"][s.flight] = {{"uncompensated", uncompensated_json(s.rbf.uncompensated)},

@@ -143,7 +143,7 @@ TEST_F(Cli, CalibrationChainOnNoiseFreeDataBeatsTheRawGyroByOrdersOfMagnitude) {
   ASSERT_EQ(run("simulate --noise-free --samples 1111 --out " + path("dual.csv")).status, 0);
   Result r = run("calibrate --recording " + path("dual.csv") + " --config builtin:calibration/rbf_noisy.yaml --out " + path("rbf.json"));
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_THAT(r.output, HasSubstr("rbf model"));
+  EXPECT_THAT(r.output, HasSubstr("hybrid model"));
   r = run("compensate --model " + path("rbf.json") + " --recording " + path("dual.csv") + " --out " + path("comp.csv"));
   ASSERT_EQ(r.status, 0) << r.output;
   const Recording c = read_recording(path("comp.csv"));
@@ -382,6 +382,40 @@ TEST_F(Cli, HelpTeaches) {
   EXPECT_THAT(run("allan --help").output, HasSubstr("IEEE Std 952"));
   EXPECT_THAT(run("--help").output, HasSubstr("simulate"));
   EXPECT_THAT(run("--help").output, HasSubstr("GYROSID_THREADS"));
+}
+
+}  // namespace
+}  // namespace gyrosid
+
+namespace gyrosid {
+namespace {
+
+// calibrate with no options characterises the noise and says which preset it chose and why; the hybrid's
+// posterior gives surface a sigma map whose 95 % band covers most of the actual error, and compensate a
+// sigma column.
+TEST_F(Cli, CalibrateWithoutOptionsChoosesAPresetFromTheNoise) {
+  ASSERT_EQ(run("simulate --noise-free --samples 1111 --out " + path("clean.csv")).status, 0);
+  ASSERT_EQ(run("simulate --seed 4 --samples 2222 --out " + path("noisy.csv")).status, 0);
+  Result r = run("calibrate --recording " + path("clean.csv") + " --out " + path("clean.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("noise-free"));
+  EXPECT_THAT(r.output, HasSubstr("rbf_noise_free.yaml"));
+  r = run("calibrate --recording " + path("noisy.csv") + " --out " + path("noisy.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("rbf_noisy.yaml"));
+  EXPECT_THAT(r.output, HasSubstr("noise model: "));
+  const auto model = read_json(dir_ / "noisy.json");
+  EXPECT_EQ(model["training"]["preset"]["chosen"], "builtin:calibration/rbf_noisy.yaml");
+  EXPECT_THAT(r.output, HasSubstr("noise: white "));
+  ASSERT_EQ(run("surface --model " + path("noisy.json") + " --out " + path("surface")).status, 0);
+  const auto s = read_json(dir_ / "surface" / "surface.json");
+  ASSERT_TRUE(s.contains("sigma"));
+  EXPECT_GT(s["sigma"]["coverage_95"].get<double>(), 0.8);
+  EXPECT_GT(s["sigma"]["rms_sigma_dph"].get<double>(), 0.2 * s["difference"]["rms_dph"].get<double>());
+  EXPECT_LT(s["sigma"]["rms_sigma_dph"].get<double>(), 5.0 * s["difference"]["rms_dph"].get<double>());
+  EXPECT_TRUE(fs::exists(dir_ / "surface" / "sigma.png"));
+  ASSERT_EQ(run("compensate --model " + path("noisy.json") + " --recording " + path("clean.csv") + " --out " + path("comp.csv")).status, 0);
+  EXPECT_EQ(read_recording(path("comp.csv")).column("compensated_sigma_dps").size(), 1111u);
 }
 
 }  // namespace

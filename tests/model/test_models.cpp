@@ -13,6 +13,9 @@
 #include "core/units.h"
 #include "model/classical_model.h"
 #include "model/greybox_fit.h"
+#include "model/hybrid_model.h"
+#include "error_of.h"
+#include "model_samples.h"
 #include "model/rbf_network.h"
 #include "sensor/sensor_config.h"
 #include "sim/simulate.h"
@@ -120,6 +123,34 @@ TEST(GreyboxModel, RecoversAPlantedUnifiedModelWithShupeAsymmetryAndLag) {
   // Compensation with the fitted model removes the errors along the recording.
   const Eigen::VectorXd comp = compensate(*m, d);
   EXPECT_LT(radps_to_dph(std::sqrt((comp - d.reference).squaredNorm() / d.size())), 0.05);
+}
+
+}  // namespace
+}  // namespace gyrosid
+
+namespace gyrosid {
+namespace {
+
+// A model's regressors reproduce its prediction with the posterior's weights: the hybrid's physics and RBF
+// columns at the inverted true rate.
+TEST(HybridModel, RegressorsTimesWeightsArePredictionsAndSigmaIsTheQuadraticForm) {
+  const auto m = testing_support::model_samples().at("hybrid")();
+  const auto& h = dynamic_cast<const HybridModel&>(*m);
+  Eigen::VectorXd weights(h.rbf().nodes() + h.coefficients().size());
+  weights << h.rbf().weights, h.coefficients();
+  Eigen::MatrixXd x(5, 2);
+  x << dps_to_radps(-90), -15, dps_to_radps(-3), 0, 0, 25, dps_to_radps(40), 44, dps_to_radps(100), 61;
+  const Eigen::MatrixXd reg = m->regressors(x);
+  const PredictionWithSigma p = m->predict_with_sigma(x);
+  const Eigen::MatrixXd cov = m->posterior()->covariance();
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    const double xi[2] = {x(i, 0), x(i, 1)};
+    EXPECT_NEAR(reg.row(i).dot(weights), m->predict(xi), 1e-15);
+    EXPECT_NEAR(p.value(i), m->predict(xi), 0.0);
+    EXPECT_NEAR(p.sigma(i), std::sqrt(reg.row(i) * cov * reg.row(i).transpose()), 1e-12 * p.sigma(i));
+  }
+  EXPECT_THAT(testing_support::error_of([] { testing_support::model_samples().at("classical")()->regressors(Eigen::MatrixXd(1, 2)); }),
+              ::testing::HasSubstr("no posterior"));
 }
 
 }  // namespace
