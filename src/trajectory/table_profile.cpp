@@ -75,6 +75,10 @@ std::string TableProfile::check_limits() const {
     const auto& s = segments[i];
     const std::string where = str_cat("segment ", i + 1, " ('", s.label, "', starting at ", t / 60.0, " min)");
     if (!(s.duration_s > 0)) return str_cat(where, ": duration must be positive");
+    if (i > 0 && std::abs(s.chamber_start_c - segments[i - 1].chamber_end_c) > 1e-9) {
+      return str_cat(where, ": the chamber starts at ", s.chamber_start_c, " C but the previous segment ends at ",
+                     segments[i - 1].chamber_end_c, " C (the chamber cannot jump)");
+    }
     for (double temp : {s.chamber_start_c, s.chamber_end_c}) {
       if (temp < limits.min_c || temp > limits.max_c) {
         return str_cat(where, ": chamber temperature ", temp, " C is outside the chamber range [", limits.min_c, ", ",

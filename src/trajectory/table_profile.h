@@ -65,7 +65,8 @@ struct TableProfile {
   double duration_s() const;
   double duration_min() const { return duration_s() / 60.0; }
   PiecewiseLinear chamber_temperature() const;  // knots at segment boundaries
-  // Empty when every segment respects the chamber limits; otherwise names the first offending segment.
+  // Empty when every segment respects the chamber limits (range, rate, continuity from segment to segment);
+  // otherwise names the first offending segment.
   std::string check_limits() const;
 };
 

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "trajectory/calibration_trajectories.h"
+#include "trajectory/programme.h"
 
 namespace gyrosid {
 namespace {
@@ -119,6 +120,11 @@ TrajectorySpec load_trajectory(const ConfigNode& node) {
                                                           : test_cycles(o);
       break;
     }
+    case CalibrationKind::programme:
+      allow({"segments"});
+      spec.profile.kind = "programme";
+      spec.profile.segments = load_programme_segments(node, position);
+      break;
   }
   spec.profile.name = node.text("name", to_string(kind).data());
   spec.description = node.text("description", "");

@@ -1,5 +1,6 @@
 // Calibration trajectories from YAML (configs/trajectories/*.yaml): the profile kind and its parameters,
-// the chamber's limits, the table's latitude and the sampling.
+// the chamber's limits, the table's latitude and the sampling. Kind `programme` lists its segments
+// explicitly (trajectory/programme.h).
 #pragma once
 
 #include <array>
@@ -13,18 +14,19 @@
 
 namespace gyrosid {
 
-enum class CalibrationKind { static_run, thermal_ramp, classical_soak, single_scan, dual_scan, test_cycles };
+enum class CalibrationKind { static_run, thermal_ramp, classical_soak, single_scan, dual_scan, test_cycles, programme };
 
 template <>
 struct EnumNames<CalibrationKind> {
   static constexpr std::string_view kNoun = "calibration trajectory kind";
-  static constexpr std::array<std::pair<CalibrationKind, std::string_view>, 6> kTable{
+  static constexpr std::array<std::pair<CalibrationKind, std::string_view>, 7> kTable{
       {{CalibrationKind::static_run, "static"},
        {CalibrationKind::thermal_ramp, "thermal_ramp"},
        {CalibrationKind::classical_soak, "classical_soak"},
        {CalibrationKind::single_scan, "single_scan"},
        {CalibrationKind::dual_scan, "dual_scan"},
-       {CalibrationKind::test_cycles, "test_cycles"}}};
+       {CalibrationKind::test_cycles, "test_cycles"},
+       {CalibrationKind::programme, "programme"}}};
 };
 
 struct TrajectorySpec {

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/units.h"
 #include "trajectory/calibration_trajectories.h"
+#include "trajectory/programme.h"
 #include "trajectory/trajectory_config.h"
 
 namespace gyrosid {
@@ -183,6 +184,48 @@ TEST(Trajectories, ThesisAliasingOf1000SamplesIsReproducible) {
   const std::size_t aliased = distinct_rates(1000), fixed = distinct_rates(1111);
   EXPECT_LE(aliased, 126u);
   EXPECT_GT(fixed, 5 * aliased);
+}
+
+TEST(Trajectories, EveryKindWrittenAsAProgrammeReadsBackToTheSameExcitation) {
+  for (const char* name : {"dual_scan", "single_scan", "test_4x16", "classical_soak", "static_2h"}) {
+    const TrajectorySpec spec = load_trajectory_file(std::string("builtin:trajectories/") + name + ".yaml");
+    const TrajectorySpec back = load_trajectory(ConfigNode::parse(programme_yaml(spec), "programme.yaml"));
+    EXPECT_EQ(back.profile.kind, "programme");
+    ASSERT_EQ(back.profile.segments.size(), spec.profile.segments.size()) << name;
+    EXPECT_EQ(back.times().size(), spec.times().size()) << name;
+    EXPECT_DOUBLE_EQ(back.profile.duration_s(), spec.profile.duration_s()) << name;
+    std::vector<double> t;
+    for (double s = 0; s < spec.profile.duration_s(); s += 7.3) t.push_back(s);
+    const Excitation a = excite(spec.profile, t, {0.0, {300.0}}), b = excite(back.profile, t, {0.0, {300.0}});
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      ASSERT_NEAR((a.omega_ib_b[k] - b.omega_ib_b[k]).norm(), 0.0, 1e-12) << name << " at " << t[k] << " s";
+      ASSERT_NEAR(a.coil_temp_c[k], b.coil_temp_c[k], 1e-9) << name;
+      ASSERT_EQ(a.position_id[k], b.position_id[k]) << name;
+    }
+  }
+}
+
+TEST(Trajectories, ProgrammeLimitsAreCheckedAsForTheHandMadeKinds) {
+  const std::string head = "kind: programme\nchamber: {rate_limit_c_per_min: 5, min_c: -40, max_c: 85}\nsampling: {rate_hz: 1}\n";
+  auto error_of = [&](const std::string& segments) -> std::string {
+    try {
+      load_trajectory(ConfigNode::parse(head + segments, "p.yaml"));
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(error_of("segments:\n  - {duration_min: 10, chamber_c: [0, 50], rate_dps: 10}\n"), "");
+  EXPECT_THAT(error_of("segments:\n  - {duration_min: 9, chamber_c: [0, 50], rate_dps: 10}\n"),
+              ::testing::HasSubstr("exceeds the chamber limit 5"));
+  EXPECT_THAT(error_of("segments:\n  - {duration_min: 20, chamber_c: [0, -50], rate_dps: 10}\n"),
+              ::testing::HasSubstr("outside the chamber range"));
+  EXPECT_THAT(error_of("segments:\n  - {duration_min: 5, chamber_c: 10, rate_dps: 0}\n  - {duration_min: 5, chamber_c: 20, rate_dps: 0}\n"),
+              ::testing::HasSubstr("segment 2 ('segment 2', starting at 5 min): the chamber starts at 20 C"));
+  EXPECT_THAT(error_of("segments:\n  - {duration_min: 5, chamber_c: 10, rate_dps: {triangle: [10, -10], cycles: 2}}\n"),
+              ::testing::HasSubstr("p.yaml:5"));
+  EXPECT_THAT(error_of("segments:\n  - {duration_min: 5, chamber_c: 10, rate_dps: 0, speed: 3}\n"),
+              ::testing::HasSubstr("unknown key 'speed'"));
 }
 
 }  // namespace
