@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   register_export(app, action);
   register_cof(app, action);
   register_explain(app, action);
+  register_design(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -23,5 +23,6 @@ void register_export(CLI::App& app, Action& action);
 void register_surface(CLI::App& app, Action& action);
 void register_cof(CLI::App& app, Action& action);
 void register_explain(CLI::App& app, Action& action);
+void register_design(CLI::App& app, Action& action);
 
 }  // namespace gyrosid::cli

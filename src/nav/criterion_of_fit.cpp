@@ -1,5 +1,6 @@
 #include "nav/criterion_of_fit.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/earth_model.h"
@@ -145,8 +146,8 @@ std::array<std::vector<double>, 3> CofEvaluator::compensate(const std::array<std
   return out;
 }
 
-CofRun CofEvaluator::integrate(const std::array<std::vector<double>, 3>& rates, bool record_growth) const {
-  const std::size_t n = excitation_.size();
+CofRun CofEvaluator::integrate(const std::array<std::vector<double>, 3>& rates, bool record_growth, std::size_t steps) const {
+  const std::size_t n = steps > 0 ? std::min(steps, excitation_.size()) : excitation_.size();
   const double dt = flight_.dt_s;
   StrapdownIns ins(flight_.initial(), dt);
   CofRun r;
@@ -173,6 +174,11 @@ CofRun CofEvaluator::integrate(const std::array<std::vector<double>, 3>& rates, 
   r.error_ned = error_at(n);
   r.end_error_m = r.error_ned.norm();
   return r;
+}
+
+Eigen::Vector3d CofEvaluator::position_error(const std::array<std::vector<double>, 3>& rates, double at_s) const {
+  const auto steps = static_cast<std::size_t>(std::llround(std::clamp(at_s, flight_.dt_s, duration_s()) / flight_.dt_s));
+  return integrate(rates, false, steps).error_ned;
 }
 
 CofRun CofEvaluator::run(CompensationMode mode, bool noise, std::uint64_t seed, bool record_growth) const {

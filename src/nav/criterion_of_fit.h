@@ -87,8 +87,17 @@ class CofEvaluator {
   double max_abs_rate_dps() const { return max_rate_dps_; }
   std::size_t clipped_samples() const { return clipped_; }
 
+  // For the linearised criterion (src/design): the reference rates (clipped) and temperatures, the noise-free
+  // sensor outputs per axis, the temperature the model is given, and the position error (NED, m) `at_s`
+  // into the flight of the INS fed `rates` (per axis, one per step) instead of the reference rates.
+  const Excitation& excitation() const { return excitation_; }
+  const std::array<std::vector<double>, 3>& deterministic_outputs() const { return deterministic_; }
+  const std::vector<double>& model_temperature_c() const { return probe_temp_; }
+  Eigen::Vector3d position_error(const std::array<std::vector<double>, 3>& rates, double at_s) const;
+
  private:
-  CofRun integrate(const std::array<std::vector<double>, 3>& rates, bool record_growth) const;
+  // INS over the first `steps` steps (all when 0).
+  CofRun integrate(const std::array<std::vector<double>, 3>& rates, bool record_growth, std::size_t steps = 0) const;
   std::array<std::vector<double>, 3> compensate(const std::array<std::vector<double>, 3>& measured) const;
 
   const FlightTrajectory& flight_;

@@ -1,0 +1,203 @@
+// gyrosid design: optimise a calibration trajectory for a time budget, or state the predicted accuracy of
+// existing trajectories (--evaluate).
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "cli/app.h"
+#include "cli/common.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/format.h"
+#include "core/units.h"
+#include "design/design.h"
+#include "design/design_solver.h"
+#include "report/design_report.h"
+#include "trajectory/programme.h"
+
+namespace gyrosid::cli {
+namespace {
+
+struct DesignCommand {
+  double budget_min = 0.0;
+  std::string model = "rbf", envelope = "short,medium,long", uniform_domain = "-20,60,100", criterion;
+  std::string sensor = kDefaultSensor, solver = "nlopt", out, options_of, reference, reference_model;
+  std::vector<std::string> set, evaluate, compare{"builtin:trajectories/dual_scan.yaml"};
+  std::uint64_t seed = 1;
+
+  std::string command_line() const {
+    std::string out = evaluate.empty() ? str_cat("gyrosid design --budget-min ", format_number(budget_min)) : "gyrosid design --evaluate";
+    for (const auto& e : evaluate) out += " " + e;
+    out += str_cat(" --model ", model, " --envelope ", envelope, " --sensor ", sensor);
+    if (evaluate.empty()) out += str_cat(" --solver ", solver, " --seed ", seed);
+    if (!criterion.empty()) out += " --criterion " + criterion;
+    for (const auto& kv : set) out += " --set " + kv;
+    return out;
+  }
+};
+
+std::vector<std::string> split(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+std::string describe(const design::Prediction& p) {
+  std::string out;
+  for (const auto& f : p.flights) {
+    out += str_cat(out.empty() ? "" : ", ", f.flight, " ", format_significant(f.cof_m, 3), " m (",
+                   format_significant(f.surface_rms_dph, 3), " deg/h)");
+  }
+  if (p.uniform_surface_rms_dph) out += str_cat(out.empty() ? "" : ", ", "uniform ", format_significant(*p.uniform_surface_rms_dph, 3), " deg/h");
+  return out;
+}
+
+void run_design(DesignCommand c) {
+  if (!c.options_of.empty()) {
+    if (c.options_of == "design") {
+      design::DesignSettings s;
+      std::cout << "design options (--set key=value):\n" << s.table().help();
+    } else {
+      std::cout << design::design_solvers().at(c.options_of).help();
+    }
+    return;
+  }
+  design::DesignSettings settings;
+  OptionMap solver_options, design_options;
+  for (const auto& kv : c.set) {
+    const auto [key, value] = split_option(kv);
+    (design::DesignSettings::owns(key) ? design_options : solver_options)[key] = value;
+  }
+  settings.table().apply(design_options);
+  const auto envelope_names = split(c.envelope);
+  if (envelope_names.size() == 1 && envelope_names.front() == "uniform") {
+    settings.envelope.uniform = true;
+    settings.envelope.flights.clear();
+    const auto d = split(c.uniform_domain);
+    if (d.size() != 3) fail("--uniform-domain: expected T_MIN_C,T_MAX_C,RATE_DPS, got '", c.uniform_domain, "'");
+    settings.envelope.uniform_domain.temp_min_c = std::stod(d[0]);
+    settings.envelope.uniform_domain.temp_max_c = std::stod(d[1]);
+    settings.envelope.uniform_domain.rate_max_radps = units::dps_to_radps(std::stod(d[2]));
+  } else {
+    settings.envelope.flights = envelope_names;
+  }
+  const design::Criterion criterion = c.criterion.empty() ? (settings.envelope.uniform ? design::Criterion::surface : design::Criterion::cof)
+                                                          : parse_enum<design::Criterion>(c.criterion, "--criterion");
+  const design::ModelFamily family = parse_enum<design::ModelFamily>(c.model, "--model");
+  if (criterion == design::Criterion::effects && !settings.model.shupe && !settings.model.hysteresis && !settings.model.thermal_lag) {
+    settings.model.shupe = settings.model.hysteresis = settings.model.thermal_lag = true;  // what the criterion separates
+  }
+  const bool evaluating = !c.evaluate.empty();
+  if (!evaluating && !(c.budget_min > 0)) fail("--budget-min is required (a positive number of minutes) unless --evaluate is given");
+  if (!evaluating && c.out.empty()) fail("--out DIR is required for a design");
+  if (!evaluating) design::make_design_solver(c.solver, solver_options, c.seed);  // bad options fail before any work
+
+  const SensorSpec sensor = load_sensor_file(c.sensor);
+  auto envelope = std::make_shared<const design::Envelope>(design::load_envelope(settings.envelope, as_triad(sensor)));
+  settings.space.budget_min = evaluating ? 60.0 : c.budget_min;
+  const design::DesignSpace space = design::design_space(*envelope, settings.space);
+  design::DesignContext context(sensor, envelope, family, settings.model, criterion, design::model_domain(space));
+  DesignReportInput report;
+  report.command = c.command_line();
+  report.model = c.model, report.sensor = c.sensor, report.solver = c.solver;
+  const std::filesystem::path dir = c.out;
+  nlohmann::json provenance = {{"model", c.model}, {"sensor", c.sensor}, {"envelope", c.envelope}, {"seed", c.seed},
+                               {"solver", c.solver}, {"options", c.set}, {"command", c.command_line()}};
+  if (criterion == design::Criterion::cof_minimax || !c.reference.empty()) {
+    // The reference the design must beat on every flight, calibrated with its own model.
+    const std::string path = c.reference.empty() ? c.compare.front() : c.reference;
+    const std::string model = c.reference_model.empty() ? c.model : c.reference_model;
+    const TrajectorySpec spec = load_trajectory_file(path);
+    const auto ref_context = std::make_unique<design::DesignContext>(sensor, envelope, parse_enum<design::ModelFamily>(model, "--reference-model"),
+                                                                     settings.model, design::Criterion::cof, design::model_domain(space));
+    const design::Prediction ref = design::evaluate_trajectory(*ref_context, spec);
+    context.set_reference(ref);
+    report.compared.emplace_back(str_cat(spec.profile.name, " (reference, ", model, ")"), ref);
+    provenance["reference"] = {{"trajectory", path}, {"model", model}, {"predicted", design::to_json(ref)}};
+  }
+  for (const auto& path : evaluating ? c.evaluate : c.compare) {
+    const TrajectorySpec spec = load_trajectory_file(path);
+    report.compared.emplace_back(spec.profile.name, design::evaluate_trajectory(context, spec));
+  }
+  if (evaluating) {
+    nlohmann::json j = {{"format", "gyrosid-design-evaluation/1"}, {"provenance", provenance}, {"trajectories", nlohmann::json::object()}};
+    for (std::size_t i = 0; i < report.compared.size(); ++i) {
+      const auto& [name, p] = report.compared[i];
+      std::cout << name << " (" << format_significant(p.duration_min, 4) << " min): predicted " << describe(p) << "\n";
+      j["trajectories"][c.evaluate[i]] = design::to_json(p);
+    }
+    if (!c.out.empty()) {
+      write_file_atomic(dir / "evaluation.json", j.dump(2) + "\n");
+      write_file_atomic(dir / "report.md", design_report_markdown(report));
+      const TrajectorySpec first = load_trajectory_file(c.evaluate.front());
+      plot_design_coverage(dir / "coverage.png", design::observe_trajectory(context, first), context.envelope(),
+                           first.profile.name + ": samples over the envelope");
+      std::cout << "wrote " << c.out << "/evaluation.json, report.md, coverage.png\n";
+    }
+    return;
+  }
+  design::DesignRequest request;
+  request.space = settings.space;
+  request.quadrature = settings.quadrature;
+  request.solver = c.solver;
+  request.solver_options = solver_options;
+  request.seed = c.seed;
+  const design::DesignResult r = design::design_trajectory(context, request);
+  report.result = &r;
+  write_file_atomic(dir / "trajectory.yaml", programme_yaml(r.trajectory));
+  write_file_atomic(dir / "design.json", design::to_json(r, provenance).dump(2) + "\n");
+  write_file_atomic(dir / "calibration.yaml", design::calibration_yaml(family, settings.model, context.model_domain()));
+  plot_design_coverage(dir / "coverage.png", design::observe_trajectory(context, r.trajectory), context.envelope(),
+                       str_cat("design for ", c.envelope, " (", format_significant(r.trajectory.profile.duration_min(), 4), " min, ",
+                               c.model, " model)"));
+  write_file_atomic(dir / "report.md", design_report_markdown(report));
+  std::cout << "wrote " << c.out << "/trajectory.yaml (" << format_significant(r.trajectory.profile.duration_min(), 4) << " min, "
+            << r.trajectory.profile.segments.size() << " segments), design.json, coverage.png, report.md, calibration.yaml\n"
+            << "predicted: " << describe(r.predicted) << "\n";
+  for (const auto& [name, p] : report.compared) std::cout << name << " (" << format_significant(p.duration_min, 4) << " min): " << describe(p) << "\n";
+  std::cout << c.solver << ": " << to_string(r.summary.termination) << ", " << r.summary.evaluations << " evaluations, "
+            << format_significant(r.summary.time_s, 3) << " s\n";
+}
+
+}  // namespace
+
+void register_design(CLI::App& app, Action& action) {
+  auto c = std::make_shared<DesignCommand>();
+  CLI::App* cmd = app.add_subcommand("design", "Design a calibration trajectory by optimisation, or predict the accuracy of one");
+  cmd->add_option("--budget-min", c->budget_min, "Calibration time budget, minutes");
+  cmd->add_option("--model", c->model, "Calibration model the design is for: rbf, greybox or classical")->capture_default_str();
+  cmd->add_option("--envelope", c->envelope, "Where the gyro will fly: flights (short, medium, long, flight .yaml/.csv), comma-separated, or uniform")
+      ->capture_default_str();
+  cmd->add_option("--uniform-domain", c->uniform_domain, "The uniform envelope: T_MIN_C,T_MAX_C,RATE_DPS")->capture_default_str();
+  cmd->add_option("--criterion", c->criterion, "cof or cof_minimax (flights), surface, d_optimal, a_optimal or effects (greybox); default cof, surface for uniform");
+  cmd->add_option("--sensor", c->sensor, "Sensor config: its noise, thermal lag and error model")->capture_default_str();
+  cmd->add_option("--solver", c->solver, "Design solver: nlopt or ipopt")->capture_default_str();
+  cmd->add_option("--set", c->set, "Option key=value (repeatable): solver options, or space.*, model.*, envelope.*, quadrature.*");
+  cmd->add_option("--options-of", c->options_of, "Print the options of a solver (nlopt, ipopt) or of the design (design) and exit");
+  cmd->add_option("--seed", c->seed, "Seed of the solver's random streams (same seed, same design)")->capture_default_str();
+  cmd->add_option("--reference", c->reference, "cof_minimax: the trajectory to beat on every flight (default: the first --compare)");
+  cmd->add_option("--reference-model", c->reference_model, "The reference's calibration model (default: --model)");
+  cmd->add_option("--compare", c->compare, "Trajectories predicted beside the design in report.md")->capture_default_str();
+  cmd->add_option("--evaluate", c->evaluate, "Predict the accuracy of these trajectory configs instead of designing");
+  cmd->add_option("--out", c->out, "Output directory: trajectory.yaml, design.json, coverage.png, report.md, calibration.yaml");
+  cmd->footer(
+      "The design is a programme of table-plus-chamber segments (chamber ramps and plateaus within the chamber's\n"
+      "range and rate limit, triangle rate cycles or dwells on the table) that fits the budget. Its objective is\n"
+      "the calibration error the sensor's noise leaves where the gyro will fly: the model's parameter covariance\n"
+      "from the Fisher information of the trajectory, pushed through the strapdown INS to the criterion of fit.\n"
+      "Examples:\n"
+      "  gyrosid design --budget-min 60 --out d60/\n"
+      "  gyrosid design --budget-min 30 --model greybox --criterion effects --solver ipopt --out gb/\n"
+      "  gyrosid design --evaluate builtin:trajectories/dual_scan.yaml builtin:trajectories/classical_soak.yaml --model classical\n"
+      "  gyrosid simulate --trajectory d60/trajectory.yaml --out rec.csv");
+  cmd->callback([c, &action] {
+    action = [c] { run_design(*c); };
+  });
+}
+
+}  // namespace gyrosid::cli

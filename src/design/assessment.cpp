@@ -1,0 +1,235 @@
+#include "design/assessment.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <cmath>
+#include <numbers>
+
+#include "core/error.h"
+#include "core/units.h"
+
+namespace gyrosid::design {
+namespace {
+
+// Prior standard deviations: each column group scaled so that its prior predictive RMS over the domain
+// equals kappa times the sensor's RMS error there (weak for the physics models, the dictionary's own
+// regularisation for the RBF); the named effects get their physical magnitudes.
+Eigen::VectorXd prior_scales(const Regressor& r, ModelFamily family, const ModelOptions& o, const Domain& domain,
+                             const GyroErrorModel& truth) {
+  const SteadyGrid grid = steady_grid(domain, truth);
+  const double rms = std::sqrt(grid.true_error.squaredNorm() / static_cast<double>(grid.true_error.size()));
+  const double kappa = family == ModelFamily::rbf ? 1.0 : 3.0;
+  const Eigen::MatrixXd a = r.columns(grid.inputs);
+  const std::vector<int> groups = r.groups();
+  Eigen::VectorXd s(r.size());
+  for (int g = 0; g <= *std::max_element(groups.begin(), groups.end()); ++g) {
+    double power = 0.0;
+    for (std::size_t j = 0; j < groups.size(); ++j) {
+      if (groups[j] == g) power += a.col(static_cast<Eigen::Index>(j)).squaredNorm() / static_cast<double>(a.rows());
+    }
+    const double scale = kappa * std::max(rms, units::dph_to_radps(1.0)) / (power > 0 ? std::sqrt(power) : 1.0);
+    for (std::size_t j = 0; j < groups.size(); ++j) {
+      if (groups[j] == g) s(static_cast<Eigen::Index>(j)) = scale;
+    }
+  }
+  for (const auto& [name, j] : r.effects()) {
+    if (name == "shupe") s(j) = units::dph_to_radps(o.shupe_prior_dph_per_c_per_min) * 60.0;
+    else if (name == "hysteresis") s(j) = units::dph_to_radps(o.hysteresis_prior_dph);
+    else if (name == "thermal_lag") s(j) = o.thermal_lag_prior_s;
+  }
+  return s;
+}
+
+struct EffectUnit {
+  const char* unit;
+  double per_si;  // multiply an SI value by this
+};
+EffectUnit effect_unit(const std::string& name) {
+  if (name == "shupe") return {"deg/h per C/min", units::radps_to_dph(1.0) / 60.0};
+  if (name == "hysteresis") return {"deg/h", units::radps_to_dph(1.0)};
+  return {"s", 1.0};
+}
+
+// Gauss-Hermite nodes and weights for the standard normal (Golub-Welsch).
+std::pair<Eigen::VectorXd, Eigen::VectorXd> normal_quadrature(int n) {
+  Eigen::MatrixXd j = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 1; i < n; ++i) j(i, i - 1) = j(i - 1, i) = std::sqrt(static_cast<double>(i));  // probabilists' Hermite
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(j);
+  return {eig.eigenvalues(), eig.eigenvectors().row(0).transpose().array().square().matrix()};
+}
+
+}  // namespace
+
+double expected_norm(const Eigen::Vector3d& mean, const Eigen::Matrix3d& cov) {
+  static const auto [x, w] = normal_quadrature(16);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(0.5 * (cov + cov.transpose()));
+  const Eigen::Matrix3d root = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+  double e = 0.0;
+  for (Eigen::Index i = 0; i < x.size(); ++i)
+    for (Eigen::Index j = 0; j < x.size(); ++j)
+      for (Eigen::Index k = 0; k < x.size(); ++k) e += w(i) * w(j) * w(k) * (mean + root * Eigen::Vector3d(x(i), x(j), x(k))).norm();
+  return e;
+}
+
+DesignContext::DesignContext(const SensorSpec& sensor, std::shared_ptr<const Envelope> envelope, ModelFamily family,
+                             const ModelOptions& model, Criterion criterion, const Domain& model_domain)
+    : sensor_(sensor), triad_(as_triad(sensor)), envelope_(std::move(envelope)), family_(family), model_(model),
+      criterion_(criterion), model_domain_(model_domain), noise_(NoiseSpec::of(triad_.gyros[2].noise)) {
+  if (!noise_.any()) fail("design: sensor '", sensor_name(sensor), "' has no noise; a design minimises the noise-driven calibration error");
+  regressor_ = make_regressor(family, model, model_domain_, gyro().errors, thermal().coil_tau_s);
+  if ((criterion == Criterion::effects) && regressor_->effects().empty()) {
+    fail("design: criterion 'effects' needs the greybox model with at least one of model.shupe, model.hysteresis, model.thermal_lag");
+  }
+  if ((criterion == Criterion::cof || criterion == Criterion::cof_minimax) && envelope_->flights.empty()) {
+    fail("design: criterion '", to_string(criterion), "' needs flights in the envelope");
+  }
+  prior_sd_ = prior_scales(*regressor_, family, model, model_domain_, gyro().errors);
+  lin_ = linearise(*envelope_, *regressor_);
+  const Eigen::Index p = regressor_->size();
+  scaled_surface_moment_ = Eigen::MatrixXd::Zero(p, p);
+  auto add_moment = [&](const Eigen::MatrixXd& a, double weight) {
+    const Eigen::MatrixXd scaled = a * prior_sd_.asDiagonal();
+    scaled_surface_moment_ += weight * scaled.transpose() * scaled / static_cast<double>(a.rows());
+  };
+  if (envelope_->uniform_samples) add_moment(lin_.uniform_columns, 1.0);
+  for (const auto& f : lin_.flights) {
+    scaled_sensitivity_.push_back(f.sensitivity * prior_sd_.asDiagonal());
+    add_moment(f.surface_columns, 1.0 / static_cast<double>(lin_.flights.size()));
+  }
+}
+
+std::unique_ptr<DesignContext> DesignContext::with_domain(const Domain& d) const {
+  auto c = std::make_unique<DesignContext>(sensor_, envelope_, family_, model_, criterion_, d);
+  c->log_reference_ = log_reference_;
+  return c;
+}
+
+void DesignContext::set_reference(const Prediction& reference) {
+  if (reference.flights.size() != envelope_->flights.size()) fail("design: the reference was predicted for other flights");
+  log_reference_.clear();
+  for (const auto& f : reference.flights) log_reference_.push_back(2.0 * std::log(std::max(f.cof_m, 1e-300)));
+}
+
+LinearEstimate DesignContext::estimate(const Observations& o, bool with_target) const {
+  Eigen::MatrixXd a = regressor_->columns(o.inputs);
+  if (with_target) {
+    a.conservativeResize(Eigen::NoChange, a.cols() + 1);
+    a.col(a.cols() - 1) = o.true_error;
+  }
+  return linear_estimate(whiten(a, o.inputs.t_s, o.weight_s, noise_), prior_sd_, with_target);
+}
+
+double DesignContext::objective(const LinearEstimate& e) const {
+  switch (criterion_) {
+    case Criterion::cof: {
+      double sum = 0.0;
+      for (const auto& s : scaled_sensitivity_) sum += std::log((s * e.posterior * s.transpose()).trace());
+      return sum / static_cast<double>(scaled_sensitivity_.size());
+    }
+    case Criterion::cof_minimax: {
+      if (log_reference_.size() != scaled_sensitivity_.size()) fail("design: criterion 'cof_minimax' needs a reference trajectory");
+      // log-sum-exp with sharpness k: within 1/k log(F) of the worst flight's log ratio, smooth.
+      constexpr double k = 8.0;
+      double worst = -INFINITY;
+      std::vector<double> x;
+      for (std::size_t f = 0; f < scaled_sensitivity_.size(); ++f) {
+        const auto& s = scaled_sensitivity_[f];
+        x.push_back(std::log((s * e.posterior * s.transpose()).trace()) - log_reference_[f]);
+        worst = std::max(worst, x.back());
+      }
+      double sum = 0.0;
+      for (double v : x) sum += std::exp(k * (v - worst));
+      return worst + std::log(sum) / k;
+    }
+    case Criterion::surface: return std::log((scaled_surface_moment_ * e.posterior).trace());
+    case Criterion::d_optimal: return -e.log_det_information;
+    case Criterion::a_optimal: return std::log(e.posterior.trace());
+    case Criterion::effects: {
+      double sum = 0.0;
+      for (const auto& [name, j] : regressor_->effects()) sum += std::log(e.posterior(j, j));
+      return sum;
+    }
+  }
+  fail("design: unknown criterion");
+}
+
+Prediction DesignContext::predict(const Observations& o) const {
+  const LinearEstimate e = estimate(o, true);
+  Prediction p;
+  p.criterion = criterion_;
+  p.objective = objective(e);
+  p.observations = static_cast<std::size_t>(o.size());
+  p.duration_min = o.weight_s.sum() / 60.0;
+  const Eigen::VectorXd theta = e.expected_theta();
+  const Eigen::MatrixXd sigma = e.estimator_covariance();
+  auto surface = [&](const Eigen::MatrixXd& a, const Eigen::VectorXd& truth, double* bias_dph, double* noise_dph) {
+    const Eigen::VectorXd bias = truth - a * theta;
+    const double var = (a * sigma).cwiseProduct(a).sum() / static_cast<double>(a.rows());
+    *bias_dph = units::radps_to_dph(std::sqrt(bias.squaredNorm() / static_cast<double>(a.rows())));
+    *noise_dph = units::radps_to_dph(std::sqrt(var));
+    return std::hypot(*bias_dph, *noise_dph);
+  };
+  for (std::size_t i = 0; i < lin_.flights.size(); ++i) {
+    const FlightEnvelope& f = envelope_->flights[i];
+    const FlightLinearisation& lin = lin_.flights[i];
+    FlightPrediction fp;
+    fp.flight = f.name;
+    fp.horizon_s = f.horizon_s;
+    const Eigen::Vector3d m = f.position_error(*regressor_, theta);
+    const Eigen::Matrix3d c = lin.sensitivity * sigma * lin.sensitivity.transpose();
+    fp.cof_m = expected_norm(m, c);
+    fp.cof_noise_m = std::sqrt(c.trace());
+    fp.cof_bias_m = m.norm();
+    fp.surface_rms_dph = surface(lin.surface_columns, lin.surface_true_error, &fp.surface_bias_dph, &fp.surface_noise_dph);
+    p.flights.push_back(fp);
+  }
+  if (envelope_->uniform_samples) {
+    double bias = 0.0, noise = 0.0;
+    p.uniform_surface_rms_dph = surface(lin_.uniform_columns, envelope_->uniform_true_error, &bias, &noise);
+  }
+  const auto effects = regressor_->effects();
+  p.effect_correlation.resize(static_cast<Eigen::Index>(effects.size()), static_cast<Eigen::Index>(effects.size()));
+  const Eigen::MatrixXd post = e.posterior_covariance();
+  for (std::size_t i = 0; i < effects.size(); ++i) {
+    const auto [name, j] = effects[i];
+    p.effects.push_back({name, std::sqrt(post(j, j)) * effect_unit(name).per_si, effect_unit(name).unit});
+    for (std::size_t k = 0; k < effects.size(); ++k) {
+      const Eigen::Index jk = effects[k].second;
+      p.effect_correlation(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = post(j, jk) / std::sqrt(post(j, j) * post(jk, jk));
+    }
+  }
+  return p;
+}
+
+nlohmann::json to_json(const Prediction& p) {
+  nlohmann::json flights = nlohmann::json::object();
+  for (const auto& f : p.flights) {
+    flights[f.flight] = {{"cof_m", f.cof_m},
+                         {"cof_noise_m", f.cof_noise_m},
+                         {"cof_bias_m", f.cof_bias_m},
+                         {"horizon_s", f.horizon_s},
+                         {"surface_rms_dph", f.surface_rms_dph},
+                         {"surface_bias_dph", f.surface_bias_dph},
+                         {"surface_noise_dph", f.surface_noise_dph}};
+  }
+  nlohmann::json j = {{"criterion", std::string(to_string(p.criterion))},
+                      {"objective", p.objective},
+                      {"duration_min", p.duration_min},
+                      {"observations", p.observations},
+                      {"flights", flights}};
+  if (p.uniform_surface_rms_dph) j["uniform"] = {{"surface_rms_dph", *p.uniform_surface_rms_dph}};
+  if (!p.effects.empty()) {
+    nlohmann::json effects = nlohmann::json::object();
+    for (std::size_t i = 0; i < p.effects.size(); ++i) {
+      nlohmann::json corr = nlohmann::json::object();
+      for (std::size_t k = 0; k < p.effects.size(); ++k) {
+        if (k != i) corr[p.effects[k].name] = p.effect_correlation(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k));
+      }
+      effects[p.effects[i].name] = {{"sd", p.effects[i].sd}, {"unit", p.effects[i].unit}, {"correlation", corr}};
+    }
+    j["effects"] = effects;
+  }
+  return j;
+}
+
+}  // namespace gyrosid::design

@@ -1,0 +1,135 @@
+// What a trajectory is worth for a calibration: the design context (sensor, model, envelope - fixed while a
+// design is optimised), the objective a design minimises and the predicted accuracy of any trajectory.
+//
+// Objective (lower is better), from the posterior covariance P of the model's parameters (information.h):
+//   cof        mean over the envelope's flights of log tr(S_f P S_f'): the expected squared INS position
+//              error at the criterion's horizon that the calibration's uncertainty leaves (scale-free
+//              across flights, so a 10-s missile and a 1-h UAV weigh alike)
+//   cof_minimax  a smooth maximum over the flights of log(tr(S_f P S_f') / R_f^2), R_f a reference
+//              trajectory's predicted criterion: beat the reference on every flight by the largest factor
+//   surface    log of the mean prediction variance a' P a over the envelope's (T, w) samples (flights
+//              pooled, or the uniform domain)
+//   d_optimal  log det P~ (prior-scaled parameters): D-optimality
+//   a_optimal  log tr P~: A-optimality
+//   effects    sum of log var of the grey-box effects (Shupe, hysteresis, thermal lag): Ds-optimality on
+//              the parameters a design must separate
+//
+// Prediction (what `design.json` reports): per flight the expected criterion of fit E|m + S d|, d ~ N(0,
+// Sigma) with Sigma the estimator's covariance and m the error of the expected (noise-free) fit, and the
+// RMS surface error sqrt(mean(bias^2 + a' Sigma a)) over the flight's (T, w) samples.
+#pragma once
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "core/enum_names.h"
+#include "design/envelope.h"
+#include "design/information.h"
+#include "design/observations.h"
+#include "design/regressor.h"
+#include "sensor/sensor_config.h"
+
+namespace gyrosid::design {
+
+enum class Criterion { cof, cof_minimax, surface, d_optimal, a_optimal, effects };
+
+struct FlightPrediction {
+  std::string flight;
+  double horizon_s = 0.0;
+  double cof_m = 0.0;            // expected criterion of fit: E|m + S d|
+  double cof_noise_m = 0.0;      // sqrt(tr S Sigma S'): the noise's part alone
+  double cof_bias_m = 0.0;       // |m|: the model class's part (a noise-free calibration's error)
+  double surface_rms_dph = 0.0;  // sqrt(mean(bias^2 + variance)) over the flight's (T, w) samples
+  double surface_bias_dph = 0.0, surface_noise_dph = 0.0;
+};
+
+struct EffectPrediction {
+  std::string name;
+  double sd = 0.0;  // posterior standard deviation, the effect's own unit (see `unit`)
+  std::string unit;
+};
+
+struct Prediction {
+  Criterion criterion = Criterion::cof;
+  double objective = 0.0;
+  double duration_min = 0.0;
+  std::size_t observations = 0;
+  std::vector<FlightPrediction> flights;
+  std::optional<double> uniform_surface_rms_dph;
+  std::vector<EffectPrediction> effects;
+  Eigen::MatrixXd effect_correlation;  // posterior correlation of the effects
+};
+
+// The sensor (a triad: its z gyro is the one calibrated), the envelope (shared: loading it runs the flights),
+// the model over `model_domain` (the region its grid or dictionary spans) and the criterion.
+class DesignContext {
+ public:
+  DesignContext(const SensorSpec& sensor, std::shared_ptr<const Envelope> envelope, ModelFamily family,
+                const ModelOptions& model, Criterion criterion, const Domain& model_domain);
+  DesignContext(const DesignContext&) = delete;
+  DesignContext& operator=(const DesignContext&) = delete;
+  // The same context with the model spanning another domain (e.g. a trajectory's wider temperatures).
+  std::unique_ptr<DesignContext> with_domain(const Domain& model_domain) const;
+
+  const GyroSensor& gyro() const { return triad_.gyros[2]; }
+  const ThermalPath& thermal() const { return triad_.thermal; }
+  const Regressor& regressor() const { return *regressor_; }
+  const Envelope& envelope() const { return *envelope_; }
+  const Domain& model_domain() const { return model_domain_; }
+  Criterion criterion() const { return criterion_; }
+  ModelFamily family() const { return family_; }
+  const Eigen::VectorXd& prior_sd() const { return prior_sd_; }
+  const Linearisation& linearisation() const { return lin_; }
+
+  // The reference criterion of fit per flight (envelope order) for cof_minimax: a prediction's cof_m.
+  void set_reference(const Prediction& reference);
+
+  LinearEstimate estimate(const Observations& observations, bool with_target) const;
+  double objective(const LinearEstimate& estimate) const;
+  Prediction predict(const Observations& observations) const;
+
+ private:
+  SensorSpec sensor_;
+  TriadSensor triad_;
+  std::shared_ptr<const Envelope> envelope_;
+  ModelFamily family_;
+  ModelOptions model_;
+  Criterion criterion_;
+  Domain model_domain_;
+  NoiseSpec noise_;
+  std::unique_ptr<Regressor> regressor_;
+  Eigen::VectorXd prior_sd_;
+  Linearisation lin_;
+  std::vector<Eigen::MatrixXd> scaled_sensitivity_;  // S_f diag(s) per flight
+  Eigen::MatrixXd scaled_surface_moment_;            // diag(s) M diag(s), M = mean a a' over the envelope
+  std::vector<double> log_reference_;                // log R_f^2 per flight
+};
+
+// E|m + z|, z ~ N(0, cov): Gauss-Hermite quadrature (16 points per principal axis), deterministic.
+double expected_norm(const Eigen::Vector3d& mean, const Eigen::Matrix3d& cov);
+
+nlohmann::json to_json(const Prediction& p);
+
+}  // namespace gyrosid::design
+
+namespace gyrosid {
+template <>
+struct EnumNames<design::Criterion> {
+  static constexpr std::string_view kNoun = "design criterion";
+  static constexpr std::array<std::pair<design::Criterion, std::string_view>, 6> kTable{
+      {{design::Criterion::cof, "cof"},
+       {design::Criterion::cof_minimax, "cof_minimax"},
+       {design::Criterion::surface, "surface"},
+       {design::Criterion::d_optimal, "d_optimal"},
+       {design::Criterion::a_optimal, "a_optimal"},
+       {design::Criterion::effects, "effects"}}};
+};
+}  // namespace gyrosid

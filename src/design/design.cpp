@@ -1,0 +1,89 @@
+#include "design/design.h"
+
+#include "core/error.h"
+
+namespace gyrosid::design {
+
+OptionTable DesignSettings::table() {
+  OptionTable t("design");
+  space.bind(t);
+  model.bind(t);
+  envelope.bind(t);
+  quadrature.bind(t);
+  return t;
+}
+
+bool DesignSettings::owns(const std::string& key) {
+  for (const char* prefix : {"space.", "model.", "envelope.", "quadrature."}) {
+    if (key.rfind(prefix, 0) == 0) return true;
+  }
+  return false;
+}
+
+Observations observe_trajectory(const DesignContext& context, const TrajectorySpec& t) {
+  const std::vector<double> times = t.times();
+  const Quadrature q = sample_quadrature(times, t.profile.duration_s());
+  return observe(t.profile, q.times, q.weights_s, context.gyro(), context.thermal());
+}
+
+DesignSpace design_space(const Envelope& envelope, const DesignSpaceOptions& options) {
+  return DesignSpace(options, envelope.domain.temp_min_c, envelope.domain.temp_max_c, envelope.domain.rate_max_radps);
+}
+
+Domain model_domain(const DesignSpace& space) {
+  Domain d;
+  d.temp_min_c = space.temp_lo();
+  d.temp_max_c = space.temp_hi();
+  d.rate_max_radps = space.rate_max_radps();
+  return d;
+}
+
+Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpec& t) {
+  const Observations o = observe_trajectory(context, t);
+  Domain d = context.model_domain();
+  const double lo = o.inputs.temp_c.minCoeff(), hi = o.inputs.temp_c.maxCoeff();
+  const double w = o.inputs.rate.cwiseAbs().maxCoeff();
+  if (lo >= d.temp_min_c && hi <= d.temp_max_c && w <= d.rate_max_radps * 1.05) return context.predict(o);
+  d.temp_min_c = std::min(d.temp_min_c, lo), d.temp_max_c = std::max(d.temp_max_c, hi);
+  d.rate_max_radps = std::max(d.rate_max_radps, w);
+  return context.with_domain(d)->predict(o);
+}
+
+DesignResult design_trajectory(const DesignContext& context, const DesignRequest& request) {
+  auto solver = make_design_solver(request.solver, request.solver_options, request.seed);
+  const DesignSpace space = design_space(context.envelope(), request.space);
+  const DesignProblem problem(context, space, request.quadrature);
+  DesignResult r;
+  r.initial = space.initial();
+  TableProfile best = r.initial;
+  r.summary = run_design_solver(*solver, problem, best);
+  if (!r.summary.usable()) fail("design: the ", request.solver, " solver failed: ", r.summary.message);
+  auto spec = [&](TableProfile p) {
+    TrajectorySpec t;
+    t.profile = std::move(p);
+    t.sampling.rate_hz = request.space.rate_hz;
+    return t;
+  };
+  r.trajectory = spec(best);
+  r.trajectory.description = str_cat("designed by gyrosid design (", to_string(context.family()), " model, criterion ",
+                                     to_string(context.criterion()), ", solver ", request.solver, ", seed ", request.seed, ")");
+  r.predicted = evaluate_trajectory(context, r.trajectory);
+  r.initial_predicted = evaluate_trajectory(context, spec(r.initial));
+  return r;
+}
+
+nlohmann::json to_json(const DesignResult& r, const nlohmann::json& provenance) {
+  nlohmann::json segments = nlohmann::json::array();
+  for (const auto& seg : r.trajectory.profile.segments) segments.push_back(seg.label);
+  return {{"format", "gyrosid-design/1"},
+          {"duration_min", r.trajectory.profile.duration_min()},
+          {"objective", r.predicted.objective},
+          {"criterion", std::string(to_string(r.predicted.criterion))},
+          {"predicted", to_json(r.predicted)},
+          {"initial", {{"segments", r.initial.segments.size()}, {"predicted", to_json(r.initial_predicted)}}},
+          {"segments", segments},
+          {"solver_summary", r.summary},
+          {"provenance", provenance}};
+}
+
+}  // namespace gyrosid::design

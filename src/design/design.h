@@ -1,0 +1,66 @@
+// `gyrosid design` in the library: optimise a calibration programme for a time budget, or state the
+// predicted accuracy of any trajectory.
+//
+//   auto envelope = std::make_shared<const Envelope>(load_envelope(settings.envelope, as_triad(sensor)));
+//   const DesignSpace space = design_space(*envelope, settings.space);
+//   DesignContext context(sensor, envelope, ModelFamily::rbf, settings.model, Criterion::cof, model_domain(space));
+//   DesignResult r = design_trajectory(context, request);      // r.trajectory: an ordinary trajectory
+//   Prediction p = evaluate_trajectory(context, spec);         // any trajectory, on its own samples
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "core/solve_summary.h"
+#include "design/assessment.h"
+#include "design/design_problem.h"
+#include "design/design_space.h"
+#include "design/design_solver.h"
+#include "trajectory/trajectory_config.h"
+
+namespace gyrosid::design {
+
+// Every option of a design besides the solver's, bound to key=value names (space.*, model.*, envelope.*,
+// quadrature.*) for `gyrosid design --set`.
+struct DesignSettings {
+  ModelOptions model;
+  EnvelopeOptions envelope;
+  DesignSpaceOptions space;
+  QuadratureOptions quadrature;
+  OptionTable table();  // binds this object's fields: keep it in place while the table is used
+  static bool owns(const std::string& key);  // a key of this table (else: a solver option)
+};
+
+struct DesignRequest {
+  DesignSpaceOptions space;
+  QuadratureOptions quadrature;
+  std::string solver = "nlopt";
+  OptionMap solver_options;
+  std::uint64_t seed = 1;
+};
+
+struct DesignResult {
+  TrajectorySpec trajectory;   // kind programme, sampled at space.rate_hz
+  Prediction predicted;        // on the trajectory's own samples
+  SolveSummary summary;
+  TableProfile initial;        // the programme the solver started from
+  Prediction initial_predicted;
+};
+
+// The chamber programme's space for a request: its temperatures around the envelope's.
+DesignSpace design_space(const Envelope& envelope, const DesignSpaceOptions& options);
+// The model's domain for designs in `space`: the programme's temperatures and the envelope's rates.
+Domain model_domain(const DesignSpace& space);
+
+DesignResult design_trajectory(const DesignContext& context, const DesignRequest& request);
+// On the trajectory's own samples, with the model widened to the trajectory's temperatures when they exceed
+// the context's domain (the model a user would fit to that trajectory).
+Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpec& trajectory);
+// The design's observations on the trajectory's own samples (for coverage plots and evaluation).
+Observations observe_trajectory(const DesignContext& context, const TrajectorySpec& trajectory);
+
+// design.json: the trajectory's duration, the objective, the predictions, the solver's summary, and the
+// initial programme's predictions for comparison; `provenance` is stored as it is.
+nlohmann::json to_json(const DesignResult& result, const nlohmann::json& provenance);
+
+}  // namespace gyrosid::design

@@ -1,0 +1,69 @@
+#include "design/design_problem.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <cmath>
+
+namespace gyrosid::design {
+
+void QuadratureOptions::bind(OptionTable& t) {
+  t.real("quadrature.max_spacing_s", &max_spacing_s, 0.0, 600.0, "objective quadrature: largest spacing", true)
+      .integer("quadrature.points_per_cycle", &points_per_cycle, 4, 100, "objective quadrature: points per rate cycle")
+      .integer("quadrature.relaxed_times", &relaxed_times, 2, 1000, "smooth relaxation: time nodes per segment")
+      .integer("quadrature.relaxed_rates", &relaxed_rates, 2, 20, "smooth relaxation: rate nodes per time node");
+}
+
+DesignProblem::DesignProblem(const DesignContext& context, const DesignSpace& space, QuadratureOptions quadrature)
+    : context_(context), space_(space), q_(quadrature) {}
+
+Observations DesignProblem::observe_programme(const TableProfile& programme) const {
+  const Quadrature q = programme_quadrature(programme, q_.max_spacing_s, q_.points_per_cycle);
+  return observe(programme, q.times, q.weights_s, context_.gyro(), context_.thermal());
+}
+
+double DesignProblem::objective(const TableProfile& programme) const {
+  return context_.objective(context_.estimate(observe_programme(programme), false));
+}
+
+namespace {
+
+// Gauss-Legendre nodes on [0, 1] and weights summing to 1 (Golub-Welsch).
+std::pair<std::vector<double>, std::vector<double>> unit_legendre(int n) {
+  Eigen::MatrixXd j = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 1; i < n; ++i) j(i, i - 1) = j(i - 1, i) = i / std::sqrt(4.0 * i * i - 1.0);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(j);
+  std::vector<double> x(static_cast<std::size_t>(n)), w(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    x[static_cast<std::size_t>(i)] = 0.5 * (1.0 + eig.eigenvalues()(i));
+    w[static_cast<std::size_t>(i)] = eig.eigenvectors()(0, i) * eig.eigenvectors()(0, i);
+  }
+  return {x, w};
+}
+
+}  // namespace
+
+double DesignProblem::smooth_objective(const SmoothProgramme& x) const {
+  const TableProfile p = space_.decode_smooth(x);
+  const auto [nodes, weights] = unit_legendre(q_.relaxed_rates);
+  std::vector<double> times, span;
+  RateRelaxation relax;
+  relax.weights = weights;
+  double start = 0.0;
+  for (std::size_t i = 0; i < p.segments.size(); ++i) {
+    const double d = p.segments[i].duration_s, h = d / q_.relaxed_times;
+    const double lo = std::clamp(std::min(x.low_radps[i], x.high_radps[i]), -space_.rate_max_radps(), space_.rate_max_radps());
+    const double hi = std::clamp(std::max(x.low_radps[i], x.high_radps[i]), -space_.rate_max_radps(), space_.rate_max_radps());
+    std::vector<double> rates;
+    for (double u : nodes) rates.push_back(lo + (hi - lo) * u);
+    for (int k = 0; k < q_.relaxed_times; ++k) {
+      times.push_back(start + (k + 0.5) * h);
+      span.push_back(h);
+      relax.rate_nodes_radps.push_back(rates);
+    }
+    start += d;
+  }
+  const Observations o = observe(p, times, span, context_.gyro(), context_.thermal(), &relax);
+  return context_.objective(context_.estimate(o, false));
+}
+
+}  // namespace gyrosid::design

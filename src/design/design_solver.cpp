@@ -1,0 +1,25 @@
+#include "design/design_solver.h"
+
+namespace gyrosid::design {
+
+SolveSummary run_design_solver(DesignSolver& solver, const DesignProblem& problem, TableProfile& best) {
+  SolveSummary s = timed_solve(std::string(solver.name()), [&](SolveMonitor& monitor) { return solver.solve(problem, best, monitor); });
+  s.details["objective"] = problem.objective(best);
+  return s;
+}
+
+const DesignSolverRegistry& design_solvers() {
+  static const DesignSolverRegistry registry = [] {
+    DesignSolverRegistry r("design solver");
+    r.add(design_solver_entry<NloptDesigner>("nlopt", "NLopt: global derivative-free search of the programme, then local refinement"))
+        .add(design_solver_entry<IpoptDesigner>("ipopt", "Ipopt: interior point on the smooth relaxation, limits as constraints"));
+    return r;
+  }();
+  return registry;
+}
+
+std::unique_ptr<DesignSolver> make_design_solver(const std::string& name, const OptionMap& options, std::uint64_t seed) {
+  return design_solvers().make(name, options, seed);
+}
+
+}  // namespace gyrosid::design

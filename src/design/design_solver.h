@@ -1,0 +1,107 @@
+// One interface for the optimisers of a calibration design, chosen by name from one registry (like the RBF
+// solvers of solvers/solver.h) and compared on equal terms:
+//
+//   auto solver = make_design_solver("nlopt", {{"global_evaluations", "800"}}, seed);  // options validated
+//   TableProfile best;
+//   SolveSummary s = run_design_solver(*solver, problem, best);   // time, memory, objective history
+//
+//   nlopt  global derivative-free search over the box encoding, then a local derivative-free refinement
+//   ipopt  interior point on the smooth relaxation with the chamber and budget limits as constraints,
+//          finite-difference gradients, rounded to a programme at the end
+//
+// Each returns the programme with the lowest exact objective it evaluated; the summary's history holds the
+// objective of every exact evaluation (nlopt) or of every interior-point iteration (ipopt, relaxed).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/registry.h"
+#include "core/solve_summary.h"
+#include "design/design_problem.h"
+#include "solvers/common/options.h"
+
+namespace gyrosid::design {
+
+class DesignSolver {
+ public:
+  virtual ~DesignSolver() = default;
+  virtual std::string_view name() const = 0;
+  // Finds a programme in the problem's space; `best` arrives holding the space's initial programme.
+  virtual SolveOutcome solve(const DesignProblem& problem, TableProfile& best, SolveMonitor& monitor) = 0;
+};
+
+SolveSummary run_design_solver(DesignSolver& solver, const DesignProblem& problem, TableProfile& best);
+
+using DesignSolverRegistry = Registry<DesignSolver, const OptionMap&, std::uint64_t>;
+const DesignSolverRegistry& design_solvers();
+std::unique_ptr<DesignSolver> make_design_solver(const std::string& name, const OptionMap& options, std::uint64_t seed);
+
+// A registry entry for a solver class S with `using Options = ...;` (defaults, table(), validate()) and a
+// constructor S(Options, seed).
+template <typename S>
+DesignSolverRegistry::Entry design_solver_entry(std::string name, std::string summary) {
+  return {name, summary,
+          [name, summary] {
+            typename S::Options o;
+            return name + " - " + summary + ":\n" + o.table().help();
+          },
+          [name](const OptionMap& map, std::uint64_t seed) -> std::unique_ptr<DesignSolver> {
+            typename S::Options o;
+            o.table().apply(map);
+            if (const std::string problem = o.validate(); !problem.empty()) fail("design solver ", name, ": ", problem);
+            return std::make_unique<S>(std::move(o), seed);
+          }};
+}
+
+// --- the solvers -----------------------------------------------------------------------------------
+
+struct NloptDesignOptions {
+  std::string global = "GN_CRS2_LM";  // NLopt global derivative-free algorithm ("none": local only)
+  int global_evaluations = 1200;
+  int population = 0;                 // CRS2/ISRES/ESCH population (0: NLopt's default)
+  std::string local = "LN_BOBYQA";    // local derivative-free refinement ("none": global only)
+  int local_evaluations = 800;
+  double xtol_rel = 1e-4;
+  OptionTable table();
+  std::string validate() const;
+};
+
+class NloptDesigner : public DesignSolver {
+ public:
+  using Options = NloptDesignOptions;
+  NloptDesigner(Options options, std::uint64_t seed) : o_(std::move(options)), seed_(seed) {}
+  std::string_view name() const override { return "nlopt"; }
+  SolveOutcome solve(const DesignProblem& problem, TableProfile& best, SolveMonitor& monitor) override;
+
+ private:
+  Options o_;
+  std::uint64_t seed_;
+};
+
+struct IpoptDesignOptions {
+  int max_iterations = 60;
+  double tolerance = 1e-4;          // Ipopt's convergence tolerance (relative)
+  double gradient_step = 1e-4;      // forward-difference step on variables scaled to O(1)
+  int starts = 1;                   // the initial programme, then seeded perturbations of it
+  int print_level = 0;
+  OptionTable table();
+  std::string validate() const;
+};
+
+class IpoptDesigner : public DesignSolver {
+ public:
+  using Options = IpoptDesignOptions;
+  IpoptDesigner(Options options, std::uint64_t seed) : o_(std::move(options)), seed_(seed) {}
+  std::string_view name() const override { return "ipopt"; }
+  SolveOutcome solve(const DesignProblem& problem, TableProfile& best, SolveMonitor& monitor) override;
+
+ private:
+  Options o_;
+  std::uint64_t seed_;
+};
+
+}  // namespace gyrosid::design

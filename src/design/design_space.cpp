@@ -1,0 +1,194 @@
+#include "design/design_space.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/format.h"
+#include "core/units.h"
+
+namespace gyrosid::design {
+
+void DesignSpaceOptions::bind(OptionTable& t) {
+  t.integer("space.segments", &segments, 1, 40, "programme segments (ramps or plateaus, each with its rate programme)")
+      .real("space.temp_min_c", &temp_min_c, -273.0, 1000.0, "lowest chamber temperature of the design (default: domain - margin)")
+      .real("space.temp_max_c", &temp_max_c, -273.0, 1000.0, "highest chamber temperature of the design (default: domain + margin)")
+      .real("space.temperature_margin_c", &temperature_margin_c, 0.0, 200.0, "chamber bounds beyond the envelope's temperatures")
+      .real("space.max_rate_dps", &max_rate_dps, 0.0, 1e4, "table rate bound (default: the envelope's)", true)
+      .real("space.min_period_s", &min_period_s, 1.0, 1e5, "shortest rate cycle")
+      .real("space.max_period_s", &max_period_s, 1.0, 1e6, "longest rate cycle")
+      .real("space.preferred_period_s", &preferred_period_s, 1.0, 1e5, "rate cycle of a rounded smooth (ipopt) solution")
+      .real("space.min_share", &min_share, 0.0, 0.5, "shortest segment as a fraction of the budget", true)
+      .real("space.rate_hz", &rate_hz, 0.0, 1000.0, "sampling rate of the designed trajectory", true)
+      .real("space.chamber_rate_limit_c_per_min", &chamber.rate_limit_c_per_min, 0.0, 1e3, "chamber rate limit", true)
+      .real("space.chamber_min_c", &chamber.min_c, -273.0, 1000.0, "chamber range, low end")
+      .real("space.chamber_max_c", &chamber.max_c, -273.0, 1000.0, "chamber range, high end")
+      .real("space.latitude_deg", &latitude_deg, -90.0, 90.0, "latitude of the rate table");
+}
+
+std::string DesignSpaceOptions::validate() const {
+  if (!(budget_min > 0)) return str_cat("budget ", budget_min, " min must be positive");
+  if (!(min_period_s < max_period_s)) return "space.min_period_s must be below space.max_period_s";
+  if (preferred_period_s < min_period_s || preferred_period_s > max_period_s) return "space.preferred_period_s must lie within [min_period_s, max_period_s]";
+  if (min_share * segments >= 1.0) return str_cat("space.min_share x space.segments = ", min_share * segments, " must be below 1");
+  if (!(chamber.min_c < chamber.max_c)) return "space.chamber_min_c must be below space.chamber_max_c";
+  if (positions.empty()) return "the design needs at least one mount position";
+  for (int p : positions) {
+    if (p < 1 || p > 6) return str_cat("mount position ", p, " is not one of Table 2.1's positions 1..6");
+  }
+  return "";
+}
+
+DesignSpace::DesignSpace(DesignSpaceOptions o, double lo, double hi, double w_max) : o_(std::move(o)) {
+  if (auto p = o_.validate(); !p.empty()) fail("design: ", p);
+  t_lo_ = std::max(o_.chamber.min_c, std::isnan(o_.temp_min_c) ? lo - o_.temperature_margin_c : o_.temp_min_c);
+  t_hi_ = std::min(o_.chamber.max_c, std::isnan(o_.temp_max_c) ? hi + o_.temperature_margin_c : o_.temp_max_c);
+  if (!(t_hi_ > t_lo_)) fail("design: the chamber range [", o_.chamber.min_c, ", ", o_.chamber.max_c, "] C misses the design's temperatures");
+  w_max_ = std::isnan(o_.max_rate_dps) ? w_max : units::dps_to_radps(o_.max_rate_dps);
+  per_segment_ = 6 + (o_.positions.size() > 1 ? 1 : 0);
+}
+
+int DesignSpace::box_dimension() const { return 1 + o_.segments * per_segment_; }
+
+Eigen::VectorXd DesignSpace::box_lower() const {
+  Eigen::VectorXd v(box_dimension());
+  v(0) = t_lo_;
+  for (int i = 0; i < o_.segments; ++i) {
+    auto s = v.segment(1 + i * per_segment_, per_segment_);
+    s.head(6) << o_.min_share, t_lo_, -w_max_, -w_max_, std::log10(o_.min_period_s), 0.0;
+    if (per_segment_ > 6) s(6) = 0.0;
+  }
+  return v;
+}
+
+Eigen::VectorXd DesignSpace::box_upper() const {
+  Eigen::VectorXd v(box_dimension());
+  v(0) = t_hi_;
+  for (int i = 0; i < o_.segments; ++i) {
+    auto s = v.segment(1 + i * per_segment_, per_segment_);
+    s.head(6) << 1.0, t_hi_, w_max_, w_max_, std::log10(o_.max_period_s), 1.0;
+    if (per_segment_ > 6) s(6) = static_cast<double>(o_.positions.size()) - 1e-9;
+  }
+  return v;
+}
+
+namespace {
+
+// A triangle between low and high, or a dwell when they (nearly) coincide.
+RateProfile rate_programme(double low, double high, double cycles, double phase, double w_max) {
+  if (high - low < 1e-3 * w_max) return RateProfile::constant(0.5 * (low + high));
+  return RateProfile::triangle(low, high, cycles, phase - std::floor(phase));
+}
+
+}  // namespace
+
+TableProfile DesignSpace::assemble(double start_c, const std::vector<ProfileSegment>& segments) const {
+  TableProfile p;
+  p.name = str_cat("design ", format_significant(o_.budget_min, 4), " min");
+  p.kind = "programme";
+  p.latitude_rad = units::deg_to_rad(o_.latitude_deg);
+  p.limits = o_.chamber;
+  double prev = std::clamp(start_c, t_lo_, t_hi_);
+  for (ProfileSegment s : segments) {
+    // The chamber moves towards the target no faster than its limit.
+    const double reach = o_.chamber.rate_limit_c_per_min * s.duration_s / 60.0;
+    s.chamber_start_c = prev;
+    s.chamber_end_c = prev + std::clamp(std::clamp(s.chamber_end_c, t_lo_, t_hi_) - prev, -reach, reach);
+    s.label = s.chamber_end_c == prev ? str_cat("plateau ", format_significant(prev, 3), " C")
+                                      : str_cat("ramp ", format_significant(prev, 3), " -> ", format_significant(s.chamber_end_c, 3), " C");
+    prev = s.chamber_end_c;
+    p.segments.push_back(std::move(s));
+  }
+  if (auto problem = p.check_limits(); !problem.empty()) fail("design: internal error, infeasible programme: ", problem);
+  return p;
+}
+
+TableProfile DesignSpace::decode_box(const Eigen::VectorXd& v) const {
+  if (v.size() != box_dimension()) fail("design: ", v.size(), " variables for a box of ", box_dimension());
+  double total = 0.0;
+  for (int i = 0; i < o_.segments; ++i) total += std::max(v(1 + i * per_segment_), o_.min_share);
+  std::vector<ProfileSegment> segments;
+  for (int i = 0; i < o_.segments; ++i) {
+    const auto s = v.segment(1 + i * per_segment_, per_segment_);
+    ProfileSegment seg;
+    seg.duration_s = budget_s() * std::max(s(0), o_.min_share) / total;
+    seg.chamber_end_c = s(1);
+    const double a = std::clamp(s(2), -w_max_, w_max_), b = std::clamp(s(3), -w_max_, w_max_);
+    const double period = std::pow(10.0, std::clamp(s(4), std::log10(o_.min_period_s), std::log10(o_.max_period_s)));
+    seg.rate = rate_programme(std::min(a, b), std::max(a, b), seg.duration_s / period, s(5), w_max_);
+    const auto index = per_segment_ > 6 ? std::clamp(static_cast<std::size_t>(std::max(0.0, s(6))), std::size_t{0}, o_.positions.size() - 1) : 0;
+    seg.position = o_.positions[index];
+    segments.push_back(seg);
+  }
+  return assemble(v(0), segments);
+}
+
+Eigen::VectorXd DesignSpace::encode_box(const TableProfile& p) const {
+  if (static_cast<int>(p.segments.size()) != o_.segments) fail("design: a programme of ", p.segments.size(), " segments in a space of ", o_.segments);
+  Eigen::VectorXd v(box_dimension());
+  v(0) = p.segments.front().chamber_start_c;
+  for (int i = 0; i < o_.segments; ++i) {
+    const ProfileSegment& seg = p.segments[static_cast<std::size_t>(i)];
+    auto s = v.segment(1 + i * per_segment_, per_segment_);
+    const bool tri = seg.rate.shape == RateProfile::Shape::triangle;
+    const double period = tri && seg.rate.cycles > 0 ? seg.duration_s / seg.rate.cycles : o_.preferred_period_s;
+    s.head(6) << seg.duration_s / budget_s(), seg.chamber_end_c, tri ? seg.rate.low_radps : seg.rate.value_radps,
+        tri ? seg.rate.high_radps : seg.rate.value_radps, std::log10(std::clamp(period, o_.min_period_s, o_.max_period_s)),
+        tri ? seg.rate.phase : 0.0;
+    if (per_segment_ > 6) {
+      const auto it = std::find(o_.positions.begin(), o_.positions.end(), seg.position);
+      s(6) = it == o_.positions.end() ? 0.0 : static_cast<double>(it - o_.positions.begin()) + 0.5;
+    }
+  }
+  return v.cwiseMax(box_lower()).cwiseMin(box_upper());
+}
+
+TableProfile DesignSpace::decode_smooth(const SmoothProgramme& x) const {
+  const std::size_t k = x.duration_s.size();
+  double total = 0.0;
+  for (double d : x.duration_s) total += std::max(d, 1.0);
+  std::vector<ProfileSegment> segments;
+  for (std::size_t i = 0; i < k; ++i) {
+    ProfileSegment seg;
+    seg.duration_s = budget_s() * std::max(x.duration_s[i], 1.0) / total;
+    seg.chamber_end_c = x.end_c[i];
+    const double low = std::clamp(std::min(x.low_radps[i], x.high_radps[i]), -w_max_, w_max_);
+    const double high = std::clamp(std::max(x.low_radps[i], x.high_radps[i]), -w_max_, w_max_);
+    const double cycles = std::max(1.0, std::round(seg.duration_s / o_.preferred_period_s));
+    seg.rate = rate_programme(low, high, cycles, 0.5 * static_cast<double>(i % 2), w_max_);
+    seg.position = o_.positions.front();
+    segments.push_back(seg);
+  }
+  return assemble(x.start_c, segments);
+}
+
+SmoothProgramme DesignSpace::smooth_of(const TableProfile& p) const {
+  SmoothProgramme x;
+  x.start_c = p.segments.front().chamber_start_c;
+  for (const auto& s : p.segments) {
+    const bool tri = s.rate.shape == RateProfile::Shape::triangle;
+    x.duration_s.push_back(s.duration_s);
+    x.end_c.push_back(s.chamber_end_c);
+    x.low_radps.push_back(tri ? s.rate.low_radps : s.rate.value_radps);
+    x.high_radps.push_back(tri ? s.rate.high_radps : s.rate.value_radps);
+  }
+  return x;
+}
+
+TableProfile DesignSpace::initial() const {
+  // Sweeps between the ends of the chamber bounds (down first: the flights start warm), equal durations,
+  // full-range rate cycles with the phase alternating as in the thesis's dual scan.
+  std::vector<ProfileSegment> segments;
+  for (int i = 0; i < o_.segments; ++i) {
+    ProfileSegment seg;
+    seg.duration_s = budget_s() / o_.segments;
+    seg.chamber_end_c = i % 2 == 0 ? t_lo_ : t_hi_;
+    seg.rate = rate_programme(-w_max_, w_max_, std::max(1.0, std::round(seg.duration_s / o_.preferred_period_s)),
+                              0.5 * (i % 2), w_max_);
+    seg.position = o_.positions.front();
+    segments.push_back(seg);
+  }
+  return assemble(t_hi_, segments);
+}
+
+}  // namespace gyrosid::design

@@ -1,0 +1,56 @@
+// Fisher information of a linear calibration model along a trajectory, with the sensor's noise model, and
+// the linearised parameter covariance it implies.
+//
+// Noise (sensor/noise.h): white rate noise of density N (angle random walk), first-order Gauss-Markov
+// processes (those of bias instability included), rate random walk K. An observation standing for
+// w_k seconds carries white noise of variance N^2 / w_k. Gauss-Markov processes correlated over less than
+// the observation spacing add white noise of the same long-term Allan variance, 2 sigma^2 tau / w_k; the
+// slower ones and the random walk are states of a Kalman filter whose standardised innovations whiten the
+// regressor columns, so that  W' W = A' Sigma^-1 A  without an N x N covariance (white noise alone: W =
+// A sqrt(w) / N). Quantization noise and rate ramp are left out (their effect on a calibration is below
+// the white noise's for averaging times beyond a second, and a ramp is a drift, not a noise).
+//
+// With a Gaussian prior theta ~ N(0, diag(s^2)) the posterior covariance is P = (W'W + diag(1/s^2))^-1
+// (the Bayesian calibration error, what designs minimise); a least-squares calibration's own covariance is
+// the sandwich P W'W P, and its expected estimate on noise-free data gives the bias of the model class.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <vector>
+
+#include "sensor/noise.h"
+
+namespace gyrosid::design {
+
+struct NoiseSpec {
+  double white_psd = 0.0;            // N^2, rad^2/s
+  std::vector<GaussMarkov> markov;   // every Gauss-Markov component, bias instability's included
+  double rrw_psd = 0.0;              // K^2, rad^2/s^3
+  static NoiseSpec of(const NoiseOptions& options);
+  bool any() const { return white_psd > 0 || !markov.empty() || rrw_psd > 0; }
+};
+
+// Rows of [a | extra] whitened under the noise: `a` has one row per observation at times `t_s` (ascending,
+// repeats allowed) standing for `weight_s` seconds each.
+Eigen::MatrixXd whiten(const Eigen::MatrixXd& a, const std::vector<double>& t_s, const Eigen::VectorXd& weight_s,
+                       const NoiseSpec& noise);
+
+// The linearised calibration: posterior and estimator covariance in the prior-scaled parameters
+// theta~ = theta / s (well conditioned: every eigenvalue of the posterior precision is >= 1).
+struct LinearEstimate {
+  Eigen::VectorXd prior_sd;    // s
+  Eigen::MatrixXd posterior;   // P~ = (W~'W~ + I)^-1, scaled parameters
+  Eigen::MatrixXd estimator;   // P~ W~'W~ P~: covariance of the regularised least-squares estimate
+  Eigen::VectorXd expected;    // P~ W~' e~: the estimate on noise-free data (scaled), when a target was given
+  double log_det_information = 0.0;  // log det(W~'W~ + I)
+  // Back to model units.
+  Eigen::MatrixXd posterior_covariance() const { return prior_sd.asDiagonal() * posterior * prior_sd.asDiagonal(); }
+  Eigen::MatrixXd estimator_covariance() const { return prior_sd.asDiagonal() * estimator * prior_sd.asDiagonal(); }
+  Eigen::VectorXd expected_theta() const { return prior_sd.cwiseProduct(expected); }
+};
+
+// `whitened` is whiten([A | e]) when `has_target`, else whiten(A).
+LinearEstimate linear_estimate(const Eigen::MatrixXd& whitened, const Eigen::VectorXd& prior_sd, bool has_target);
+
+}  // namespace gyrosid::design

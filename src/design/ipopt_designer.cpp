@@ -1,0 +1,227 @@
+// The `ipopt` design solver: Ipopt's interior-point method on the smooth relaxation of the programme
+// (design_space.h): variables start temperature, segment durations, end temperatures and rate bounds, each
+// scaled to O(1); linear constraints  sum d_i = budget,  |T_i - T_{i-1}| <= r d_i,  low_i <= high_i;
+// gradients by forward differences, a limited-memory Hessian. The relaxed optimum is rounded to whole rate
+// cycles of the preferred period (design_space.h) and scored exactly. An iteration is one interior-point
+// iteration; its cost is the relaxed objective.
+#include <coin/IpIpoptApplication.hpp>
+#include <coin/IpTNLP.hpp>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "core/random.h"
+#include "design/design_solver.h"
+#include "solvers/common/terminations.h"
+
+namespace gyrosid::design {
+
+OptionTable IpoptDesignOptions::table() {
+  OptionTable t("ipopt");
+  t.integer("max_iterations", &max_iterations, 1, 100000, "interior-point iterations per start")
+      .real("tolerance", &tolerance, 0.0, 1.0, "Ipopt convergence tolerance", true)
+      .real("gradient_step", &gradient_step, 0.0, 0.1, "forward-difference step on the O(1)-scaled variables", true)
+      .integer("starts", &starts, 1, 100, "starts: the initial programme, then seeded perturbations of it")
+      .integer("print_level", &print_level, 0, 12, "Ipopt's own console output (0: silent)");
+  return t;
+}
+
+std::string IpoptDesignOptions::validate() const { return ""; }
+
+namespace {
+
+using Ipopt::Index;
+using Ipopt::Number;
+
+class RelaxedNlp : public Ipopt::TNLP {
+ public:
+  RelaxedNlp(const DesignProblem& problem, const IpoptDesignOptions& o, SolveMonitor& monitor, Progress& progress,
+             std::vector<double> start)
+      : p_(problem), s_(problem.space()), o_(o), monitor_(monitor), progress_(progress), k_(s_.options().segments),
+        start_(std::move(start)) {}
+
+  Ipopt::SolverReturn status = Ipopt::UNASSIGNED;
+  std::vector<double> solution;
+  int iterations = 0;
+
+  static constexpr double kTempScale = 50.0;
+  Index n() const { return 1 + 4 * k_; }
+  // Scaled variables <-> the smooth programme.
+  SmoothProgramme unscale(const Number* z) const {
+    SmoothProgramme x;
+    x.start_c = z[0] * kTempScale;
+    for (int i = 0; i < k_; ++i) {
+      x.duration_s.push_back(z[1 + i] * s_.budget_s());
+      x.end_c.push_back(z[1 + k_ + i] * kTempScale);
+      x.low_radps.push_back(z[1 + 2 * k_ + i] * s_.rate_max_radps());
+      x.high_radps.push_back(z[1 + 3 * k_ + i] * s_.rate_max_radps());
+    }
+    return x;
+  }
+  static std::vector<double> scale(const SmoothProgramme& x, const DesignSpace& s) {
+    const int k = static_cast<int>(x.duration_s.size());
+    std::vector<double> z(static_cast<std::size_t>(1 + 4 * k));
+    z[0] = x.start_c / kTempScale;
+    for (int i = 0; i < k; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      z[static_cast<std::size_t>(1 + i)] = x.duration_s[u] / s.budget_s();
+      z[static_cast<std::size_t>(1 + k + i)] = x.end_c[u] / kTempScale;
+      z[static_cast<std::size_t>(1 + 2 * k + i)] = x.low_radps[u] / s.rate_max_radps();
+      z[static_cast<std::size_t>(1 + 3 * k + i)] = x.high_radps[u] / s.rate_max_radps();
+    }
+    return z;
+  }
+
+  double value(const Number* z) {
+    monitor_.evaluation();
+    return p_.smooth_objective(unscale(z));
+  }
+
+  bool get_nlp_info(Index& n_vars, Index& m, Index& nnz_jac, Index& nnz_h, IndexStyleEnum& style) override {
+    n_vars = n();
+    m = 1 + 3 * k_;
+    nnz_jac = k_ + 6 * k_ + 2 * k_;  // sum d; two ramp rows of 3 entries per segment; low - high
+    nnz_h = 0;
+    style = TNLP::C_STYLE;
+    return true;
+  }
+
+  bool get_bounds_info(Index, Number* lo, Number* hi, Index m, Number* gl, Number* gu) override {
+    lo[0] = s_.temp_lo() / kTempScale, hi[0] = s_.temp_hi() / kTempScale;
+    for (int i = 0; i < k_; ++i) {
+      lo[1 + i] = s_.options().min_share, hi[1 + i] = 1.0;
+      lo[1 + k_ + i] = s_.temp_lo() / kTempScale, hi[1 + k_ + i] = s_.temp_hi() / kTempScale;
+      lo[1 + 2 * k_ + i] = lo[1 + 3 * k_ + i] = -1.0;
+      hi[1 + 2 * k_ + i] = hi[1 + 3 * k_ + i] = 1.0;
+    }
+    gl[0] = gu[0] = 1.0;
+    for (Index j = 1; j < m; ++j) gl[j] = -2e19, gu[j] = 0.0;
+    return true;
+  }
+
+  bool get_starting_point(Index, bool, Number* z, bool, Number*, Number*, Index, bool, Number*) override {
+    std::copy(start_.begin(), start_.end(), z);
+    return true;
+  }
+
+  bool eval_f(Index, const Number* z, bool, Number& obj) override {
+    obj = value(z);
+    return std::isfinite(obj);
+  }
+
+  bool eval_grad_f(Index nv, const Number* z, bool, Number* grad) override {
+    std::vector<double> x(z, z + nv);
+    const double f0 = value(z);
+    for (Index i = 0; i < nv; ++i) {
+      const double h = o_.gradient_step;
+      x[static_cast<std::size_t>(i)] = z[i] + h;
+      grad[i] = (value(x.data()) - f0) / h;
+      x[static_cast<std::size_t>(i)] = z[i];
+    }
+    return true;
+  }
+
+  // The ramp-rate constant in scaled units: |dT~| <= c d~, c = r B / (60 T_s).
+  double ramp() const { return s_.options().chamber.rate_limit_c_per_min * s_.budget_s() / 60.0 / kTempScale; }
+
+  bool eval_g(Index, const Number* z, bool, Index, Number* g) override {
+    g[0] = 0.0;
+    for (int i = 0; i < k_; ++i) g[0] += z[1 + i];
+    for (int i = 0; i < k_; ++i) {
+      const double prev = i == 0 ? z[0] : z[1 + k_ + i - 1], step = z[1 + k_ + i] - prev;
+      g[1 + 2 * i] = step - ramp() * z[1 + i];
+      g[2 + 2 * i] = -step - ramp() * z[1 + i];
+      g[1 + 2 * k_ + i] = z[1 + 2 * k_ + i] - z[1 + 3 * k_ + i];
+    }
+    return true;
+  }
+
+  bool eval_jac_g(Index, const Number*, bool, Index, Index, Index* row, Index* col, Number* v) override {
+    Index at = 0;
+    auto put = [&](Index r, Index c, double value) {
+      if (v) v[at++] = value;
+      else row[at] = r, col[at++] = c;
+    };
+    for (int i = 0; i < k_; ++i) put(0, 1 + i, 1.0);
+    for (int i = 0; i < k_; ++i) {
+      const Index prev = i == 0 ? 0 : 1 + k_ + i - 1;
+      for (int sign : {1, -1}) {
+        const Index r = sign > 0 ? 1 + 2 * i : 2 + 2 * i;
+        put(r, 1 + k_ + i, sign);
+        put(r, prev, -sign);
+        put(r, 1 + i, -ramp());
+      }
+      put(1 + 2 * k_ + i, 1 + 2 * k_ + i, 1.0);
+      put(1 + 2 * k_ + i, 1 + 3 * k_ + i, -1.0);
+    }
+    return true;
+  }
+
+  bool intermediate_callback(Ipopt::AlgorithmMode, Index, Number obj, Number, Number, Number, Number, Number, Number,
+                             Number, Index, const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
+    monitor_.iteration(obj);
+    progress_.update(static_cast<std::size_t>(++iterations));
+    return true;
+  }
+
+  void finalize_solution(Ipopt::SolverReturn s, Index nv, const Number* z, const Number*, const Number*, Index, const Number*,
+                         const Number*, Number, const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
+    status = s;
+    solution.assign(z, z + nv);
+  }
+
+ private:
+  const DesignProblem& p_;
+  const DesignSpace& s_;
+  const IpoptDesignOptions& o_;
+  SolveMonitor& monitor_;
+  Progress& progress_;
+  int k_;
+  std::vector<double> start_;
+};
+
+}  // namespace
+
+SolveOutcome IpoptDesigner::solve(const DesignProblem& problem, TableProfile& best, SolveMonitor& monitor) {
+  const DesignSpace& space = problem.space();
+  const std::vector<double> base = RelaxedNlp::scale(space.smooth_of(best), space);
+  Progress progress("design (ipopt)", static_cast<std::size_t>(o_.max_iterations * o_.starts));
+  double best_value = problem.objective(best);
+  const double initial_value = best_value;
+  Termination termination = Termination::failed;
+  std::string message = "no start finished";
+  nlohmann::json runs = nlohmann::json::array();
+  RandomStream random(seed_, "design/ipopt/starts");
+  for (int start = 0; start < o_.starts; ++start) {
+    std::vector<double> z = base;
+    if (start > 0) {
+      for (double& v : z) v += 0.15 * (2.0 * random.uniform() - 1.0);
+    }
+    Ipopt::SmartPtr<RelaxedNlp> nlp = new RelaxedNlp(problem, o_, monitor, progress, z);
+    Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+    app->Options()->SetIntegerValue("print_level", o_.print_level);
+    app->Options()->SetStringValue("sb", "yes");
+    app->Options()->SetStringValue("hessian_approximation", "limited-memory");
+    app->Options()->SetIntegerValue("max_iter", o_.max_iterations);
+    app->Options()->SetNumericValue("tol", o_.tolerance);
+    app->Options()->SetNumericValue("acceptable_tol", 10.0 * o_.tolerance);
+    app->Options()->SetStringValue("jac_c_constant", "yes");
+    app->Options()->SetStringValue("jac_d_constant", "yes");
+    if (app->Initialize() != Ipopt::Solve_Succeeded) fail("ipopt design: Ipopt initialisation failed");
+    app->OptimizeTNLP(nlp);
+    if (nlp->solution.empty()) continue;
+    const TableProfile rounded = space.decode_smooth(nlp->unscale(nlp->solution.data()));
+    const double exact = problem.objective(rounded);
+    runs.push_back({{"start", start}, {"status", static_cast<int>(nlp->status)}, {"iterations", nlp->iterations}, {"exact_objective", exact}});
+    if (start == 0 || exact < best_value) {
+      termination = termination_of(nlp->status);
+      message = str_cat("Ipopt status ", static_cast<int>(nlp->status), " (start ", start, ")");
+    }
+    if (exact < best_value) best = rounded, best_value = exact;
+  }
+  progress.finish();
+  return {termination, message, {{"starts", runs}, {"initial_objective", initial_value}}};
+}
+
+}  // namespace gyrosid::design

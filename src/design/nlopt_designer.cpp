@@ -1,0 +1,116 @@
+// The `nlopt` design solver: a global derivative-free NLopt algorithm over the box encoding of the
+// programme (every point feasible, design_space.h), then a local derivative-free refinement from the best
+// point found. An iteration is one objective evaluation of an exact programme.
+#include <nlopt.hpp>
+
+#include <cmath>
+#include <functional>
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "design/design_solver.h"
+#include "solvers/common/terminations.h"
+
+namespace gyrosid::design {
+
+OptionTable NloptDesignOptions::table() {
+  OptionTable t("nlopt");
+  t.text("global", &global, "NLopt global derivative-free algorithm (GN_CRS2_LM, GN_ISRES, GN_ESCH, GN_DIRECT_L, ...) or none")
+      .integer("global_evaluations", &global_evaluations, 1, 1000000, "objective evaluations of the global search")
+      .integer("population", &population, 0, 100000, "population of the global search (0: NLopt's default)")
+      .text("local", &local, "NLopt local derivative-free algorithm (LN_BOBYQA, LN_SBPLX, LN_NELDERMEAD, ...) or none")
+      .integer("local_evaluations", &local_evaluations, 1, 1000000, "objective evaluations of the local refinement")
+      .real("xtol_rel", &xtol_rel, 0.0, 1.0, "relative step tolerance of both searches", true);
+  return t;
+}
+
+namespace {
+
+std::string check_algorithm(const std::string& key, const std::string& name, char scope) {
+  if (name == "none") return "";
+  const nlopt_algorithm a = nlopt_algorithm_from_string(name.c_str());
+  if (static_cast<int>(a) < 0 || a >= NLOPT_NUM_ALGORITHMS) return str_cat("option '", key, "' = '", name, "' is not an NLopt algorithm");
+  if (name.size() < 2 || name[0] != scope || name[1] != 'N') {
+    return str_cat("option '", key, "' = '", name, "' must be a derivative-free ", scope == 'G' ? "global (GN_*)" : "local (LN_*)",
+                   " algorithm");
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string NloptDesignOptions::validate() const {
+  if (auto p = check_algorithm("global", global, 'G'); !p.empty()) return p;
+  if (auto p = check_algorithm("local", local, 'L'); !p.empty()) return p;
+  if (global == "none" && local == "none") return "options 'global' and 'local' cannot both be none";
+  if (global == "GN_MLSL" || global == "GN_MLSL_LDS") return "option 'global': MLSL needs a local optimiser of its own; use GN_CRS2_LM, GN_ISRES, GN_ESCH or GN_DIRECT_L";
+  return "";
+}
+
+SolveOutcome NloptDesigner::solve(const DesignProblem& problem, TableProfile& best, SolveMonitor& monitor) {
+  const DesignSpace& space = problem.space();
+  const auto n = static_cast<unsigned>(space.box_dimension());
+  const Eigen::VectorXd lower = space.box_lower(), upper = space.box_upper();
+  const int total = (o_.global == "none" ? 0 : o_.global_evaluations) + (o_.local == "none" ? 0 : o_.local_evaluations);
+  Progress progress("design (nlopt)", static_cast<std::size_t>(total));
+  struct {
+    double value = INFINITY;
+    Eigen::VectorXd v;
+  } record;
+  int evaluations = 0;
+  std::function<double(const std::vector<double>&)> objective = [&](const std::vector<double>& x) {
+    const Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
+    const double value = problem.box_objective(v);
+    monitor.iteration(value);
+    monitor.evaluation();
+    progress.update(static_cast<std::size_t>(++evaluations));
+    if (value < record.value) record = {value, v};
+    return value;
+  };
+  auto run = [&](const std::string& algorithm, int evaluations_allowed, Eigen::VectorXd start, nlohmann::json& report) {
+    nlopt::opt opt(algorithm.c_str(), n);
+    opt.set_lower_bounds(std::vector<double>(lower.data(), lower.data() + n));
+    opt.set_upper_bounds(std::vector<double>(upper.data(), upper.data() + n));
+    opt.set_maxeval(evaluations_allowed);
+    opt.set_xtol_rel(o_.xtol_rel);
+    if (o_.population > 0 && algorithm[0] == 'G') opt.set_population(static_cast<unsigned>(o_.population));
+    if (algorithm[0] == 'L') {
+      const Eigen::VectorXd step = 0.05 * (upper - lower);
+      opt.set_initial_step(std::vector<double>(step.data(), step.data() + n));
+    }
+    opt.set_min_objective([](const std::vector<double>& x, std::vector<double>&, void* f) {
+      return (*static_cast<std::function<double(const std::vector<double>&)>*>(f))(x);
+    }, &objective);
+    std::vector<double> x(start.data(), start.data() + n);
+    double value = 0.0;
+    Termination termination = Termination::no_progress;
+    std::string message;
+    const int before = evaluations;
+    try {
+      const auto result = static_cast<nlopt_result>(opt.optimize(x, value));
+      termination = termination_of(result);
+      message = nlopt_result_to_string(result);
+    } catch (const std::exception& e) {  // round-off and forced stops: the best point seen is kept
+      message = std::string("stopped: ") + e.what();
+    }
+    report = {{"algorithm", algorithm}, {"evaluations", evaluations - before}, {"best", record.value}, {"result", message}};
+    return SolveOutcome{termination, algorithm + ": " + message, {}};
+  };
+
+  nlopt::srand(static_cast<unsigned long>(seed_));
+  Eigen::VectorXd start = space.encode_box(best);
+  nlohmann::json global_report, local_report;
+  SolveOutcome outcome;
+  if (o_.global != "none") outcome = run(o_.global, o_.global_evaluations, start, global_report);
+  if (o_.local != "none") {
+    if (record.v.size() == n) start = record.v;
+    outcome = run(o_.local, o_.local_evaluations, start, local_report);
+  }
+  progress.finish();
+  if (!std::isfinite(record.value)) fail("nlopt design: no programme had a finite objective");
+  best = space.decode_box(record.v);
+  outcome.details = {{"global", global_report}, {"local", local_report}, {"variables", n}};
+  return outcome;
+}
+
+}  // namespace gyrosid::design

@@ -1,0 +1,274 @@
+#include "design/regressor.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/format.h"
+#include "core/units.h"
+#include "model/gaussian_node.h"
+
+namespace gyrosid::design {
+
+std::string Domain::validate() const {
+  if (!(temp_max_c > temp_min_c)) return str_cat("domain temperatures [", temp_min_c, ", ", temp_max_c, "] C are empty");
+  if (!(rate_max_radps > 0)) return "domain rate range must be positive";
+  return "";
+}
+
+void ModelOptions::bind(OptionTable& t) {
+  t.integer("model.rbf_temperature_nodes", &rbf_temperature_nodes, 2, 60, "rbf: dictionary nodes along temperature")
+      .integer("model.rbf_rate_nodes", &rbf_rate_nodes, 2, 60, "rbf: dictionary nodes along rate")
+      .real("model.rbf_width", &rbf_width, 0.0, 10.0, "rbf: node width on inputs normalised to [-1, 1] over the domain", true)
+      .integer("model.bias_order", &bias_order, 0, 8, "greybox: bias polynomial order in coil temperature")
+      .integer("model.grid_temperatures", &grid_temperatures, 2, 20, "greybox: scale-factor grid temperatures (even over the domain)")
+      .text("model.grid_temperatures_c", &grid_temperatures_c, "greybox: explicit grid temperatures, comma-separated (overrides grid_temperatures)")
+      .text("model.grid_rates_dps", &grid_rates_dps, "greybox: scale-factor grid rates, comma-separated deg/s (kept within the domain)")
+      .flag("model.shupe", &shupe, "greybox: Shupe term k_S dT/dt")
+      .flag("model.hysteresis", &hysteresis, "greybox: hysteresis between heating and cooling")
+      .flag("model.thermal_lag", &thermal_lag, "greybox: coil lag behind the probe (linearised)")
+      .real("model.shupe_prior_dph_per_c_per_min", &shupe_prior_dph_per_c_per_min, 0.0, 1e6, "greybox: prior sd of the Shupe coefficient", true)
+      .real("model.hysteresis_prior_dph", &hysteresis_prior_dph, 0.0, 1e6, "greybox: prior sd of the hysteresis step", true)
+      .real("model.thermal_lag_prior_s", &thermal_lag_prior_s, 0.0, 1e6, "greybox: prior sd of the coil lag", true)
+      .integer("model.classical_bias_order", &classical_bias_order, 0, 8, "classical: bias order in temperature")
+      .integer("model.classical_sf_temperature_order", &classical_sf_temperature_order, 0, 6, "classical: scale-factor order in temperature")
+      .integer("model.classical_sf_rate_order", &classical_sf_rate_order, 0, 10, "classical: scale-factor order in rate");
+}
+
+namespace {
+
+std::vector<double> parse_list(const std::string& text, const char* key) {
+  std::vector<double> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0') fail("option '", key, "': '", item, "' is not a number");
+    out.push_back(v);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string ModelOptions::validate() const {
+  const auto rates = parse_list(grid_rates_dps, "model.grid_rates_dps");
+  for (std::size_t i = 1; i < rates.size(); ++i) {
+    if (!(rates[i] > rates[i - 1])) return "option 'model.grid_rates_dps' must be strictly increasing";
+  }
+  if (rates.size() < 2) return "option 'model.grid_rates_dps' needs at least two rates";
+  if (!grid_temperatures_c.empty()) {
+    const auto temps = parse_list(grid_temperatures_c, "model.grid_temperatures_c");
+    for (std::size_t i = 1; i < temps.size(); ++i) {
+      if (!(temps[i] > temps[i - 1])) return "option 'model.grid_temperatures_c' must be strictly increasing";
+    }
+    if (temps.size() < 2) return "option 'model.grid_temperatures_c' needs at least two temperatures";
+  }
+  return "";
+}
+
+namespace {
+
+// Classical and grey-box: named physics terms (model/physics_terms.h) plus, for the grey-box, the
+// linearised thermal-lag column.
+class PhysicsRegressor : public Regressor {
+ public:
+  PhysicsRegressor(ModelFamily family, std::vector<Term> terms, TermScaling scaling, double coil_tau_s,
+                   std::optional<GyroErrorModel> lag_nominal)
+      : family_(family), terms_(std::move(terms)), scaling_(scaling), tau_(coil_tau_s), lag_(std::move(lag_nominal)) {}
+
+  ModelFamily family() const override { return family_; }
+  std::vector<std::string> names() const override {
+    std::vector<std::string> out;
+    for (const auto& t : terms_) {
+      for (auto& n : t.column_names()) out.push_back(n);
+    }
+    if (lag_) out.emplace_back("thermal_lag");
+    return out;
+  }
+  std::vector<int> groups() const override {
+    std::vector<int> out;
+    int g = 0;
+    for (const auto& t : terms_) out.insert(out.end(), static_cast<std::size_t>(t.size()), g++);
+    if (lag_) out.push_back(g);
+    return out;
+  }
+  std::vector<std::pair<std::string, Eigen::Index>> effects() const override {
+    std::vector<std::pair<std::string, Eigen::Index>> out;
+    Eigen::Index at = 0;
+    for (const auto& t : terms_) {
+      if (t.kind == TermKind::shupe || t.kind == TermKind::hysteresis) out.emplace_back(std::string(to_string(t.kind)), at);
+      at += t.size();
+    }
+    if (lag_) out.emplace_back("thermal_lag", at);
+    return out;
+  }
+
+  Eigen::MatrixXd columns(const Signals& s) const override {
+    const CoilTemperature coil = coil_temperature(s, tau_);
+    const Eigen::MatrixXd terms = design_matrix(terms_, s, coil, scaling_);
+    if (!lag_) return terms;
+    Eigen::MatrixXd a(s.size(), terms.cols() + 1);
+    a.leftCols(terms.cols()) = terms;
+    // d error / d tau = (d error / d T_coil) (d T_coil / d tau), both by central differences (tau >= 0).
+    const double dtau = std::max(1.0, 0.01 * tau_);
+    const double lo = std::max(0.0, tau_ - dtau), hi = tau_ + dtau;
+    const Eigen::VectorXd dcoil = (coil_temperature(s, hi).temp_c - coil_temperature(s, lo).temp_c) / (hi - lo);
+    for (Eigen::Index i = 0; i < s.size(); ++i) {
+      GyroEnvironment env;
+      env.temp_rate_c_per_s = coil.rate_c_per_s(i);
+      const double w = s.rate(i), step = 0.05;
+      env.temp_c = coil.temp_c(i) + step;
+      const double up = lag_->forward(w, env);
+      env.temp_c = coil.temp_c(i) - step;
+      const double down = lag_->forward(w, env);
+      a(i, terms.cols()) = (up - down) / (2.0 * step) * dcoil(i);
+    }
+    return a;
+  }
+
+ private:
+  ModelFamily family_;
+  std::vector<Term> terms_;
+  TermScaling scaling_;
+  double tau_;
+  std::optional<GyroErrorModel> lag_;
+};
+
+// Fixed dictionary of Gaussian nodes on a grid over the domain, plus a constant.
+class RbfDictionary : public Regressor {
+ public:
+  RbfDictionary(const ModelOptions& o, const Domain& d) : domain_(d) {
+    const int nt = o.rbf_temperature_nodes, nw = o.rbf_rate_nodes;
+    centres_.resize(nt * nw, 2);
+    for (int i = 0; i < nt; ++i)
+      for (int j = 0; j < nw; ++j) centres_.row(i * nw + j) << -1.0 + 2.0 * j / (nw - 1), -1.0 + 2.0 * i / (nt - 1);
+    width_ = Eigen::RowVectorXd::Constant(2, o.rbf_width);
+  }
+  ModelFamily family() const override { return ModelFamily::rbf; }
+  std::vector<std::string> names() const override {
+    std::vector<std::string> out;
+    const double mid = 0.5 * (domain_.temp_min_c + domain_.temp_max_c), half = 0.5 * (domain_.temp_max_c - domain_.temp_min_c);
+    for (Eigen::Index j = 0; j < centres_.rows(); ++j) {
+      out.push_back(str_cat("node(", format_significant(mid + half * centres_(j, 1), 3), " C, ",
+                            format_significant(units::radps_to_dps(domain_.rate_max_radps * centres_(j, 0)), 3), " dps)"));
+    }
+    out.emplace_back("bias");
+    return out;
+  }
+  std::vector<int> groups() const override {
+    std::vector<int> out(static_cast<std::size_t>(centres_.rows()), 0);
+    out.push_back(1);
+    return out;
+  }
+  Eigen::MatrixXd columns(const Signals& s) const override {
+    const double mid = 0.5 * (domain_.temp_min_c + domain_.temp_max_c), half = 0.5 * (domain_.temp_max_c - domain_.temp_min_c);
+    Eigen::MatrixXd x(s.size(), 2);
+    x.col(0) = s.rate / domain_.rate_max_radps;
+    x.col(1) = (s.temp_c.array() - mid) / half;
+    Eigen::MatrixXd a(s.size(), centres_.rows() + 1);
+    a.leftCols(centres_.rows()) = gaussian_columns(x, centres_, width_);
+    a.col(centres_.rows()).setOnes();
+    return a;
+  }
+
+ private:
+  Domain domain_;
+  Eigen::MatrixXd centres_;  // normalised (w, T)
+  Eigen::RowVectorXd width_;
+};
+
+TermScaling domain_scaling(const Domain& d) {
+  TermScaling s;
+  s.t_ref_c = 0.5 * (d.temp_min_c + d.temp_max_c);
+  s.t_scale_c = std::max(1.0, 0.5 * (d.temp_max_c - d.temp_min_c));
+  s.rate_scale_radps = d.rate_max_radps;
+  return s;
+}
+
+std::vector<int> orders(int from, int to) {
+  std::vector<int> out;
+  for (int k = from; k <= to; ++k) out.push_back(k);
+  return out;
+}
+
+}  // namespace
+
+SurfaceGrid greybox_grid(const ModelOptions& o, const Domain& d) {
+  SurfaceGrid g;
+  if (!o.grid_temperatures_c.empty()) {
+    g.temperatures_c = parse_list(o.grid_temperatures_c, "model.grid_temperatures_c");
+  } else {
+    for (int i = 0; i < o.grid_temperatures; ++i) {
+      g.temperatures_c.push_back(d.temp_min_c + (d.temp_max_c - d.temp_min_c) * i / (o.grid_temperatures - 1));
+    }
+  }
+  const double limit = units::radps_to_dps(d.rate_max_radps) * (1.0 + 1e-9);
+  for (double r : parse_list(o.grid_rates_dps, "model.grid_rates_dps")) {
+    if (std::abs(r) <= limit) g.rates_dps.push_back(r);
+  }
+  if (g.rates_dps.size() < 2) fail("design model: fewer than two grid rates within the domain's +-", limit, " deg/s");
+  return g;
+}
+
+std::string calibration_yaml(ModelFamily family, const ModelOptions& o, const Domain& d) {
+  std::ostringstream out;
+  out << "# The calibration this design assumed:\n"
+      << "#   gyrosid calibrate --config calibration.yaml --recording rec.csv --out model.json\n";
+  auto list = [](const std::vector<double>& v) {
+    std::string s;
+    for (double x : v) s += (s.empty() ? "" : ",") + format_number(x);
+    return s;
+  };
+  switch (family) {
+    case ModelFamily::rbf:
+      out << "# (the design's objective used a fixed dictionary of Gaussian nodes as a proxy for this network)\n"
+          << "model: rbf\nsolver: ols\noptions: {criterion: bic, width: " << format_number(o.rbf_width) << ", reestimate_lambda: true}\n";
+      break;
+    case ModelFamily::classical:
+      out << "model: classical\noptions: {bias_order: " << o.classical_bias_order << ", sf_temperature_order: "
+          << o.classical_sf_temperature_order << ", sf_rate_order: " << o.classical_sf_rate_order << "}\n";
+      break;
+    case ModelFamily::greybox: {
+      const SurfaceGrid g = greybox_grid(o, d);
+      out << "model: greybox\noptions:\n  bias_order: " << o.bias_order << "\n  surface_temperatures_c: \"" << list(g.temperatures_c)
+          << "\"\n  surface_rates_dps: \"" << list(g.rates_dps) << "\"\n  shupe: " << (o.shupe ? "true" : "false")
+          << "\n  thermal_lag: " << (o.thermal_lag ? "true" : "false") << "\n";
+      if (o.hysteresis) out << "# (hysteresis: fit with gyrosid explain; the grey-box fit has no hysteresis term)\n";
+      break;
+    }
+  }
+  return out.str();
+}
+
+std::unique_ptr<Regressor> make_regressor(ModelFamily family, const ModelOptions& o, const Domain& d,
+                                          const GyroErrorModel& nominal, double coil_tau_s) {
+  if (auto p = o.validate(); !p.empty()) fail("design model: ", p);
+  if (auto p = d.validate(); !p.empty()) fail("design: ", p);
+  switch (family) {
+    case ModelFamily::rbf: return std::make_unique<RbfDictionary>(o, d);
+    case ModelFamily::classical: {
+      std::vector<Term> terms{Term::of(TermKind::bias)};
+      if (o.classical_bias_order > 0) terms.push_back(Term::temperature_orders(orders(1, o.classical_bias_order)));
+      Term sf = Term::of(TermKind::scale_factor);
+      for (int i = 1; i <= o.classical_sf_temperature_order; ++i) sf.sf_orders.push_back({i, 0});
+      for (int j = 0; j <= o.classical_sf_rate_order; ++j) sf.sf_orders.push_back({0, j});
+      terms.push_back(sf);
+      return std::make_unique<PhysicsRegressor>(family, terms, domain_scaling(d), 0.0, std::nullopt);
+    }
+    case ModelFamily::greybox: {
+      std::vector<Term> terms{Term::of(TermKind::bias)};
+      if (o.bias_order > 0) terms.push_back(Term::temperature_orders(orders(1, o.bias_order)));
+      const SurfaceGrid grid = greybox_grid(o, d);
+      terms.push_back(Term::surface(grid.temperatures_c, grid.rates_dps));
+      if (o.shupe) terms.push_back(Term::of(TermKind::shupe));
+      if (o.hysteresis) terms.push_back(Term::of(TermKind::hysteresis));
+      return std::make_unique<PhysicsRegressor>(family, terms, domain_scaling(d), coil_tau_s,
+                                                o.thermal_lag ? std::optional<GyroErrorModel>(nominal) : std::nullopt);
+    }
+  }
+  fail("design: unknown model family");
+}
+
+}  // namespace gyrosid::design

@@ -1,0 +1,100 @@
+#include "report/design_report.h"
+
+#include <sstream>
+
+#include "core/format.h"
+#include "core/gnuplot.h"
+#include "core/units.h"
+
+namespace gyrosid {
+
+void plot_design_coverage(const std::filesystem::path& png, const design::Observations& o, const design::Envelope& e,
+                          const std::string& title) {
+  std::vector<std::vector<double>> samples, envelope;
+  const Eigen::Index stride = std::max<Eigen::Index>(1, o.size() / 20000);
+  for (Eigen::Index i = 0; i < o.size(); i += stride) samples.push_back({units::radps_to_dps(o.inputs.rate(i)), o.inputs.temp_c(i)});
+  for (const auto& p : e.temperature_rate_points()) envelope.push_back({p[1], p[0]});
+  const double w = units::radps_to_dps(e.domain.rate_max_radps);
+  std::string script = datablock("samples", samples) + datablock("envelope", envelope);
+  script += str_cat("set title ", gnuplot_quote(title), "\n",
+                    "set xlabel 'measured rate (deg/s)'\nset ylabel 'temperature at the sensor probe (C)'\nset grid\n",
+                    "set key outside right\n",
+                    "set object 1 rect from ", -w, ",", e.domain.temp_min_c, " to ", w, ",", e.domain.temp_max_c,
+                    " fs empty border rgb '#808080' dt 2\n",
+                    "plot $envelope using 1:2 with points pt 5 ps 0.6 lc rgb '#c8c8c8' title 'envelope', \\\n",
+                    "     $samples using 1:2 with points pt 7 ps 0.25 lc rgb '#2050a0' title 'trajectory samples (", o.size(), ")', \\\n",
+                    "     NaN with lines dt 2 lc rgb '#808080' title 'domain'\n");
+  render_png(png, script);
+}
+
+namespace {
+
+std::string fmt(double v, int digits = 3) { return format_significant(v, digits); }
+
+void prediction_rows(std::ostringstream& out, const std::string& name, const design::Prediction& p) {
+  out << "| " << name << " | " << fmt(p.duration_min, 4);
+  for (const auto& f : p.flights) out << " | " << fmt(f.cof_m) << " | " << fmt(f.surface_rms_dph);
+  if (p.uniform_surface_rms_dph) out << " | " << fmt(*p.uniform_surface_rms_dph);
+  out << " | " << fmt(p.objective, 4) << " |\n";
+}
+
+}  // namespace
+
+std::string design_report_markdown(const DesignReportInput& in) {
+  std::ostringstream out;
+  const design::Prediction* head = in.result ? &in.result->predicted : (in.compared.empty() ? nullptr : &in.compared.front().second);
+  out << "# " << (in.result ? "Calibration trajectory design" : "Predicted accuracy of calibration trajectories") << "\n\n";
+  out << "Model `" << in.model << "`, sensor `" << in.sensor << "`" << (in.result ? ", solver `" + in.solver + "`" : "")
+      << ". Made by `" << in.command << "`.\n\n";
+  out << "Predictions are linearised: the model's parameter covariance from the Fisher information of the trajectory "
+         "with the sensor's noise, pushed through the strapdown INS to the criterion of fit (position error at the end "
+         "of each flight, after 1 h for longer flights, flight noise off) and to the RMS error of the surface over the "
+         "flight's (T, w) samples. `cof_m` is the expected criterion including the model's own bias on noise-free data.\n\n";
+  if (!head) return out.str();
+  out << "| trajectory | minutes";
+  for (const auto& f : head->flights) out << " | " << f.flight << " cof_m | " << f.flight << " surface_rms_dph";
+  if (head->uniform_surface_rms_dph) out << " | uniform surface_rms_dph";
+  out << " | objective (" << to_string(head->criterion) << ") |\n|---|---";
+  for (std::size_t i = 0; i < head->flights.size(); ++i) out << "|---|---";
+  out << (head->uniform_surface_rms_dph ? "|---" : "") << "|---|\n";
+  if (in.result) {
+    prediction_rows(out, "**design**", in.result->predicted);
+    prediction_rows(out, "starting programme", in.result->initial_predicted);
+  }
+  for (const auto& [name, p] : in.compared) prediction_rows(out, name, p);
+  if (!head->effects.empty()) {
+    out << "\n## Grey-box effects\n\nPosterior standard deviations and correlations (separable when |correlation| is well below 1):\n\n"
+        << "| effect | sd | unit |";
+    for (const auto& e : head->effects) out << " corr " << e.name << " |";
+    out << "\n|---|---|---|";
+    for (std::size_t i = 0; i < head->effects.size(); ++i) out << "---|";
+    out << "\n";
+    for (std::size_t i = 0; i < head->effects.size(); ++i) {
+      out << "| " << head->effects[i].name << " | " << fmt(head->effects[i].sd) << " | " << head->effects[i].unit << " |";
+      for (std::size_t k = 0; k < head->effects.size(); ++k) out << " " << fmt(head->effect_correlation(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)), 2) << " |";
+      out << "\n";
+    }
+  }
+  if (in.result) {
+    const auto& p = in.result->trajectory.profile;
+    out << "\n## Programme (" << fmt(p.duration_min(), 4) << " min, " << p.segments.size() << " segments)\n\n"
+        << "| # | segment | minutes | chamber C | table rate deg/s | cycles | position |\n|---|---|---|---|---|---|---|\n";
+    for (std::size_t i = 0; i < p.segments.size(); ++i) {
+      const auto& s = p.segments[i];
+      const bool tri = s.rate.shape == RateProfile::Shape::triangle;
+      out << "| " << i + 1 << " | " << s.label << " | " << fmt(s.duration_s / 60.0) << " | " << fmt(s.chamber_start_c) << " -> "
+          << fmt(s.chamber_end_c) << " | "
+          << (tri ? fmt(units::radps_to_dps(s.rate.low_radps)) + " .. " + fmt(units::radps_to_dps(s.rate.high_radps))
+                  : fmt(units::radps_to_dps(s.rate.value_radps)))
+          << " | " << (tri ? fmt(s.rate.cycles) : "dwell") << " | " << s.position << " |\n";
+    }
+    const SolveSummary& s = in.result->summary;
+    out << "\n## Solver\n\n`" << s.solver << "`: " << to_string(s.termination) << " (" << s.message << "), " << s.iterations
+        << " iterations, " << s.evaluations << " objective evaluations, " << fmt(s.time_s) << " s, peak "
+        << fmt(s.peak_rss_mb) << " MB; objective " << fmt(s.initial_cost, 4) << " -> " << fmt(in.result->predicted.objective, 4)
+        << ".\n\nSimulate it: `gyrosid simulate --trajectory trajectory.yaml --sensor " << in.sensor << " --out rec.csv`\n";
+  }
+  return out.str();
+}
+
+}  // namespace gyrosid

@@ -1,0 +1,28 @@
+// What `gyrosid design` writes beside the trajectory: coverage.png (the trajectory's samples over (T, w)
+// with the application envelope shaded) and report.md (the programme, the predicted accuracy per flight
+// against the starting programme and any reference trajectories, the solver's summary).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "design/design.h"
+
+namespace gyrosid {
+
+// Samples (probe temperature, measured rate) of `observations` over the envelope's samples (grey) and its
+// domain (dashed box).
+void plot_design_coverage(const std::filesystem::path& png, const design::Observations& observations,
+                          const design::Envelope& envelope, const std::string& title);
+
+struct DesignReportInput {
+  const design::DesignResult* result = nullptr;  // null for an evaluation only
+  std::vector<std::pair<std::string, design::Prediction>> compared;  // reference trajectories by name
+  std::string command;                                            // how it was made
+  std::string model, sensor, solver;
+};
+std::string design_report_markdown(const DesignReportInput& input);
+
+}  // namespace gyrosid
