@@ -127,12 +127,16 @@ Eigen::VectorXd DesignSpace::encode_box(const TableProfile& p) const {
   if (static_cast<int>(p.segments.size()) != o_.segments) fail("design: a programme of ", p.segments.size(), " segments in a space of ", o_.segments);
   Eigen::VectorXd v(box_dimension());
   v(0) = p.segments.front().chamber_start_c;
+  // Shares are relative: scale them so that the shortest segment keeps its share above min_share.
+  double shortest = INFINITY;
+  for (const auto& seg : p.segments) shortest = std::min(shortest, seg.duration_s / budget_s());
+  const double share_scale = std::max(1.0, o_.min_share / shortest);
   for (int i = 0; i < o_.segments; ++i) {
     const ProfileSegment& seg = p.segments[static_cast<std::size_t>(i)];
     auto s = v.segment(1 + i * per_segment_, per_segment_);
     const bool tri = seg.rate.shape == RateProfile::Shape::triangle;
     const double period = tri && seg.rate.cycles > 0 ? seg.duration_s / seg.rate.cycles : o_.preferred_period_s;
-    s.head(6) << seg.duration_s / budget_s(), seg.chamber_end_c, tri ? seg.rate.low_radps : seg.rate.value_radps,
+    s.head(6) << share_scale * seg.duration_s / budget_s(), seg.chamber_end_c, tri ? seg.rate.low_radps : seg.rate.value_radps,
         tri ? seg.rate.high_radps : seg.rate.value_radps, std::log10(std::clamp(period, o_.min_period_s, o_.max_period_s)),
         tri ? seg.rate.phase : 0.0;
     if (per_segment_ > 6) {

@@ -1,0 +1,379 @@
+// Trajectory design: the whitened Fisher information equals generalised least squares with the dense noise
+// covariance; the regressors are the derivatives of gyrosid's own models; the INS sensitivity is linear;
+// the predicted parameter covariance and criterion of fit match many simulated calibrations scored by the
+// real INS; every decoded design keeps the chamber's limits; the solvers improve on their start,
+// deterministically; a design separates Shupe from hysteresis where a single scan cannot.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+
+#include <cmath>
+#include <numbers>
+
+#include "core/config.h"
+#include "core/error.h"
+#include "core/random.h"
+#include "core/units.h"
+#include "design/design.h"
+#include "design/design_solver.h"
+#include "model/classical_model.h"
+#include "model/greybox_model.h"
+#include "nav/criterion_of_fit.h"
+#include "sensor/sensor_config.h"
+#include "sim/simulate.h"
+#include "solvers/calibrate.h"
+
+namespace gyrosid::design {
+namespace {
+
+using units::dph_to_radps;
+using units::dps_to_radps;
+
+const SensorSpec& reference_sensor() {
+  static const SensorSpec s = load_sensor_file("builtin:sensors/open_loop_fog.yaml");
+  return s;
+}
+
+std::shared_ptr<const Envelope> short_and_medium() {
+  static const auto e = [] {
+    EnvelopeOptions o;
+    o.flights = {"short", "medium"};
+    return std::make_shared<const Envelope>(load_envelope(o, as_triad(reference_sensor())));
+  }();
+  return e;
+}
+
+Domain domain_of(const Envelope& e, double margin = 10.0) {
+  Domain d = e.domain;
+  d.temp_min_c -= margin, d.temp_max_c += margin;
+  return d;
+}
+
+// A 20-min programme through the short/medium flights' temperatures: a plateau with full-range rate cycles,
+// a ramp down and back with slower cycles.
+TrajectorySpec small_programme(double minutes = 20.0) {
+  DesignSpaceOptions o;
+  o.budget_min = minutes;
+  o.segments = 3;
+  o.rate_hz = 1.0;
+  const Domain d = short_and_medium()->domain;
+  TrajectorySpec t;
+  t.profile = DesignSpace(o, d.temp_min_c, d.temp_max_c, d.rate_max_radps).initial();
+  t.sampling.rate_hz = o.rate_hz;
+  return t;
+}
+
+TEST(DesignInformation, KalmanWhiteningEqualsDenseGeneralisedLeastSquares) {
+  // Observations with uneven spacing and weights, two at the same time; white noise, a slow and a fast
+  // Gauss-Markov process (the fast one is folded into the white part) and a rate random walk.
+  RandomStream r(7, "test/whiten");
+  const int n = 160, p = 3;
+  std::vector<double> t(n);
+  Eigen::VectorXd w(n);
+  double now = 0.0;
+  for (int i = 0; i < n; ++i) {
+    now += i == 40 ? 0.0 : 0.5 + 2.0 * r.uniform();
+    t[static_cast<std::size_t>(i)] = now;
+    w(i) = 0.8 + 0.4 * r.uniform();
+  }
+  Eigen::MatrixXd a(n, p);
+  for (int i = 0; i < n; ++i) a.row(i) << 1.0, std::sin(t[static_cast<std::size_t>(i)] / 40.0), r.normal();
+  NoiseSpec noise;
+  noise.white_psd = 1e-6;
+  noise.markov = {{3e-4, 60.0}, {2e-4, 0.2}};
+  noise.rrw_psd = 1e-10;
+  const Eigen::MatrixXd white = whiten(a, t, w, noise);
+
+  Eigen::MatrixXd sigma = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const double ti = t[static_cast<std::size_t>(i)] - t[0], tj = t[static_cast<std::size_t>(j)] - t[0];
+      sigma(i, j) = 9e-8 * std::exp(-std::abs(ti - tj) / 60.0) + noise.rrw_psd * std::min(ti, tj);
+    }
+    sigma(i, i) += (noise.white_psd + 2.0 * 4e-8 * 0.2) / w(i);  // the fast process as white noise of equal Allan variance
+  }
+  const Eigen::MatrixXd dense = a.transpose() * Eigen::LLT<Eigen::MatrixXd>(sigma).solve(a);
+  const Eigen::MatrixXd kalman = white.transpose() * white;
+  EXPECT_LT((kalman - dense).norm(), 1e-9 * dense.norm()) << kalman << "\n\n" << dense;
+  // White noise alone: the rows scaled by sqrt(w) / N.
+  NoiseSpec plain;
+  plain.white_psd = 4e-6;
+  EXPECT_LT((whiten(a, t, w, plain) - (a.array().colwise() * (w.array() / 4e-6).sqrt()).matrix()).norm(), 1e-12 * a.norm() * 500);
+}
+
+TEST(DesignRegressors, ClassicalColumnsAreTheClassicalModelsTerms) {
+  const Domain d{-30.0, 40.0, dps_to_radps(100.0)};
+  const auto reg = make_regressor(ModelFamily::classical, ModelOptions{}, d, GyroErrorModel{}, 0.0);
+  ASSERT_EQ(reg->size(), 4 + 2 + 7);
+  ClassicalModel m(default_features(), ModelTarget::error);
+  m.rate_scale = d.rate_max_radps;
+  m.temperature_reference = 5.0, m.temperature_scale = 35.0;  // the domain's centre and half-width
+  RandomStream r(3, "test/classical");
+  Eigen::VectorXd theta(reg->size());
+  for (Eigen::Index j = 0; j < theta.size(); ++j) theta(j) = 1e-4 * r.normal();
+  m.bias = theta.head(4);
+  m.sf_temperature = Eigen::VectorXd::Zero(3);
+  m.sf_temperature.tail(2) = theta.segment(4, 2);
+  m.sf_rate = theta.tail(7);
+  Signals s;
+  s.t_s = {0.0, 1.0, 2.0, 3.0};
+  s.rate = Eigen::Vector4d(-1.2, -0.1, 0.4, 1.7);
+  s.temp_c = Eigen::Vector4d(-25.0, 0.0, 12.0, 38.0);
+  const Eigen::VectorXd linear = reg->columns(s) * theta;
+  for (int i = 0; i < 4; ++i) {
+    const double x[2] = {s.rate(i), s.temp_c(i)};
+    EXPECT_NEAR(linear(i), m.predict(x), 1e-15) << i;
+  }
+}
+
+TEST(DesignRegressors, GreyboxColumnsAreFiniteDifferencesOfTheGreyboxModel) {
+  // The grey-box model (bias cubic in the coil temperature, scale-factor surface on a grid, coil lagging the
+  // probe by tau) predicts the rate error by inverting its forward model; the design's columns are its
+  // derivatives by each coefficient and by tau - to first order in the scale-factor error.
+  const GyroErrorModel& truth = std::get<GyroSensor>(reference_sensor()).errors;
+  const Domain d{-40.0, 30.0, dps_to_radps(100.0)};
+  ModelOptions o;
+  o.thermal_lag = true;
+  const double tau = 90.0;
+  const auto reg = make_regressor(ModelFamily::greybox, o, d, truth, tau);
+  const SurfaceGrid grid = greybox_grid(o, d);
+  const auto nt = static_cast<Eigen::Index>(grid.temperatures_c.size()), nw = static_cast<Eigen::Index>(grid.rates_dps.size());
+  ASSERT_EQ(reg->size(), 4 + nt * nw + 1);
+  // Inputs along a chamber ramp with rate cycles.
+  const TrajectorySpec t = small_programme();
+  const Quadrature q = programme_quadrature(t.profile, 5.0, 12);
+  const Observations obs = observe(t.profile, q.times, q.weights_s, std::get<GyroSensor>(reference_sensor()), ThermalPath{});
+  Dataset data;
+  data.features = default_features();
+  data.t_s = obs.inputs.t_s;
+  data.x.resize(obs.size(), 2);
+  data.x.col(0) = obs.inputs.rate;
+  data.x.col(1) = obs.inputs.temp_c;
+  const Eigen::MatrixXd a = reg->columns(obs.inputs);
+  // The expansion point: the sensor's own surface sampled on the grid, its bias cubic re-expressed about the
+  // domain's centre (dT = (T + 5) / 35).
+  auto model = [&](const Eigen::VectorXd& theta, double lag) {
+    GyroErrorModel e;
+    e.bias_temperature_radps.reference = -5.0;
+    for (int k = 0; k < 4; ++k) e.bias_temperature_radps.coefficients.push_back(theta(k) / std::pow(35.0, k));
+    std::vector<double> rates;
+    for (double r : grid.rates_dps) rates.push_back(dps_to_radps(r));
+    Eigen::MatrixXd v(nt, nw);
+    for (Eigen::Index i = 0; i < nt; ++i)
+      for (Eigen::Index j = 0; j < nw; ++j) v(i, j) = theta(4 + i * nw + j);
+    e.scale_factor_surface = SplineSurface(grid.temperatures_c, rates, v, OutsideGridPolicy::clamp);
+    return GreyboxModel(default_features(), e, lag).predict(data);
+  };
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(reg->size() - 1);
+  for (int k = 0; k < 4; ++k) theta(k) = truth.bias_temperature_radps.coefficients[static_cast<std::size_t>(k)] * std::pow(35.0, k);
+  theta(0) += truth.bias_radps + truth.bias_temperature_radps(-5.0) - truth.bias_temperature_radps.coefficients[0];
+  for (Eigen::Index i = 0; i < nt; ++i)
+    for (Eigen::Index j = 0; j < nw; ++j) theta(4 + i * nw + j) = truth.scale_factor_error(grid.temperatures_c[static_cast<std::size_t>(i)], dps_to_radps(grid.rates_dps[static_cast<std::size_t>(j)])).value;
+  const Eigen::VectorXd base = model(theta, tau);
+  for (Eigen::Index col : {Eigen::Index{0}, Eigen::Index{2}, Eigen::Index{4 + 2 * nw + 3}, Eigen::Index{4 + 4 * nw + nw - 1}}) {
+    Eigen::VectorXd step = theta;
+    const double h = col < 4 ? dph_to_radps(1.0) : 1e-5;
+    step(col) += h;
+    const Eigen::VectorXd fd = (model(step, tau) - base) / h;
+    // The design's model is linear in the measured rate, the grey-box's in the true rate: they differ by
+    // the scale-factor error and its slope (about 0.2 % at 100 deg/s).
+    EXPECT_LT((fd - a.col(col)).norm(), 1e-2 * a.col(col).norm()) << reg->names()[static_cast<std::size_t>(col)];
+  }
+  // The lag column is linearised about the sensor's own error model (where the design expects the fit).
+  auto with_lag = [&](double lag) { return GreyboxModel(default_features(), truth, lag).predict(data); };
+  const Eigen::VectorXd lag_fd = (with_lag(tau + 1.0) - with_lag(tau - 1.0)) / 2.0;
+  EXPECT_LT((lag_fd - a.col(a.cols() - 1)).norm(), 1e-2 * lag_fd.norm());
+}
+
+TEST(DesignEnvelope, TheInsSensitivityIsLinearOverACalibrationsErrors) {
+  const auto envelope = short_and_medium();
+  const DesignContext context(reference_sensor(), envelope, ModelFamily::greybox, ModelOptions{}, Criterion::cof, domain_of(*envelope));
+  // The errors a calibration on the thesis's dual scan leaves (it covers both flights).
+  const LinearEstimate e = context.estimate(observe_trajectory(context, load_trajectory_file("builtin:trajectories/dual_scan.yaml")), false);
+  const Eigen::MatrixXd cov = e.estimator_covariance();
+  const Eigen::MatrixXd root = Eigen::LLT<Eigen::MatrixXd>(cov + 1e-30 * Eigen::MatrixXd::Identity(cov.rows(), cov.cols())).matrixL();
+  RandomStream r(5, "test/linear");
+  // The INS fed the reference rates minus the residual of a parameter error, as the design linearises it.
+  auto exact = [&](const FlightEnvelope& fe, const Eigen::VectorXd& dtheta) {
+    std::array<std::vector<double>, 3> rates;
+    const Excitation& ex = fe.evaluator->excitation();
+    for (int a = 0; a < 3; ++a) {
+      const Eigen::VectorXd residual = context.regressor().columns(fe.axes[static_cast<std::size_t>(a)]) * dtheta;
+      for (std::size_t k = 0; k < ex.size(); ++k) rates[static_cast<std::size_t>(a)].push_back(ex.omega_ib_b[k](a) - residual(static_cast<Eigen::Index>(k)));
+    }
+    return Eigen::Vector3d(fe.evaluator->position_error(rates, fe.horizon_s));
+  };
+  for (int draw = 0; draw < 3; ++draw) {
+    Eigen::VectorXd z(cov.rows());
+    for (Eigen::Index j = 0; j < z.size(); ++j) z(j) = r.normal();
+    const Eigen::VectorXd dtheta = 2.0 * root * z;  // a calibration two sigma off
+    for (std::size_t f = 0; f < envelope->flights.size(); ++f) {
+      const FlightEnvelope& fe = envelope->flights[f];
+      const Eigen::Vector3d linear = context.linearisation().flights[f].sensitivity * dtheta;
+      // S is the INS's own derivative (a hundredth of the error, scaled back) ...
+      const Eigen::Vector3d small = 100.0 * exact(fe, dtheta / 100.0);
+      EXPECT_LT((small - linear).norm(), 5e-3 * small.norm()) << fe.name << ": " << small.transpose() << " vs " << linear.transpose();
+      // ... and linear over the errors a calibration leaves.
+      const Eigen::Vector3d full = exact(fe, dtheta);
+      EXPECT_LT((full - linear).norm(), 0.05 * full.norm()) << fe.name << ": " << full.transpose() << " vs " << linear.transpose();
+    }
+  }
+}
+
+TEST(DesignAssessment, ExpectedNormMatchesTheHalfNormalAndMonteCarlo) {
+  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+  c(0, 0) = 4.0;
+  EXPECT_NEAR(expected_norm(Eigen::Vector3d::Zero(), c), 2.0 * std::sqrt(2.0 / std::numbers::pi), 1e-3);
+  c << 2.0, 0.5, 0.1, 0.5, 1.0, 0.2, 0.1, 0.2, 0.3;
+  const Eigen::Vector3d m(0.7, -0.4, 1.1);
+  const Eigen::Matrix3d l = Eigen::LLT<Eigen::Matrix3d>(c).matrixL();
+  RandomStream r(11, "test/norm");
+  double sum = 0.0;
+  const int n = 400000;
+  for (int i = 0; i < n; ++i) sum += (m + l * Eigen::Vector3d(r.normal(), r.normal(), r.normal())).norm();
+  EXPECT_NEAR(expected_norm(m, c), sum / n, 3e-3 * sum / n);
+}
+
+// The calibration `gyrosid calibrate` would run for the design's model (the design's calibration.yaml).
+CalibrationRequest calibration_for(const DesignContext& context, const ModelOptions& options) {
+  return calibration_request_from_config(ConfigNode::parse(calibration_yaml(context.family(), options, context.model_domain()), "calibration.yaml"));
+}
+
+double mean(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x;
+  return s / static_cast<double>(v.size());
+}
+
+TEST(DesignAssessment, PredictionsMatchManySimulatedCalibrationsScoredByTheIns) {
+  // 48 noisy recordings of a 20-min programme, each calibrated with the grey-box fit of `gyrosid calibrate`
+  // and scored by the criterion of fit on the short and medium flights: the mean criterion and the spread
+  // of the fitted surfaces are what the Fisher information predicted.
+  const auto envelope = short_and_medium();
+  const ModelOptions options;
+  const DesignContext context(reference_sensor(), envelope, ModelFamily::greybox, options, Criterion::cof, domain_of(*envelope));
+  const TrajectorySpec programme = small_programme();
+  const Prediction predicted = evaluate_trajectory(context, programme);
+  const CalibrationRequest request = calibration_for(context, options);
+  const TriadSensor triad = as_triad(reference_sensor());
+  // Surface test points inside the programme's coverage (the probe sees 6..25 C): (T, w). Beyond the data
+  // an unregularised fit is arbitrary in the directions no sample determines.
+  const std::vector<std::array<double, 2>> points{{10.0, -60.0}, {12.0, 5.0}, {20.0, 90.0}, {15.0, -20.0}, {22.0, 40.0}};
+  Signals at;
+  for (std::size_t i = 0; i < points.size(); ++i) at.t_s.push_back(1e6 * static_cast<double>(i));
+  at.temp_c.resize(5), at.rate.resize(5);
+  for (int i = 0; i < 5; ++i) at.temp_c(i) = points[static_cast<std::size_t>(i)][0], at.rate(i) = dps_to_radps(points[static_cast<std::size_t>(i)][1]);
+  const Eigen::MatrixXd a = context.regressor().columns(at);
+  const Eigen::MatrixXd sigma = context.estimate(observe_trajectory(context, programme), false).estimator_covariance();
+  const Eigen::VectorXd predicted_sd = (a * sigma * a.transpose()).diagonal().cwiseSqrt();
+
+  const int runs = 48;
+  std::vector<std::vector<double>> cof(envelope->flights.size());
+  Eigen::MatrixXd surface(runs, 5);
+  for (int run = 0; run < runs; ++run) {
+    const Simulation sim = simulate(reference_sensor(), programme, 1000 + static_cast<std::uint64_t>(run));
+    const CalibrationResult fit = calibrate(sim.recording, request);
+    for (std::size_t f = 0; f < envelope->flights.size(); ++f) {
+      const nav::CofEvaluator scorer(*envelope->flights[f].flight, triad, fit.model.get(), nav::CofOptions{});
+      cof[f].push_back(scorer.run(nav::CompensationMode::model, false, 1).end_error_m);
+    }
+    for (int i = 0; i < 5; ++i) {
+      const double x[2] = {at.rate(i), at.temp_c(i)};
+      surface(run, i) = fit.model->predict(x);
+    }
+  }
+  for (std::size_t f = 0; f < envelope->flights.size(); ++f) {
+    const FlightPrediction& p = predicted.flights[f];
+    EXPECT_GT(p.cof_noise_m, p.cof_bias_m) << p.flight;  // the noise, not the model class, sets the error here
+    EXPECT_NEAR(mean(cof[f]), p.cof_m, 0.25 * p.cof_m) << p.flight << ": achieved mean over " << runs << " calibrations";
+  }
+  const Eigen::RowVectorXd centre = surface.colwise().mean();
+  const Eigen::VectorXd achieved_sd = ((surface.rowwise() - centre).cwiseAbs2().colwise().sum() / (runs - 1)).cwiseSqrt().transpose();
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_NEAR(achieved_sd(i) / predicted_sd(i), 1.0, 0.3) << "surface at " << points[static_cast<std::size_t>(i)][0] << " C, "
+                                                            << points[static_cast<std::size_t>(i)][1] << " deg/s";
+  }
+  EXPECT_NEAR(achieved_sd.mean() / predicted_sd.mean(), 1.0, 0.15);
+}
+
+TEST(DesignInformation, ColouredNoiseCovarianceMatchesSimulatedGeneralisedLeastSquares) {
+  // The sensor's noise generator (exact interval averages of white noise, a Gauss-Markov process and a
+  // rate random walk) against the Kalman model of the Fisher information: the spread of generalised
+  // least-squares estimates over 300 noise draws is the predicted estimator covariance.
+  GyroSensor gyro = std::get<GyroSensor>(reference_sensor());
+  gyro.noise = NoiseOptions{};
+  gyro.noise.arw_rad_rt_s = dph_to_radps(5.0);
+  gyro.noise.gauss_markov = {{dph_to_radps(8.0), 200.0}};
+  gyro.noise.rrw_rad_s_rt_s = dph_to_radps(2.0) / 3600.0;
+  const Domain d{-30.0, 40.0, dps_to_radps(100.0)};
+  const auto reg = make_regressor(ModelFamily::classical, ModelOptions{}, d, gyro.errors, 0.0);
+  const TrajectorySpec programme = small_programme();
+  const Quadrature q = sample_quadrature(programme.times(), programme.profile.duration_s());
+  const Observations o = observe(programme.profile, q.times, q.weights_s, gyro, ThermalPath{});
+  const NoiseSpec noise = NoiseSpec::of(gyro.noise);
+  const Eigen::MatrixXd a = reg->columns(o.inputs);
+  const Eigen::VectorXd prior = Eigen::VectorXd::Constant(reg->size(), 1.0);
+  const LinearEstimate e = linear_estimate(whiten(a, o.inputs.t_s, o.weight_s, noise), prior, false);
+  const Eigen::MatrixXd w = whiten(a, o.inputs.t_s, o.weight_s, noise);
+  Eigen::MatrixXd precision = w.transpose() * w;
+  precision.diagonal().array() += 1.0;
+  const Eigen::LLT<Eigen::MatrixXd> llt(precision);
+  const int runs = 300;
+  Eigen::MatrixXd estimates(runs, reg->size());
+  for (int run = 0; run < runs; ++run) {
+    NoiseGenerator gen(gyro.noise, 77 + static_cast<std::uint64_t>(run), "test");
+    Eigen::VectorXd y(o.size());
+    for (Eigen::Index k = 0; k < o.size(); ++k) y(k) = gen.next(o.inputs.t_s[static_cast<std::size_t>(k)], 1.0);
+    estimates.row(run) = llt.solve(w.transpose() * whiten(y, o.inputs.t_s, o.weight_s, noise)).transpose();
+  }
+  const Eigen::RowVectorXd centre = estimates.colwise().mean();
+  const Eigen::MatrixXd empirical = (estimates.rowwise() - centre).transpose() * (estimates.rowwise() - centre) / (runs - 1);
+  // Compare the spread of the fitted error along the programme (all parameters at once).
+  const double predicted = (a * e.estimator_covariance() * a.transpose()).trace();
+  const double achieved = (a * empirical * a.transpose()).trace();
+  EXPECT_NEAR(achieved / predicted, 1.0, 0.15);
+}
+
+TEST(DesignSpace, EveryDecodedProgrammeKeepsTheLimits) {
+  DesignSpaceOptions o;
+  o.budget_min = 45;
+  o.segments = 5;
+  o.positions = {1, 2, 5};
+  o.chamber.rate_limit_c_per_min = 2.0;
+  o.chamber.min_c = -35.0;
+  const DesignSpace space(o, -40.0, 20.0, dps_to_radps(90.0));
+  EXPECT_DOUBLE_EQ(space.temp_lo(), -35.0);  // the chamber's range wins over the margin
+  EXPECT_DOUBLE_EQ(space.temp_hi(), 30.0);
+  RandomStream r(9, "test/limits");
+  const Eigen::VectorXd lo = space.box_lower(), hi = space.box_upper();
+  for (int draw = 0; draw < 2000; ++draw) {
+    Eigen::VectorXd v(space.box_dimension());
+    for (Eigen::Index j = 0; j < v.size(); ++j) v(j) = lo(j) + (hi(j) - lo(j)) * r.uniform();
+    const TableProfile p = space.decode_box(v);
+    ASSERT_EQ(p.check_limits(), "");
+    ASSERT_NEAR(p.duration_min(), 45.0, 1e-9);
+    for (const auto& s : p.segments) {
+      ASSERT_GE(std::min(s.chamber_start_c, s.chamber_end_c), -35.0 - 1e-12);
+      ASSERT_LE(std::max(s.chamber_start_c, s.chamber_end_c), 30.0 + 1e-12);
+      ASSERT_LE(std::abs(s.chamber_end_c - s.chamber_start_c) / (s.duration_s / 60.0), 2.0 * (1 + 1e-12));
+      const double peak = s.rate.shape == RateProfile::Shape::triangle ? std::max(std::abs(s.rate.low_radps), std::abs(s.rate.high_radps))
+                                                                       : std::abs(s.rate.value_radps);
+      ASSERT_LE(peak, dps_to_radps(90.0) * (1 + 1e-12));
+      ASSERT_THAT(o.positions, ::testing::Contains(s.position));
+      ASSERT_GE(s.duration_s, 0.02 / 1.0 * 45 * 60 / 5.0 - 1e-9);  // min_share of a budget spread over at most 5 shares
+    }
+    // The box encoding reproduces the programme it decoded.
+    const TableProfile again = space.decode_box(space.encode_box(p));
+    for (std::size_t i = 0; i < p.segments.size(); ++i) ASSERT_NEAR(again.segments[i].chamber_end_c, p.segments[i].chamber_end_c, 1e-9);
+  }
+  // The smooth encoding is projected onto the limits too: a ramp too steep for its segment stops short.
+  SmoothProgramme x = space.smooth_of(space.initial());
+  x.end_c.assign(x.end_c.size(), -35.0);
+  x.start_c = 30.0;
+  x.duration_s.assign(x.duration_s.size(), 60.0);
+  EXPECT_EQ(space.decode_smooth(x).check_limits(), "");
+}
+
+}  // namespace
+}  // namespace gyrosid::design
