@@ -374,7 +374,7 @@ TEST_F(Cli, TriadCalibrationCompensationAndCriterionOfFit) {
 }
 
 TEST_F(Cli, HelpTeaches) {
-  for (const char* sub : {"simulate", "allan", "run", "calibrate", "compensate", "surface", "export", "cof", "explain"}) {
+  for (const char* sub : {"simulate", "allan", "run", "calibrate", "compensate", "surface", "export", "cof", "explain", "design"}) {
     const Result r = run(std::string(sub) + " --help");
     EXPECT_EQ(r.status, 0) << sub;
     EXPECT_THAT(r.output, HasSubstr("--out")) << sub;
@@ -382,6 +382,41 @@ TEST_F(Cli, HelpTeaches) {
   EXPECT_THAT(run("allan --help").output, HasSubstr("IEEE Std 952"));
   EXPECT_THAT(run("--help").output, HasSubstr("simulate"));
   EXPECT_THAT(run("--help").output, HasSubstr("GYROSID_THREADS"));
+}
+
+TEST_F(Cli, DesignWritesATrajectoryThatSimulateReadsDeterministically) {
+  const std::string quick = " --envelope short --model classical --budget-min 8 --set space.segments=2 --set global_evaluations=60 "
+                            "--set local_evaluations=40 --seed 4 --compare builtin:trajectories/single_scan.yaml --out ";
+  const Result r = run("design" + quick + path("d1"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("predicted: short"));
+  for (const char* f : {"trajectory.yaml", "design.json", "coverage.png", "report.md", "calibration.yaml"}) {
+    EXPECT_TRUE(fs::exists(dir_ / "d1" / f)) << f;
+  }
+  const auto j = nlohmann::json::parse(read_text(dir_ / "d1" / "design.json"));
+  EXPECT_NEAR(j["duration_min"].get<double>(), 8.0, 1e-9);
+  EXPECT_GT(j["predicted"]["flights"]["short"]["cof_m"].get<double>(), 0.0);
+  EXPECT_GT(j["predicted"]["flights"]["short"]["surface_rms_dph"].get<double>(), 0.0);
+  EXPECT_EQ(j["solver_summary"]["solver"], "nlopt");
+  EXPECT_LE(j["objective"].get<double>(), j["solver_summary"]["initial_cost"].get<double>());
+  // Same seed, same design, byte for byte; the design is an ordinary trajectory for simulate.
+  ASSERT_EQ(run("design" + quick + path("d2")).status, 0);
+  EXPECT_EQ(read_text(dir_ / "d1" / "trajectory.yaml"), read_text(dir_ / "d2" / "trajectory.yaml"));
+  const Result sim = run("simulate --trajectory " + path("d1/trajectory.yaml") + " --out " + path("rec.csv"));
+  ASSERT_EQ(sim.status, 0) << sim.output;
+  EXPECT_EQ(read_recording(path("rec.csv")).rows(), 8u * 60u * 3u);  // 8 min at the design's 3 Hz
+  const Result cal = run("calibrate --config " + path("d1/calibration.yaml") + " --recording " + path("rec.csv") + " --out " + path("m.json"));
+  EXPECT_EQ(cal.status, 0) << cal.output;
+  // The predicted accuracy of any trajectory, the design's own among them.
+  const Result ev = run("design --evaluate " + path("d1/trajectory.yaml") + " builtin:trajectories/dual_scan.yaml --envelope short --model classical");
+  ASSERT_EQ(ev.status, 0) << ev.output;
+  EXPECT_THAT(ev.output, HasSubstr("dual scan (62 min): predicted short"));
+  // Bad inputs name the option.
+  EXPECT_THAT(run("design --budget-min 10 --model spline --out " + path("x")).output, HasSubstr("known: rbf, greybox, classical"));
+  EXPECT_THAT(run("design --budget-min 10 --set space.segmnts=3 --out " + path("x")).output, HasSubstr("unknown option 'space.segmnts'"));
+  EXPECT_THAT(run("design --budget-min 10 --solver ipopt --set tolerance=0 --out " + path("x")).output, HasSubstr("tolerance"));
+  EXPECT_THAT(run("design --out " + path("x")).output, HasSubstr("--budget-min is required"));
+  EXPECT_FALSE(fs::exists(dir_ / "x"));
 }
 
 }  // namespace

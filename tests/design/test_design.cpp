@@ -23,10 +23,13 @@
 #include "sensor/sensor_config.h"
 #include "sim/simulate.h"
 #include "solvers/calibrate.h"
+#include "error_of.h"
+#include "trajectory/programme.h"
 
 namespace gyrosid::design {
 namespace {
 
+using testing_support::error_of;
 using units::dph_to_radps;
 using units::dps_to_radps;
 
@@ -373,6 +376,114 @@ TEST(DesignSpace, EveryDecodedProgrammeKeepsTheLimits) {
   x.start_c = 30.0;
   x.duration_s.assign(x.duration_s.size(), 60.0);
   EXPECT_EQ(space.decode_smooth(x).check_limits(), "");
+}
+
+// A small design problem (classical model, short and medium flights, 20 min in 3 segments).
+struct SmallProblem {
+  SmallProblem(ModelFamily family = ModelFamily::classical, Criterion criterion = Criterion::cof, ModelOptions model = {},
+               const SensorSpec& sensor = reference_sensor())
+      : space([] {
+          DesignSpaceOptions o;
+          o.budget_min = 20;
+          o.segments = 3;
+          o.rate_hz = 1;
+          return o;
+        }(), short_and_medium()->domain.temp_min_c, short_and_medium()->domain.temp_max_c, short_and_medium()->domain.rate_max_radps),
+        context(sensor, short_and_medium(), family, model, criterion, model_domain(space)),
+        problem(context, space, QuadratureOptions{}) {}
+  DesignSpace space;
+  DesignContext context;
+  DesignProblem problem;
+};
+
+TEST(DesignSolvers, BothImproveOnTheirStartDeterministicallyAndNameBadOptions) {
+  const SmallProblem small;
+  const double start = small.problem.objective(small.space.initial());
+  for (const auto& [name, options] : std::vector<std::pair<std::string, OptionMap>>{
+           {"nlopt", {{"global_evaluations", "150"}, {"local_evaluations", "100"}}}, {"ipopt", {{"max_iterations", "6"}}}}) {
+    std::string first;
+    for (int repeat = 0; repeat < 2; ++repeat) {
+      auto solver = make_design_solver(name, options, 3);
+      TableProfile best = small.space.initial();
+      const SolveSummary s = run_design_solver(*solver, small.problem, best);
+      EXPECT_TRUE(s.usable()) << name << ": " << s.message;
+      EXPECT_GT(s.iterations, 0) << name;
+      EXPECT_EQ(best.check_limits(), "") << name;
+      EXPECT_NEAR(best.duration_min(), 20.0, 1e-9) << name;
+      const double value = small.problem.objective(best);
+      EXPECT_LT(value, start - 0.05) << name;  // a real improvement in log variance
+      EXPECT_DOUBLE_EQ(s.details["objective"].get<double>(), value) << name;
+      TrajectorySpec spec;
+      spec.profile = best;
+      spec.sampling.rate_hz = 1;
+      if (repeat == 0) first = programme_yaml(spec);
+      else EXPECT_EQ(programme_yaml(spec), first) << name << ": same seed, same design";
+    }
+  }
+  EXPECT_THAT(error_of([] { make_design_solver("cmaes", {}, 1); }), ::testing::HasSubstr("known: nlopt, ipopt"));
+  EXPECT_THAT(error_of([] { make_design_solver("nlopt", {{"global", "LD_MMA"}}, 1); }), ::testing::HasSubstr("'global' = 'LD_MMA'"));
+  EXPECT_THAT(error_of([] { make_design_solver("ipopt", {{"max_iter", "3"}}, 1); }), ::testing::HasSubstr("unknown option 'max_iter'"));
+}
+
+TEST(DesignCriteria, ADesignSeparatesShupeFromHysteresisWhereASingleScanCannot) {
+  // One monotone scan heats throughout: its hysteresis branch never changes and is the bias, and its one
+  // ramp rate ties Shupe to the plateaus. Plateaus and ramps both ways at several rates separate them.
+  // A quiet gyro (1 deg/h white noise), so that what the data cannot separate stands out from what they
+  // separate only with noise.
+  ModelOptions model;
+  model.shupe = model.hysteresis = model.thermal_lag = true;
+  SensorSpec quiet = reference_sensor();
+  std::get<GyroSensor>(quiet).noise.arw_rad_rt_s = dph_to_radps(1.0);
+  const SmallProblem small(ModelFamily::greybox, Criterion::effects, model, quiet);
+  const Prediction single = evaluate_trajectory(small.context, load_trajectory_file("builtin:trajectories/single_scan.yaml"));
+  auto effect = [](const Prediction& p, const std::string& name) {
+    for (std::size_t i = 0; i < p.effects.size(); ++i) {
+      if (p.effects[i].name == name) return i;
+    }
+    throw std::runtime_error("no effect " + name);
+  };
+  ASSERT_EQ(single.effects.size(), 3u);
+  EXPECT_GT(single.effects[effect(single, "hysteresis")].sd, 0.9 * model.hysteresis_prior_dph);  // unidentified: the prior
+  auto solver = make_design_solver("nlopt", {{"global_evaluations", "400"}, {"local_evaluations", "300"}}, 1);
+  TableProfile best = small.space.initial();
+  run_design_solver(*solver, small.problem, best);
+  TrajectorySpec spec;
+  spec.profile = best;
+  spec.sampling.rate_hz = 1;
+  const Prediction designed = evaluate_trajectory(small.context, spec);
+  const std::size_t h = effect(designed, "hysteresis"), k = effect(designed, "shupe");
+  // Identified (an order of magnitude inside the prior) and not confounded with each other.
+  EXPECT_LT(designed.effects[h].sd, 0.15 * model.hysteresis_prior_dph);
+  EXPECT_LT(designed.effects[k].sd, 0.1 * model.shupe_prior_dph_per_c_per_min);
+  EXPECT_LT(std::abs(designed.effect_correlation(static_cast<Eigen::Index>(h), static_cast<Eigen::Index>(k))), 0.95);
+  EXPECT_LT(designed.effects[k].sd, single.effects[effect(single, "shupe")].sd);
+}
+
+TEST(DesignAssessment, TheDesignTakesTheSensorItIsGiven) {
+  // Twice the white noise: twice the noise part of every prediction (the least-squares covariance scales
+  // exactly); a slower package: the probe the model is given trails a ramp at rate s by s tau (1 - e^-t/tau)
+  // with the sensor's own tau.
+  SensorSpec noisy = reference_sensor();
+  std::get<GyroSensor>(noisy).noise.arw_rad_rt_s *= 2.0;
+  const auto envelope = short_and_medium();
+  const TrajectorySpec programme = small_programme();
+  const DesignContext base(reference_sensor(), envelope, ModelFamily::classical, ModelOptions{}, Criterion::cof, domain_of(*envelope));
+  const DesignContext loud(noisy, envelope, ModelFamily::classical, ModelOptions{}, Criterion::cof, domain_of(*envelope));
+  const Prediction a = evaluate_trajectory(base, programme), b = evaluate_trajectory(loud, programme);
+  for (std::size_t f = 0; f < a.flights.size(); ++f) {
+    EXPECT_NEAR(b.flights[f].cof_noise_m / a.flights[f].cof_noise_m, 2.0, 2e-3) << a.flights[f].flight;
+    EXPECT_NEAR(b.flights[f].surface_noise_dph / a.flights[f].surface_noise_dph, 2.0, 2e-3) << a.flights[f].flight;
+  }
+  TrajectorySpec ramp = load_trajectory(ConfigNode::parse(
+      "kind: programme\nsegments:\n  - {duration_min: 30, chamber_c: [25, -35], rate_dps: 0}\nsampling: {rate_hz: 1}\n", "ramp.yaml"));
+  for (double tau : {300.0, 900.0}) {
+    SensorSpec package = reference_sensor();
+    std::get<GyroSensor>(package).thermal.tau_s = tau;
+    const DesignContext c(package, envelope, ModelFamily::classical, ModelOptions{}, Criterion::cof, domain_of(*envelope));
+    const Observations o = observe_trajectory(c, ramp);
+    const double t = 25.0 * 60.0, chamber = 25.0 - 2.0 * t / 60.0;
+    EXPECT_NEAR(o.inputs.temp_c(static_cast<Eigen::Index>(t)), chamber + 2.0 / 60.0 * tau * (1.0 - std::exp(-t / tau)), 1e-6) << tau;
+  }
 }
 
 }  // namespace
