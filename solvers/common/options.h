@@ -7,7 +7,11 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <memory>
 #include <vector>
+
+#include "core/error.h"
+#include "core/registry.h"
 
 namespace gyrosid {
 
@@ -45,6 +49,24 @@ class OptionTable {
   };
   std::vector<Passthrough> passthroughs_;
 };
+
+// A registry entry for a class S of family Base with `using Options = ...;` (defaults, table(), validate())
+// and a constructor S(Options, extra...): its help lists the options with their defaults and ranges; the
+// options are applied and validated when S is made, errors prefixed by `owner` and the name.
+template <typename Base, typename S, typename... Extra>
+typename Registry<Base, const OptionMap&, Extra...>::Entry options_entry(std::string name, std::string summary, std::string owner) {
+  return {name, summary,
+          [name, summary] {
+            typename S::Options o;
+            return name + " - " + summary + ":\n" + o.table().help();
+          },
+          [name, owner](const OptionMap& map, Extra... extra) -> std::unique_ptr<Base> {
+            typename S::Options o;
+            o.table().apply(map);
+            if (const std::string problem = o.validate(); !problem.empty()) fail(owner, name, ": ", problem);
+            return std::make_unique<S>(std::move(o), extra...);
+          }};
+}
 
 // "key=value" -> {key, value}; Error naming the text when there is no '='.
 std::pair<std::string, std::string> split_option(const std::string& text);

@@ -118,7 +118,7 @@ void run_design(DesignCommand c) {
     const design::Prediction ref = design::evaluate_trajectory(*ref_context, spec);
     context.set_reference(ref);
     report.compared.emplace_back(str_cat(spec.profile.name, " (reference, ", model, ")"), ref);
-    provenance["reference"] = {{"trajectory", path}, {"model", model}, {"predicted", design::to_json(ref)}};
+    provenance["reference"] = {{"trajectory", path}, {"model", model}, {"predicted", prediction_json(ref)}};
   }
   for (const auto& path : evaluating ? c.evaluate : c.compare) {
     const TrajectorySpec spec = load_trajectory_file(path);
@@ -129,7 +129,7 @@ void run_design(DesignCommand c) {
     for (std::size_t i = 0; i < report.compared.size(); ++i) {
       const auto& [name, p] = report.compared[i];
       std::cout << name << " (" << format_significant(p.duration_min, 4) << " min): predicted " << describe(p) << "\n";
-      j["trajectories"][c.evaluate[i]] = design::to_json(p);
+      j["trajectories"][c.evaluate[i]] = prediction_json(p);
     }
     if (!c.out.empty()) {
       write_file_atomic(dir / "evaluation.json", j.dump(2) + "\n");
@@ -150,7 +150,7 @@ void run_design(DesignCommand c) {
   const design::DesignResult r = design::design_trajectory(context, request);
   report.result = &r;
   write_file_atomic(dir / "trajectory.yaml", programme_yaml(r.trajectory));
-  write_file_atomic(dir / "design.json", design::to_json(r, provenance).dump(2) + "\n");
+  write_file_atomic(dir / "design.json", design_json(r, provenance).dump(2) + "\n");
   write_file_atomic(dir / "calibration.yaml", design::calibration_yaml(family, settings.model, context.model_domain()));
   plot_design_coverage(dir / "coverage.png", design::observe_trajectory(context, r.trajectory), context.envelope(),
                        str_cat("design for ", c.envelope, " (", format_significant(r.trajectory.profile.duration_min(), 4), " min, ",

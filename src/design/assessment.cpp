@@ -12,13 +12,16 @@ namespace gyrosid::design {
 namespace {
 
 // Prior standard deviations: each column group scaled so that its prior predictive RMS over the domain
-// equals kappa times the sensor's RMS error there (weak for the physics models, the dictionary's own
-// regularisation for the RBF); the named effects get their physical magnitudes.
+// equals kappa times the sensor's RMS error there. For the RBF proxy (kappa = 1) the prior is the network's
+// regularisation; the physics models are fitted by plain least squares (their fits' ridge is 1e-9), so their
+// prior (kappa = 1000) only keeps the directions no sample determines finite - a design that leaves them
+// undetermined is charged what a least-squares fit would do there. The named effects get their physical
+// magnitudes (a plain fit has them too, the grey-box fit with its effect terms switched on).
 Eigen::VectorXd prior_scales(const Regressor& r, ModelFamily family, const ModelOptions& o, const Domain& domain,
                              const GyroErrorModel& truth) {
   const SteadyGrid grid = steady_grid(domain, truth);
   const double rms = std::sqrt(grid.true_error.squaredNorm() / static_cast<double>(grid.true_error.size()));
-  const double kappa = family == ModelFamily::rbf ? 1.0 : 3.0;
+  const double kappa = family == ModelFamily::rbf ? 1.0 : 1000.0;
   const Eigen::MatrixXd a = r.columns(grid.inputs);
   const std::vector<int> groups = r.groups();
   Eigen::VectorXd s(r.size());
@@ -117,10 +120,7 @@ LinearEstimate DesignContext::estimate(const Observations& o, bool with_target) 
     a.conservativeResize(Eigen::NoChange, a.cols() + 1);
     a.col(a.cols() - 1) = o.true_error;
   }
-  // The physics models are calibrated by plain least squares (their fits' ridge is 1e-9 relative); the RBF
-  // proxy's prior is its own regularisation.
-  const double fit_scale = family_ == ModelFamily::rbf ? 1.0 : 1000.0;
-  return linear_estimate(whiten(a, o.inputs.t_s, o.weight_s, noise_), prior_sd_, with_target, fit_scale);
+  return linear_estimate(whiten(a, o.inputs.t_s, o.weight_s, noise_), prior_sd_, with_target);
 }
 
 double DesignContext::objective(const LinearEstimate& e) const {
@@ -203,37 +203,6 @@ Prediction DesignContext::predict(const Observations& o) const {
     }
   }
   return p;
-}
-
-nlohmann::json to_json(const Prediction& p) {
-  nlohmann::json flights = nlohmann::json::object();
-  for (const auto& f : p.flights) {
-    flights[f.flight] = {{"cof_m", f.cof_m},
-                         {"cof_noise_m", f.cof_noise_m},
-                         {"cof_bias_m", f.cof_bias_m},
-                         {"horizon_s", f.horizon_s},
-                         {"surface_rms_dph", f.surface_rms_dph},
-                         {"surface_bias_dph", f.surface_bias_dph},
-                         {"surface_noise_dph", f.surface_noise_dph}};
-  }
-  nlohmann::json j = {{"criterion", std::string(to_string(p.criterion))},
-                      {"objective", p.objective},
-                      {"duration_min", p.duration_min},
-                      {"observations", p.observations},
-                      {"flights", flights}};
-  if (p.uniform_surface_rms_dph) j["uniform"] = {{"surface_rms_dph", *p.uniform_surface_rms_dph}};
-  if (!p.effects.empty()) {
-    nlohmann::json effects = nlohmann::json::object();
-    for (std::size_t i = 0; i < p.effects.size(); ++i) {
-      nlohmann::json corr = nlohmann::json::object();
-      for (std::size_t k = 0; k < p.effects.size(); ++k) {
-        if (k != i) corr[p.effects[k].name] = p.effect_correlation(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k));
-      }
-      effects[p.effects[i].name] = {{"sd", p.effects[i].sd}, {"unit", p.effects[i].unit}, {"correlation", corr}};
-    }
-    j["effects"] = effects;
-  }
-  return j;
 }
 
 }  // namespace gyrosid::design

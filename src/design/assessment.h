@@ -20,7 +20,6 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <nlohmann/json.hpp>
 
 #include <array>
 #include <memory>
@@ -116,7 +115,6 @@ class DesignContext {
 // E|m + z|, z ~ N(0, cov): Gauss-Hermite quadrature (16 points per principal axis), deterministic.
 double expected_norm(const Eigen::Vector3d& mean, const Eigen::Matrix3d& cov);
 
-nlohmann::json to_json(const Prediction& p);
 
 }  // namespace gyrosid::design
 

@@ -72,18 +72,4 @@ DesignResult design_trajectory(const DesignContext& context, const DesignRequest
   return r;
 }
 
-nlohmann::json to_json(const DesignResult& r, const nlohmann::json& provenance) {
-  nlohmann::json segments = nlohmann::json::array();
-  for (const auto& seg : r.trajectory.profile.segments) segments.push_back(seg.label);
-  return {{"format", "gyrosid-design/1"},
-          {"duration_min", r.trajectory.profile.duration_min()},
-          {"objective", r.predicted.objective},
-          {"criterion", std::string(to_string(r.predicted.criterion))},
-          {"predicted", to_json(r.predicted)},
-          {"initial", {{"segments", r.initial.segments.size()}, {"predicted", to_json(r.initial_predicted)}}},
-          {"segments", segments},
-          {"solver_summary", r.summary},
-          {"provenance", provenance}};
-}
-
 }  // namespace gyrosid::design

@@ -59,8 +59,4 @@ Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpe
 // The design's observations on the trajectory's own samples (for coverage plots and evaluation).
 Observations observe_trajectory(const DesignContext& context, const TrajectorySpec& trajectory);
 
-// design.json: the trajectory's duration, the objective, the predictions, the solver's summary, and the
-// initial programme's predictions for comparison; `provenance` is stored as it is.
-nlohmann::json to_json(const DesignResult& result, const nlohmann::json& provenance);
-
 }  // namespace gyrosid::design

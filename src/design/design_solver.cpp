@@ -11,8 +11,10 @@ SolveSummary run_design_solver(DesignSolver& solver, const DesignProblem& proble
 const DesignSolverRegistry& design_solvers() {
   static const DesignSolverRegistry registry = [] {
     DesignSolverRegistry r("design solver");
-    r.add(design_solver_entry<NloptDesigner>("nlopt", "NLopt: global derivative-free search of the programme, then local refinement"))
-        .add(design_solver_entry<IpoptDesigner>("ipopt", "Ipopt: interior point on the smooth relaxation, limits as constraints"));
+    r.add(options_entry<DesignSolver, NloptDesigner, std::uint64_t>(
+             "nlopt", "NLopt: global derivative-free search of the programme, then local refinement", "design solver "))
+        .add(options_entry<DesignSolver, IpoptDesigner, std::uint64_t>(
+            "ipopt", "Ipopt: interior point on the smooth relaxation, limits as constraints", "design solver "));
     return r;
   }();
   return registry;

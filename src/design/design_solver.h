@@ -40,23 +40,6 @@ using DesignSolverRegistry = Registry<DesignSolver, const OptionMap&, std::uint6
 const DesignSolverRegistry& design_solvers();
 std::unique_ptr<DesignSolver> make_design_solver(const std::string& name, const OptionMap& options, std::uint64_t seed);
 
-// A registry entry for a solver class S with `using Options = ...;` (defaults, table(), validate()) and a
-// constructor S(Options, seed).
-template <typename S>
-DesignSolverRegistry::Entry design_solver_entry(std::string name, std::string summary) {
-  return {name, summary,
-          [name, summary] {
-            typename S::Options o;
-            return name + " - " + summary + ":\n" + o.table().help();
-          },
-          [name](const OptionMap& map, std::uint64_t seed) -> std::unique_ptr<DesignSolver> {
-            typename S::Options o;
-            o.table().apply(map);
-            if (const std::string problem = o.validate(); !problem.empty()) fail("design solver ", name, ": ", problem);
-            return std::make_unique<S>(std::move(o), seed);
-          }};
-}
-
 // --- the solvers -----------------------------------------------------------------------------------
 
 struct NloptDesignOptions {
@@ -70,16 +53,23 @@ struct NloptDesignOptions {
   std::string validate() const;
 };
 
-class NloptDesigner : public DesignSolver {
+// Base of a design solver whose options struct O has defaults, table() and validate().
+template <typename O>
+class DesignSolverWithOptions : public DesignSolver {
  public:
-  using Options = NloptDesignOptions;
-  NloptDesigner(Options options, std::uint64_t seed) : o_(std::move(options)), seed_(seed) {}
-  std::string_view name() const override { return "nlopt"; }
-  SolveOutcome solve(const DesignProblem& problem, TableProfile& best, SolveMonitor& monitor) override;
+  using Options = O;
+  DesignSolverWithOptions(Options options, std::uint64_t seed) : o_(std::move(options)), seed_(seed) {}
 
- private:
+ protected:
   Options o_;
   std::uint64_t seed_;
+};
+
+class NloptDesigner : public DesignSolverWithOptions<NloptDesignOptions> {
+ public:
+  using DesignSolverWithOptions::DesignSolverWithOptions;
+  std::string_view name() const override { return "nlopt"; }
+  SolveOutcome solve(const DesignProblem& problem, TableProfile& best, SolveMonitor& monitor) override;
 };
 
 struct IpoptDesignOptions {
@@ -92,16 +82,11 @@ struct IpoptDesignOptions {
   std::string validate() const;
 };
 
-class IpoptDesigner : public DesignSolver {
+class IpoptDesigner : public DesignSolverWithOptions<IpoptDesignOptions> {
  public:
-  using Options = IpoptDesignOptions;
-  IpoptDesigner(Options options, std::uint64_t seed) : o_(std::move(options)), seed_(seed) {}
+  using DesignSolverWithOptions::DesignSolverWithOptions;
   std::string_view name() const override { return "ipopt"; }
   SolveOutcome solve(const DesignProblem& problem, TableProfile& best, SolveMonitor& monitor) override;
-
- private:
-  Options o_;
-  std::uint64_t seed_;
 };
 
 }  // namespace gyrosid::design

@@ -67,32 +67,24 @@ Eigen::MatrixXd whiten(const Eigen::MatrixXd& a, const std::vector<double>& t, c
   return out;
 }
 
-LinearEstimate linear_estimate(const Eigen::MatrixXd& whitened, const Eigen::VectorXd& prior_sd, bool has_target,
-                               double fit_prior_scale) {
+LinearEstimate linear_estimate(const Eigen::MatrixXd& whitened, const Eigen::VectorXd& prior_sd, bool has_target) {
   const Eigen::Index p = prior_sd.size();
   if (whitened.cols() != p + (has_target ? 1 : 0)) fail("linear_estimate: ", whitened.cols(), " columns for ", p, " parameters");
   if (!(prior_sd.array() > 0).all()) fail("linear_estimate: prior standard deviations must be positive");
-  if (!(fit_prior_scale >= 1.0)) fail("linear_estimate: the calibration's prior scale must be >= 1");
   const Eigen::MatrixXd scaled = whitened.leftCols(p) * prior_sd.asDiagonal();
   Eigen::MatrixXd info = Eigen::MatrixXd::Zero(p, p);
   info.selfadjointView<Eigen::Lower>().rankUpdate(scaled.transpose());
   info = info.selfadjointView<Eigen::Lower>();
-  auto factor = [&](double prior_precision) {
-    Eigen::MatrixXd precision = info;
-    precision.diagonal().array() += prior_precision;
-    Eigen::LLT<Eigen::MatrixXd> llt(precision);  // eigenvalues >= prior_precision > 0
-    if (llt.info() != Eigen::Success) fail("linear_estimate: the precision is not positive definite (non-finite columns?)");
-    return llt;
-  };
-  const Eigen::LLT<Eigen::MatrixXd> posterior = factor(1.0);
+  Eigen::MatrixXd precision = info;
+  precision.diagonal().array() += 1.0;
+  const Eigen::LLT<Eigen::MatrixXd> llt(precision);  // eigenvalues >= 1: always positive definite
+  if (llt.info() != Eigen::Success) fail("linear_estimate: the precision is not positive definite (non-finite columns?)");
   LinearEstimate e;
   e.prior_sd = prior_sd;
-  e.posterior = posterior.solve(Eigen::MatrixXd::Identity(p, p));
-  e.log_det_information = 2.0 * posterior.matrixLLT().diagonal().array().log().sum();
-  const Eigen::LLT<Eigen::MatrixXd> fit = fit_prior_scale == 1.0 ? posterior : factor(1.0 / (fit_prior_scale * fit_prior_scale));
-  const Eigen::MatrixXd fit_inverse = fit_prior_scale == 1.0 ? e.posterior : fit.solve(Eigen::MatrixXd::Identity(p, p));
-  e.estimator = fit_inverse * info * fit_inverse;
-  if (has_target) e.expected = fit.solve(scaled.transpose() * whitened.col(p));
+  e.posterior = llt.solve(Eigen::MatrixXd::Identity(p, p));
+  e.estimator = e.posterior * info * e.posterior;
+  if (has_target) e.expected = llt.solve(scaled.transpose() * whitened.col(p));
+  e.log_det_information = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
   return e;
 }
 

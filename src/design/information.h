@@ -11,10 +11,10 @@
 // the white noise's for averaging times beyond a second, and a ramp is a drift, not a noise).
 //
 // With a Gaussian prior theta ~ N(0, diag(s^2)) the posterior covariance is P = (W'W + diag(1/s^2))^-1
-// (the Bayesian calibration error, what designs minimise). The calibration itself is a regularised least-
-// squares fit with prior c s (c = 1: the Bayesian estimate; c >> 1: plain least squares, the unvisited
-// directions kept finite): its covariance is the sandwich F^-1 W'W F^-1, F = W'W + diag(1/(c s)^2), and its
-// expected estimate on noise-free data gives the bias of the model class.
+// (what designs minimise). The calibration is the regularised least-squares fit with the same prior (the RBF
+// proxy's prior is its regularisation; the physics models' prior is so wide that only directions no sample
+// determines feel it): its covariance is the sandwich P W'W P, its expected estimate on noise-free data
+// gives the bias of the model class.
 #pragma once
 
 #include <Eigen/Core>
@@ -43,8 +43,8 @@ Eigen::MatrixXd whiten(const Eigen::MatrixXd& a, const std::vector<double>& t_s,
 struct LinearEstimate {
   Eigen::VectorXd prior_sd;    // s
   Eigen::MatrixXd posterior;   // P~ = (W~'W~ + I)^-1, scaled parameters
-  Eigen::MatrixXd estimator;   // F~^-1 W~'W~ F~^-1: covariance of the calibration's estimate
-  Eigen::VectorXd expected;    // F~^-1 W~' e~: its estimate on noise-free data (scaled), when a target was given
+  Eigen::MatrixXd estimator;   // P~ W~'W~ P~: covariance of the calibration's estimate
+  Eigen::VectorXd expected;    // P~ W~' e~: its estimate on noise-free data (scaled), when a target was given
   double log_det_information = 0.0;  // log det(W~'W~ + I)
   // Back to model units.
   Eigen::MatrixXd posterior_covariance() const { return prior_sd.asDiagonal() * posterior * prior_sd.asDiagonal(); }
@@ -52,8 +52,7 @@ struct LinearEstimate {
   Eigen::VectorXd expected_theta() const { return prior_sd.cwiseProduct(expected); }
 };
 
-// `whitened` is whiten([A | e]) when `has_target`, else whiten(A); `fit_prior_scale` is c.
-LinearEstimate linear_estimate(const Eigen::MatrixXd& whitened, const Eigen::VectorXd& prior_sd, bool has_target,
-                               double fit_prior_scale = 1.0);
+// `whitened` is whiten([A | e]) when `has_target`, else whiten(A).
+LinearEstimate linear_estimate(const Eigen::MatrixXd& whitened, const Eigen::VectorXd& prior_sd, bool has_target);
 
 }  // namespace gyrosid::design

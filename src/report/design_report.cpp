@@ -8,6 +8,51 @@
 
 namespace gyrosid {
 
+nlohmann::json prediction_json(const design::Prediction& p) {
+  nlohmann::json flights = nlohmann::json::object();
+  for (const auto& f : p.flights) {
+    flights[f.flight] = {{"cof_m", f.cof_m},
+                         {"cof_noise_m", f.cof_noise_m},
+                         {"cof_bias_m", f.cof_bias_m},
+                         {"horizon_s", f.horizon_s},
+                         {"surface_rms_dph", f.surface_rms_dph},
+                         {"surface_bias_dph", f.surface_bias_dph},
+                         {"surface_noise_dph", f.surface_noise_dph}};
+  }
+  nlohmann::json j = {{"criterion", std::string(to_string(p.criterion))},
+                      {"objective", p.objective},
+                      {"duration_min", p.duration_min},
+                      {"observations", p.observations},
+                      {"flights", flights}};
+  if (p.uniform_surface_rms_dph) j["uniform"] = {{"surface_rms_dph", *p.uniform_surface_rms_dph}};
+  if (!p.effects.empty()) {
+    nlohmann::json effects = nlohmann::json::object();
+    for (std::size_t i = 0; i < p.effects.size(); ++i) {
+      nlohmann::json corr = nlohmann::json::object();
+      for (std::size_t k = 0; k < p.effects.size(); ++k) {
+        if (k != i) corr[p.effects[k].name] = p.effect_correlation(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k));
+      }
+      effects[p.effects[i].name] = {{"sd", p.effects[i].sd}, {"unit", p.effects[i].unit}, {"correlation", corr}};
+    }
+    j["effects"] = effects;
+  }
+  return j;
+}
+
+nlohmann::json design_json(const design::DesignResult& r, const nlohmann::json& provenance) {
+  nlohmann::json segments = nlohmann::json::array();
+  for (const auto& seg : r.trajectory.profile.segments) segments.push_back(seg.label);
+  return {{"format", "gyrosid-design/1"},
+          {"duration_min", r.trajectory.profile.duration_min()},
+          {"objective", r.predicted.objective},
+          {"criterion", std::string(to_string(r.predicted.criterion))},
+          {"predicted", prediction_json(r.predicted)},
+          {"initial", {{"segments", r.initial.segments.size()}, {"predicted", prediction_json(r.initial_predicted)}}},
+          {"segments", segments},
+          {"solver_summary", r.summary},
+          {"provenance", provenance}};
+}
+
 void plot_design_coverage(const std::filesystem::path& png, const design::Observations& o, const design::Envelope& e,
                           const std::string& title) {
   std::vector<std::vector<double>> samples, envelope;

@@ -3,6 +3,8 @@
 // against the starting programme and any reference trajectories, the solver's summary).
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -11,6 +13,11 @@
 #include "design/design.h"
 
 namespace gyrosid {
+
+// design.json's and evaluation.json's parts: a prediction; a design with its solver's summary and the
+// starting programme's prediction; `provenance` is stored as it is.
+nlohmann::json prediction_json(const design::Prediction& prediction);
+nlohmann::json design_json(const design::DesignResult& result, const nlohmann::json& provenance);
 
 // Samples (probe temperature, measured rate) of `observations` over the envelope's samples (grey) and its
 // domain (dashed box).

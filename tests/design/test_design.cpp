@@ -317,7 +317,7 @@ TEST(DesignInformation, ColouredNoiseCovarianceMatchesSimulatedGeneralisedLeastS
   const NoiseSpec noise = NoiseSpec::of(gyro.noise);
   const Eigen::MatrixXd a = reg->columns(o.inputs);
   const Eigen::VectorXd prior = Eigen::VectorXd::Constant(reg->size(), 1.0);
-  const LinearEstimate e = linear_estimate(whiten(a, o.inputs.t_s, o.weight_s, noise), prior, false);
+  const LinearEstimate e = linear_estimate(whiten(a, o.inputs.t_s, o.weight_s, noise), prior, false);  // prior: the fit below
   const Eigen::MatrixXd w = whiten(a, o.inputs.t_s, o.weight_s, noise);
   Eigen::MatrixXd precision = w.transpose() * w;
   precision.diagonal().array() += 1.0;
