@@ -7,6 +7,8 @@
 #include "core/format.h"
 #include "core/units.h"
 #include "model/gaussian_node.h"
+#include "model/greybox_fit.h"
+#include "model/terms/term_kinds.h"
 
 namespace gyrosid::design {
 
@@ -98,7 +100,7 @@ class PhysicsRegressor : public Regressor {
     std::vector<std::pair<std::string, Eigen::Index>> out;
     Eigen::Index at = 0;
     for (const auto& t : terms_) {
-      if (t.kind == TermKind::shupe || t.kind == TermKind::hysteresis) out.emplace_back(std::string(to_string(t.kind)), at);
+      if (t.kind() == "shupe" || t.kind() == "hysteresis") out.emplace_back(std::string(t.kind()), at);
       at += t.size();
     }
     if (lag_) out.emplace_back("thermal_lag", at);
@@ -212,6 +214,16 @@ SurfaceGrid greybox_grid(const ModelOptions& o, const Domain& d) {
   return g;
 }
 
+GreyboxOptions greybox_options(const ModelOptions& o, const Domain& d) {
+  const SurfaceGrid grid = greybox_grid(o, d);
+  GreyboxOptions g;
+  g.bias_order = o.bias_order;
+  g.surface_temperatures_c = grid.temperatures_c;
+  g.surface_rates_dps = grid.rates_dps;
+  g.shupe = o.shupe;
+  return g;
+}
+
 std::string calibration_yaml(ModelFamily family, const ModelOptions& o, const Domain& d) {
   std::ostringstream out;
   out << "# The calibration this design assumed:\n"
@@ -249,21 +261,19 @@ std::unique_ptr<Regressor> make_regressor(ModelFamily family, const ModelOptions
   switch (family) {
     case ModelFamily::rbf: return std::make_unique<RbfDictionary>(o, d);
     case ModelFamily::classical: {
-      std::vector<Term> terms{Term::of(TermKind::bias)};
-      if (o.classical_bias_order > 0) terms.push_back(Term::temperature_orders(orders(1, o.classical_bias_order)));
-      Term sf = Term::of(TermKind::scale_factor);
-      for (int i = 1; i <= o.classical_sf_temperature_order; ++i) sf.sf_orders.push_back({i, 0});
-      for (int j = 0; j <= o.classical_sf_rate_order; ++j) sf.sf_orders.push_back({0, j});
-      terms.push_back(sf);
+      // ClassicalModel (model/classical_model.h): b(T) + (s_T(T) + s_w(w)) w.
+      std::vector<Term> terms{bias_term()};
+      if (o.classical_bias_order > 0) terms.push_back(temperature_polynomial(orders(1, o.classical_bias_order)));
+      ScaleFactorPolynomial::Orders sf;
+      for (int i = 1; i <= o.classical_sf_temperature_order; ++i) sf.push_back({i, 0});
+      for (int j = 0; j <= o.classical_sf_rate_order; ++j) sf.push_back({0, j});
+      terms.push_back(scale_factor_polynomial(sf));
       return std::make_unique<PhysicsRegressor>(family, terms, domain_scaling(d), 0.0, std::nullopt);
     }
     case ModelFamily::greybox: {
-      std::vector<Term> terms{Term::of(TermKind::bias)};
-      if (o.bias_order > 0) terms.push_back(Term::temperature_orders(orders(1, o.bias_order)));
-      const SurfaceGrid grid = greybox_grid(o, d);
-      terms.push_back(Term::surface(grid.temperatures_c, grid.rates_dps));
-      if (o.shupe) terms.push_back(Term::of(TermKind::shupe));
-      if (o.hysteresis) terms.push_back(Term::of(TermKind::hysteresis));
+      // The grey-box fit's own structure (model/greybox_fit.h) with the grid over the domain, plus hysteresis.
+      std::vector<Term> terms = greybox_terms(greybox_options(o, d));
+      if (o.hysteresis) terms.push_back(hysteresis_term());
       return std::make_unique<PhysicsRegressor>(family, terms, domain_scaling(d), coil_tau_s,
                                                 o.thermal_lag ? std::optional<GyroErrorModel>(nominal) : std::nullopt);
     }

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "core/enum_names.h"
+#include "model/greybox_fit.h"
 #include "model/physics_terms.h"
 #include "sensor/gyro_error_model.h"
 #include "solvers/common/options.h"
@@ -81,6 +82,9 @@ struct SurfaceGrid {
   std::vector<double> temperatures_c, rates_dps;
 };
 SurfaceGrid greybox_grid(const ModelOptions& options, const Domain& domain);
+// The grey-box fit's options (model/greybox_fit.h) for the design's model over a domain (its thermal lag is
+// linearised here, fitted there; hysteresis is not a grey-box term).
+GreyboxOptions greybox_options(const ModelOptions& options, const Domain& domain);
 
 // The options of `gyrosid calibrate` that fit the model a design assumed (model, solver, options), as YAML.
 std::string calibration_yaml(ModelFamily family, const ModelOptions& options, const Domain& domain);
