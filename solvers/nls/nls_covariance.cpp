@@ -79,7 +79,7 @@ std::unique_ptr<ceres::Covariance> compute_covariance(ceres::Problem& problem, c
 
 }  // namespace
 
-NlsObservability analyse_observability(const NlsProblem& p, double tolerance) {
+NlsObservability analyse_observability(const NlsProblem& p, const std::vector<double>& tolerance) {
   const auto n = p.free_entries().size();
   NlsObservability out;
   out.observable.assign(n, false);
@@ -105,7 +105,8 @@ NlsObservability analyse_observability(const NlsProblem& p, double tolerance) {
       for (int pass = 0; pass < 2; ++pass)
         for (const auto& q : basis) v -= q.dot(v) * q;
       const double rest = v.norm();
-      if (rest < tolerance) continue;
+      const auto entry = static_cast<std::size_t>(cols[static_cast<std::size_t>(c)]);
+      if (rest < (tolerance.empty() ? 1e-7 : tolerance.at(entry))) continue;
       basis.push_back(v / rest);
       out.observable[static_cast<std::size_t>(cols[static_cast<std::size_t>(c)])] = true;
     }

@@ -3,9 +3,10 @@
 // Observability: per residual group, the Jacobian over the group's free entries is column-scaled and
 // factorised by Householder QR; walking the columns in priority order (the free entries' order: blocks
 // added first come first), an entry is unobservable when its column lies in the span of the columns already
-// accepted - its residual after projection (modified Gram-Schmidt on R, twice) is below `tolerance` of its
-// norm. Such an entry can be moved without changing any residual: callers hold it fixed at a nominal value
-// and never report it as measured.
+// accepted - its residual after projection (modified Gram-Schmidt on R, twice), the sine of its angle to
+// that span, is below the entry's tolerance. At 1e-7 that is exact collinearity (the entry can move without
+// changing any residual); a looser tolerance t also drops entries the data separate only with their sigma
+// inflated by about 1/t. Callers hold such entries at a nominal value and never report them as measured.
 //
 // Covariance at the solution: residuals of group g weighted by 1/s_g, s_g^2 = |r_g|^2 / (m_g - p_g) (the
 // group's noise level, e.g. one gyro's), then ceres::Covariance (SuiteSparse QR; dense SVD when that
@@ -28,7 +29,8 @@ struct NlsObservability {
   std::vector<int> columns;         // per group: free entries the group touches
 };
 
-NlsObservability analyse_observability(const NlsProblem& problem, double tolerance = 1e-7);
+// `tolerance`: per free entry (empty: 1e-7 for every entry).
+NlsObservability analyse_observability(const NlsProblem& problem, const std::vector<double>& tolerance = {});
 
 struct NlsCovariance {
   bool ok = false;

@@ -23,6 +23,7 @@ OptionTable TriadFitOptions::table() {
       .flag("g_sensitivity", &g_sensitivity, "estimate the g-sensitivity matrix G (needs accel_{x,y,z}_mps2)")
       .choice("reference", &reference, {"auto", "rate", "angle"}, "rate: per-sample reference rates; angle: each position_id segment known by its integral (Ferraris); auto: from the metadata 'reference'")
       .real("max_sigma", &max_sigma, 0.0, 1.0, "M and G entries with a larger sigma are reported as not determined", true)
+      .real("collinearity", &collinearity, 1e-12, 0.5, "a linear parameter this close (sine) to the span of M, b and those before it is held at nominal")
       .text("surface_solver", &surface_solver, "RBF solver of the RBF surfaces (sequential fit, joint start)")
       .passthrough("nls.", &solver_options, "an option of the least-squares back-end (listed by --options-of triad)")
       .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver");
@@ -78,12 +79,16 @@ struct Stage {
 Stage run_stage(const TriadData& d, const TriadRows& rows, const TriadProblemSpec& spec, const TriadFitOptions& o) {
   Stage s;
   s.problem = build_triad_problem(d, rows, spec, s.layout);
-  const NlsObservability obs = analyse_observability(s.problem);
   const auto free = s.problem.free_entries();  // copy: fixing changes the free set
+  // Node parameters (centres, widths) are held only when exactly undetermined; linear ones when nearly so.
+  auto is_node = [&](const NlsProblem::FreeEntry& e) { return s.problem.block(e.block).name.find("_node") != std::string::npos; };
+  std::vector<double> tolerance;
+  for (const auto& e : free) tolerance.push_back(is_node(e) ? 1e-7 : o.collinearity);
+  const NlsObservability obs = analyse_observability(s.problem, tolerance);
   for (std::size_t j = 0; j < free.size(); ++j) {
     if (obs.observable[j]) continue;
     NlsProblem::ParameterBlock& b = s.problem.block(free[j].block);
-    const bool node = b.name.find("_node") != std::string::npos;
+    const bool node = is_node(free[j]);
     if (!node) b.values[static_cast<std::size_t>(free[j].entry)] = 0.0;  // nominal; a node keeps its start
     s.problem.fix(free[j].block, free[j].entry);
     s.undetermined.push_back(s.problem.entry_name(free[j].block, free[j].entry));

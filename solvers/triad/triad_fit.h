@@ -10,7 +10,9 @@
 //               the surface kind's own fitter (solvers/calibrate.h: classical, greybox, rbf with any solver).
 //
 // Before each solve the entries the data do not determine are found (nls_covariance.h) and held at their
-// nominal value 0; they are reported as not determined, never as measured. Sigmas come from the covariance
+// nominal value 0; they are reported as not determined, never as measured. Priority goes to M, then b, G and
+// the surfaces: a surface coefficient the data cannot tell from M_ii (a rate shape seen at one rate only) is
+// the one held, with a note. Sigmas come from the covariance
 // at the solution with each gyro's noise level estimated from its own residuals; M and G entries whose sigma
 // exceeds max_sigma are likewise reported as not determined.
 #pragma once
@@ -36,6 +38,8 @@ struct TriadFitOptions {
   bool g_sensitivity = false;         // estimate G (needs accel_{x,y,z}_mps2)
   std::string reference = "auto";     // rate | angle | auto (angle when the metadata say "reference: angle")
   double max_sigma = 0.01;            // M, G entries with a larger sigma are reported as not determined
+  double collinearity = 1e-2;         // a linear parameter within this sine of the span of those before it is
+                                      // held at nominal (its sigma would be inflated ~1/collinearity)
   std::string surface_solver = "ols"; // rbf surfaces: the RBF solver of the sequential fit / joint start
   OptionMap surface_options;          // surface.<key>=<value>: options of the surface kind or its solver
   OptionTable table();
