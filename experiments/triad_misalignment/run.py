@@ -52,14 +52,7 @@ class Experiment:
         return path if path.startswith("builtin:") else os.path.join(HERE, path)
 
     def simulate_and_fit(self, sensor, trajectory, seed, calibrate, tag):
-        rec = self.run.path("data", tag, "seed%d.csv" % seed)
-        args = ["simulate", "--sensor", self.sensor(sensor), "--trajectory", trajectory, "--seed", seed, "--out", rec]
-        if seed == 0:
-            args.insert(1, "--noise-free")
-        self.run.run(args, rec)
-        model = self.run.path("models", tag, "seed%d.json" % seed)
-        self.run.run(["calibrate", "--model", "triad", "--recording", rec] + calibrate + ["--out", model], model)
-        return load_json(model)
+        return self.simulate_and_fit_tagged(sensor, trajectory, seed, calibrate, tag, tag)
 
     def parallel(self, fn, items):
         with concurrent.futures.ThreadPoolExecutor(self.jobs) as pool:
@@ -128,6 +121,199 @@ class Experiment:
         print(text)
 
 
+    # --- joint against sequential ---------------------------------------------------------------------
+    def cof(self, model, sensor, flight):
+        out = self.run.path("cof", os.path.relpath(model, self.run.path("models")).replace("/", "_")[:-5] + "_" + flight, "cof.json")
+        self.run.run(["cof", "--model", model, "--sensor", self.sensor(sensor), "--trajectory", flight,
+                      "--rate-hz", self.cfg["compare"]["cof_rate_hz"], "--out", os.path.dirname(out)], out)
+        j = load_json(out)
+        return j["error_after_1h_m"] if j.get("error_after_1h_m") is not None else j["end_error_m"]
+
+    def compare(self):
+        c = self.cfg["compare"]
+        jobs = [(sname, kind, est, seed) for sname in c["sensors"] for kind in c["fits"] for est in ("joint", "sequential")
+                for seed in [0] + c["seeds"]]
+
+        def one(job):
+            sname, kind, est, seed = job
+            sensor = c["sensors"][sname]
+            sensor_cfg = yaml.safe_load(open(self.sensor(sensor))) if not sensor.startswith("builtin:") else \
+                yaml.safe_load(open(os.path.join(HERE, "..", "..", "configs", sensor[len("builtin:"):])))
+            planted, _ = first_order_m(sensor_cfg["misalignment_mrad"])
+            tag = "compare/%s_%s_%s" % (sname, kind, est)
+            fit = self.simulate_and_fit_tagged(sensor, c["trajectory"], seed, c["fits"][kind] + ["--" + est], tag, "compare/" + sname)
+            m = matrix(fit)
+            err = np.sqrt(np.nanmean([(m[i, j] - planted[i, j]) ** 2 for (i, j) in OFF])) * 1e6
+            model = self.run.path("models", tag, "seed%d.json" % seed)
+            row = {"sensor": sname, "surfaces": kind, "estimation": est, "seed": seed, "offdiag_rms_err_urad": err,
+                   "train_rms_dph": float(np.mean(fit["residual_rms_dph"])), "time_s": fit["summary"]["time_s"]}
+            for flight in c["flights"]:
+                row[flight + "_m"] = self.cof(model, sensor, flight)
+            return row
+
+        rows = self.parallel(one, jobs)
+        cols = ["sensor", "surfaces", "estimation", "seed", "offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in c["flights"]]
+        write_csv(os.path.join(self.out, "compare.csv"), rows, cols + ["time_s"])
+        # Paired comparison: for each (sensor, surfaces, seed), joint / sequential per flight.
+        summary = []
+        for sname in c["sensors"]:
+            for kind in c["fits"]:
+                for noise, seeds in (("noise-free", [0]), ("10 deg/h", c["seeds"])):
+                    r = {"sensor": sname, "surfaces": kind, "training": noise}
+                    for key in ["offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in c["flights"]]:
+                        pick = lambda est: [x[key] for x in rows if x["sensor"] == sname and x["surfaces"] == kind and x["estimation"] == est and x["seed"] in seeds]
+                        j, q = np.array(pick("joint")), np.array(pick("sequential"))
+                        r[key + "_joint"] = float(np.median(j))
+                        r[key + "_seq"] = float(np.median(q))
+                        r[key + "_wins"] = "%d/%d" % (int(np.sum(j <= q * (1 + 1e-9))), len(j))
+                    summary.append(r)
+        scols = ["sensor", "surfaces", "training"]
+        for key in ["offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in c["flights"]]:
+            scols += [key + "_joint", key + "_seq", key + "_wins"]
+        text = "# Joint against sequential estimation\n\nTraining `%s`; criterion of fit (end error, long flight after 1 h, noise-free flights) on %s. " \
+               "Medians over seeds; 'wins' = runs where joint <= sequential.\n\n" % (c["trajectory"], ", ".join(c["flights"]))
+        text += markdown_table(summary, scols)
+        write_text(os.path.join(self.out, "compare.md"), text)
+        print(text)
+
+    def simulate_and_fit_tagged(self, sensor, trajectory, seed, calibrate, model_tag, data_tag):
+        """simulate_and_fit with the recording shared between fits of the same sensor."""
+        rec = self.run.path("data", data_tag, "seed%d.csv" % seed)
+        args = ["simulate", "--sensor", self.sensor(sensor), "--trajectory", trajectory, "--seed", seed, "--out", rec]
+        if seed == 0:
+            args.insert(1, "--noise-free")
+        self.run.run(args, rec)
+        model = self.run.path("models", model_tag, "seed%d.json" % seed)
+        self.run.run(["calibrate", "--model", "triad", "--recording", rec] + calibrate + ["--out", model], model)
+        return load_json(model)
+
+
+    # --- independent generator ------------------------------------------------------------------------
+    def independent(self):
+        c = self.cfg["independent"]
+        seeds = list(range(c["first_seed"], c["first_seed"] + c["runs"]))
+        gen = os.path.join(HERE, "independent_generator.py")
+
+        def one(job):
+            case, seed = job
+            cubic = c["cases"][case]["cubic_ppm_per_dps2"]
+            rec, truth = self.run.path("data", "independent", case, "seed%d.csv" % seed), self.run.path("data", "independent", case, "seed%d.json" % seed)
+            if self.run.force or not os.path.exists(truth):
+                import subprocess
+                subprocess.run([sys.executable, gen, "--seed", str(seed), "--out", rec, "--truth", truth,
+                                "--cubic-ppm-per-dps2", str(cubic)], check=True)
+            t = load_json(truth)
+            fits = {}
+            for name, args in c["cases"][case]["fits"].items():
+                model = self.run.path("models", "independent", case, name, "seed%d.json" % seed)
+                self.run.run(["calibrate", "--model", "triad", "--recording", rec] + args + ["--out", model], model)
+                fits[name] = load_json(model)
+            return case, seed, t, fits
+
+        results = self.parallel(one, [(case, s) for case in c["cases"] for s in seeds])
+        rows = []
+        for case in c["cases"]:
+            res = [r for r in results if r[0] == case]
+            truth = np.array([r[2]["M"] for r in res])
+            crb = np.array([r[2]["crb"] for r in res])
+            estimators = {name: (np.array([matrix(r[3][name]) for r in res]), np.array([matrix(r[3][name], "sigma") for r in res]))
+                          for name in c["cases"][case]["fits"]}
+            estimators["numpy lstsq (peer)"] = (np.array([r[2]["numpy_lstsq"] for r in res]), None)
+            estimators["rate-table +-turns (peer)"] = (np.array([r[2]["rate_table"] for r in res]), None)
+            for name, (est, sig) in estimators.items():
+                err = np.array([[est[k, i, j] - truth[k, i, j] for (i, j) in OFF] for k in range(len(res))])
+                diag = np.array([[est[k, i, i] - truth[k, i, i] for i in range(3)] for k in range(len(res))])
+                row = {"case": case, "estimator": name, "runs": len(res), "offdiag_rms_err_urad": float(np.sqrt(np.mean(err ** 2))) * 1e6,
+                       "offdiag_mean_err_urad": float(np.mean(np.abs(err.mean(axis=0)))) * 1e6,
+                       "diag_rms_err_ppm": float(np.sqrt(np.mean(diag ** 2))) * 1e6,
+                       "crb_urad": float(np.mean([crb[k, i, j] for k in range(len(res)) for (i, j) in OFF])) * 1e6}
+                if sig is not None:
+                    z = np.array([[(est[k, i, j] - truth[k, i, j]) / sig[k, i, j] for (i, j) in OFF] for k in range(len(res))])
+                    row.update({"sigma_reported_urad": float(np.nanmean([sig[k, i, j] for k in range(len(res)) for (i, j) in OFF])) * 1e6,
+                                "cover_1sigma": float(np.mean(np.abs(z) <= 1)), "inside_3sigma": float(np.mean(np.abs(z) <= 3))})
+                rows.append(row)
+        cols = ["case", "estimator", "runs", "offdiag_rms_err_urad", "offdiag_mean_err_urad", "diag_rms_err_ppm", "crb_urad",
+                "sigma_reported_urad", "cover_1sigma", "inside_3sigma"]
+        write_csv(os.path.join(self.out, "independent.csv"), rows, cols)
+        text = ("# Triads from an independent generator\n\n`independent_generator.py`: its own planted matrices K = diag(1+s)(I+L)R, "
+                "a 100 Hz MEMS-like sensor (0.004 deg/s/sqrt(Hz)), its own motion programme with single-axis and diagonal (multi-axis) "
+                "turns at 52 deg N, instantaneous samples. Cramer-Rao bound from the generator's own design matrix and true noise; "
+                "peers on the same data: numpy least squares on the linear model, the rate-table estimator from opposite turns.\n\n")
+        text += markdown_table(rows, cols)
+        write_text(os.path.join(self.out, "independent.md"), text)
+        print(text)
+
+    # --- real sessions ----------------------------------------------------------------------------------
+    def real(self):
+        import import_imucal as imu
+        root = self.cfg["real"]["imucal"]
+        if not os.path.isdir(root):
+            print("real: %s not found - skipped" % root)
+            return
+        text = "# Real sessions: imucal's Ferraris data\n\n"
+        snap = load_json(os.path.join(root, "tests", "snapshots", "example_cal.json"))
+        parts = imu.annotated_session(os.path.join(root, "example_data", "annotated_session.csv"))
+        peer = imu.ferraris_peer(parts, 204.8)
+        text += "Our re-derivation of imucal's Ferraris calibration reproduces its snapshot `example_cal.json`: max |difference| %s.\n\n" % \
+            ", ".join("%s %s" % (k, fmt(float(np.max(np.abs(np.array(peer[k]) - np.array(snap[k])))))) for k in ("K_g", "R_g", "b_g", "K_ga"))
+        rec = self.run.path("data", "real", "annotated_session.csv")
+        signs = imu.write_recording(rec, parts, 204.8, imu.NOMINAL_COUNTS_PER_DPS, imu.NOMINAL_COUNTS_PER_MPS2, "annotated_session.csv")
+        text += "Turn directions read from the gyros: %s (imucal's default expects -360 deg, hence its R_g near -I).\n\n" % signs
+        for name, args in (("ferraris", ["--set", "g_sensitivity=true"]), ("ferraris_no_g", [])):
+            model = self.run.path("models", "real", "annotated_%s.json" % name)
+            self.run.run(["calibrate", "--model", "triad", "--recording", rec] + args + ["--out", model], model)
+            fit = load_json(model)
+            ours = imu.triad_as_ferraris(fit, imu.NOMINAL_COUNTS_PER_DPS)
+            k_imu, r_imu, b_imu = np.diag(np.array(snap["K_g"])), -np.array(snap["R_g"]), np.array(snap["b_g"])
+            rows = []
+            for i in range(3):
+                rows.append({"entry": "K_%s (counts per deg/s)" % AXES[i], "gyrosid": ours["K"][i], "sigma": ours["K_sigma"][i], "imucal": k_imu[i],
+                             "difference": ours["K"][i] - k_imu[i], "relative": (ours["K"][i] - k_imu[i]) / k_imu[i]})
+            for i in range(3):
+                for j in range(3):
+                    if i != j:
+                        rows.append({"entry": "R_%s%s (mrad)" % (AXES[i], AXES[j]), "gyrosid": ours["R"][i, j] * 1e3, "sigma": ours["R_sigma"][i, j] * 1e3,
+                                     "imucal": r_imu[i, j] * 1e3, "difference": (ours["R"][i, j] - r_imu[i, j]) * 1e3, "relative": ""})
+            for i in range(3):
+                rows.append({"entry": "b_%s (counts)" % AXES[i], "gyrosid": ours["b"][i], "sigma": ours["b_sigma"][i], "imucal": b_imu[i],
+                             "difference": ours["b"][i] - b_imu[i], "relative": ""})
+            cols = ["entry", "gyrosid", "sigma", "imucal", "difference", "relative"]
+            write_csv(os.path.join(self.out, "real_annotated_%s.csv" % name), rows, cols)
+            text += "## annotated_session.csv, `calibrate --model triad %s` (%s)\n\nimucal's R_g compared as -R_g (its -360 deg convention).\n\n" % (
+                " ".join(args), fit["reference"])
+            text += markdown_table(rows, cols) + "\n"
+            text += "Noise density %s rad/s/sqrt(Hz); notes: %s\n\n" % (fit["noise_density_radps_rt_hz"], fit["observable"]["notes"][:3])
+        # The example session: gyrosid against the re-derived imucal (no snapshot of imucal exists for it).
+        parts = imu.ferraris_session(os.path.join(root, "example_data", "example_ferraris_session.csv"),
+                                     os.path.join(root, "example_data", "example_ferraris_session_list.json"))
+        rec = self.run.path("data", "real", "example_ferraris_session.csv")
+        signs = imu.write_recording(rec, parts, 102.4, 1.0, 1.0, "example_ferraris_session.csv")
+        model = self.run.path("models", "real", "example_ferraris.json")
+        self.run.run(["calibrate", "--model", "triad", "--recording", rec, "--set", "g_sensitivity=true", "--out", model], model)
+        fit = load_json(model)
+        ours = imu.triad_as_ferraris(fit, 1.0)
+        peer = imu.ferraris_peer(parts, 102.4, expected_angle=360.0 * signs["x_rot"])
+        rows = []
+        for i in range(3):
+            rows.append({"entry": "K_%s" % AXES[i], "gyrosid": ours["K"][i], "sigma": ours["K_sigma"][i], "imucal_method": peer["K_g"][i, i],
+                         "difference": ours["K"][i] - peer["K_g"][i, i]})
+        for i in range(3):
+            for j in range(3):
+                if i != j:
+                    rows.append({"entry": "R_%s%s (mrad)" % (AXES[i], AXES[j]), "gyrosid": ours["R"][i, j] * 1e3, "sigma": ours["R_sigma"][i, j] * 1e3,
+                                 "imucal_method": peer["R_g"][i, j] * 1e3, "difference": (ours["R"][i, j] - peer["R_g"][i, j]) * 1e3})
+        cols = ["entry", "gyrosid", "sigma", "imucal_method", "difference"]
+        write_csv(os.path.join(self.out, "real_example_ferraris.csv"), rows, cols)
+        text += "## example_ferraris_session.csv (deg/s, 102.4 Hz), turn signs %s\n\nAgainst imucal's method (our re-derivation, with the observed turn direction).\n\n" % signs
+        text += markdown_table(rows, cols) + "\n"
+        text += self.xsens_note()
+        write_text(os.path.join(self.out, "real.md"), text)
+        print(text)
+
+    def xsens_note(self):
+        return ""
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("part", nargs="?", default="all", choices=["mc", "compare", "independent", "real", "all"])
@@ -137,7 +323,7 @@ def main():
     p.add_argument("--force", action="store_true")
     args = p.parse_args()
     e = Experiment(args)
-    parts = {"mc": e.monte_carlo}
+    parts = {"mc": e.monte_carlo, "compare": e.compare, "independent": e.independent, "real": e.real}
     for name, fn in parts.items():
         if args.part in (name, "all"):
             fn()

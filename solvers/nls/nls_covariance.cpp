@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 #include <ceres/covariance.h>
+#include <glog/logging.h>
 
 #include <Eigen/QR>
 
@@ -67,19 +68,34 @@ std::unique_ptr<ceres::Covariance> compute_covariance(ceres::Problem& problem, c
   o.algorithm_type = algorithm;
   o.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
   o.num_threads = 1;
-  o.null_space_rank = 0;
+  // Dense SVD (the fallback) drops directions below the condition limit: a pseudo-inverse over what the
+  // data determine, e.g. RBF nodes that ended up without support; sparse QR needs full rank.
+  o.null_space_rank = algorithm == ceres::DENSE_SVD ? -1 : 0;
   o.min_reciprocal_condition_number = 1e-14;
   std::vector<std::pair<const double*, const double*>> pairs;
   for (std::size_t a = 0; a < blocks.size(); ++a)
     for (std::size_t b = a; b < blocks.size(); ++b) pairs.emplace_back(blocks[a], blocks[b]);
   auto out = std::make_unique<ceres::Covariance>(o);
-  if (out->Compute(pairs, &problem)) return out;
-  return nullptr;
+  // A rank-deficient sparse attempt is expected (the dense fallback handles it): keep glog quiet meanwhile.
+  const int level = FLAGS_minloglevel;
+  FLAGS_minloglevel = google::GLOG_FATAL;
+  const bool ok = out->Compute(pairs, &problem);
+  FLAGS_minloglevel = level;
+  return ok ? std::move(out) : nullptr;
 }
 
 }  // namespace
 
-NlsObservability analyse_observability(const NlsProblem& p, const std::vector<double>& tolerance) {
+namespace {
+// v less its projection on an orthonormal basis (twice: modified Gram-Schmidt with reorthogonalisation).
+Eigen::VectorXd project_out(Eigen::VectorXd v, const std::vector<Eigen::VectorXd>& basis) {
+  for (int pass = 0; pass < 2; ++pass)
+    for (const auto& q : basis) v -= q.dot(v) * q;
+  return v;
+}
+}  // namespace
+
+NlsObservability analyse_observability(const NlsProblem& p, const std::vector<double>& tolerance, const std::vector<bool>& anchor) {
   const auto n = p.free_entries().size();
   NlsObservability out;
   out.observable.assign(n, false);
@@ -97,18 +113,20 @@ NlsObservability analyse_observability(const NlsProblem& p, const std::vector<do
     } else {
       rf = j;
     }
-    std::vector<Eigen::VectorXd> basis;
+    std::vector<Eigen::VectorXd> basis, anchors;
     for (Eigen::Index c = 0; c < rf.cols(); ++c) {
       const double norm = rf.col(c).norm();
       if (!(norm > 0) || !std::isfinite(norm)) continue;
-      Eigen::VectorXd v = rf.col(c) / norm;
-      for (int pass = 0; pass < 2; ++pass)
-        for (const auto& q : basis) v -= q.dot(v) * q;
-      const double rest = v.norm();
       const auto entry = static_cast<std::size_t>(cols[static_cast<std::size_t>(c)]);
-      if (rest < (tolerance.empty() ? 1e-7 : tolerance.at(entry))) continue;
+      const Eigen::VectorXd unit = rf.col(c) / norm;
+      const Eigen::VectorXd v = project_out(unit, basis);
+      const double rest = v.norm();
+      if (rest < 1e-7) continue;
+      const bool is_anchor = !anchor.empty() && anchor.at(entry);
+      if (!anchor.empty() && !is_anchor && !tolerance.empty() && project_out(unit, anchors).norm() < tolerance.at(entry)) continue;
       basis.push_back(v / rest);
-      out.observable[static_cast<std::size_t>(cols[static_cast<std::size_t>(c)])] = true;
+      if (is_anchor) anchors.push_back(project_out(unit, anchors).normalized());
+      out.observable[entry] = true;
     }
     out.rank.push_back(static_cast<int>(basis.size()));
     out.columns.push_back(static_cast<int>(cols.size()));

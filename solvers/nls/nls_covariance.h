@@ -4,9 +4,10 @@
 // factorised by Householder QR; walking the columns in priority order (the free entries' order: blocks
 // added first come first), an entry is unobservable when its column lies in the span of the columns already
 // accepted - its residual after projection (modified Gram-Schmidt on R, twice), the sine of its angle to
-// that span, is below the entry's tolerance. At 1e-7 that is exact collinearity (the entry can move without
-// changing any residual); a looser tolerance t also drops entries the data separate only with their sigma
-// inflated by about 1/t. Callers hold such entries at a nominal value and never report them as measured.
+// that span, is below 1e-7 (exact collinearity: the entry can move without changing any residual). An entry
+// that is not an anchor is also dropped when its sine to the span of the accepted anchors is below its own
+// tolerance t: it would confound them (their sigmas inflated by about 1/t). Callers hold dropped entries at
+// a nominal value and never report them as measured.
 //
 // Covariance at the solution: residuals of group g weighted by 1/s_g, s_g^2 = |r_g|^2 / (m_g - p_g) (the
 // group's noise level, e.g. one gyro's), then ceres::Covariance (SuiteSparse QR; dense SVD when that
@@ -29,8 +30,9 @@ struct NlsObservability {
   std::vector<int> columns;         // per group: free entries the group touches
 };
 
-// `tolerance`: per free entry (empty: 1e-7 for every entry).
-NlsObservability analyse_observability(const NlsProblem& problem, const std::vector<double>& tolerance = {});
+// `tolerance`, `anchor`: per free entry (empty: no anchor test).
+NlsObservability analyse_observability(const NlsProblem& problem, const std::vector<double>& tolerance = {},
+                                       const std::vector<bool>& anchor = {});
 
 struct NlsCovariance {
   bool ok = false;

@@ -23,7 +23,7 @@ OptionTable TriadFitOptions::table() {
       .flag("g_sensitivity", &g_sensitivity, "estimate the g-sensitivity matrix G (needs accel_{x,y,z}_mps2)")
       .choice("reference", &reference, {"auto", "rate", "angle"}, "rate: per-sample reference rates; angle: each position_id segment known by its integral (Ferraris); auto: from the metadata 'reference'")
       .real("max_sigma", &max_sigma, 0.0, 1.0, "M and G entries with a larger sigma are reported as not determined", true)
-      .real("collinearity", &collinearity, 1e-12, 0.5, "a linear parameter this close (sine) to the span of M, b and those before it is held at nominal")
+      .real("collinearity", &collinearity, 1e-12, 0.5, "a surface coefficient this close (sine) to the span of M, b, G is held at nominal")
       .text("surface_solver", &surface_solver, "RBF solver of the RBF surfaces (sequential fit, joint start)")
       .passthrough("nls.", &solver_options, "an option of the least-squares back-end (listed by --options-of triad)")
       .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver");
@@ -80,11 +80,17 @@ Stage run_stage(const TriadData& d, const TriadRows& rows, const TriadProblemSpe
   Stage s;
   s.problem = build_triad_problem(d, rows, spec, s.layout);
   const auto free = s.problem.free_entries();  // copy: fixing changes the free set
-  // Node parameters (centres, widths) are held only when exactly undetermined; linear ones when nearly so.
+  // M, b and G are the anchors: a linear surface coefficient within `collinearity` of their span (a rate shape
+  // seen at one rate only looks like M_ii) is held; node parameters only when exactly undetermined.
   auto is_node = [&](const NlsProblem::FreeEntry& e) { return s.problem.block(e.block).name.find("_node") != std::string::npos; };
+  auto is_surface = [&](const NlsProblem::FreeEntry& e) { return s.problem.block(e.block).name.rfind("surface_", 0) == 0; };
   std::vector<double> tolerance;
-  for (const auto& e : free) tolerance.push_back(is_node(e) ? 1e-7 : o.collinearity);
-  const NlsObservability obs = analyse_observability(s.problem, tolerance);
+  std::vector<bool> anchor;
+  for (const auto& e : free) {
+    tolerance.push_back(is_node(e) ? 1e-7 : o.collinearity);
+    anchor.push_back(!is_surface(e));
+  }
+  const NlsObservability obs = analyse_observability(s.problem, tolerance, anchor);
   for (std::size_t j = 0; j < free.size(); ++j) {
     if (obs.observable[j]) continue;
     NlsProblem::ParameterBlock& b = s.problem.block(free[j].block);
@@ -93,7 +99,12 @@ Stage run_stage(const TriadData& d, const TriadRows& rows, const TriadProblemSpe
     s.problem.fix(free[j].block, free[j].entry);
     s.undetermined.push_back(s.problem.entry_name(free[j].block, free[j].entry));
   }
-  const auto solver = make_nls_solver(o.solver, o.solver_options);
+  OptionMap solver_options = o.solver_options;
+  const bool nodes = spec.surfaces[0] && spec.surfaces[0]->nodes() > 0;
+  if (o.solver == "ceres" && nodes && !solver_options.count("linear_solver")) {
+    solver_options["linear_solver"] = "sparse_normal_cholesky";  // RBF nodes: the three gyros' blocks stay apart
+  }
+  const auto solver = make_nls_solver(o.solver, solver_options);
   s.summary = solve(*solver, s.problem);
   if (!s.summary.usable()) fail("triad: the ", o.solver, " solve failed: ", s.summary.message);
   s.covariance = estimate_covariance(s.problem);
@@ -127,7 +138,7 @@ TriadUncertainty uncertainty_of(const Stage& s, bool g_sensitivity, double max_s
       u.misalignment_sigma(i, j) = sigma;
       u.misalignment_inflation(i, j) = inflation;
       bool known = !is_fixed(s.problem, s.layout.misalignment[ai], j);
-      if (known && !(sigma <= max_sigma)) {
+      if (known && sigma > max_sigma) {
         notes.push_back(str_cat("M_", kAxes[i], kAxes[j], ": sigma ", sigma, " exceeds max_sigma ", max_sigma, " - reported as not determined, compensated with 0"));
         known = false;
         model.misalignment(i, j) = 0.0;
@@ -146,7 +157,7 @@ TriadUncertainty uncertainty_of(const Stage& s, bool g_sensitivity, double max_s
       const double sigma = g[static_cast<std::size_t>(j)].first;
       (*u.g_sensitivity_sigma)(i, j) = sigma;
       bool known = !is_fixed(s.problem, s.layout.g_sensitivity[ai], j);
-      if (known && !(sigma <= max_sigma)) {
+      if (known && sigma > max_sigma) {
         notes.push_back(str_cat("G_", kAxes[i], kAxes[j], ": sigma ", sigma, " rad/s per m/s^2 exceeds max_sigma - reported as not determined"));
         known = false;
         (*model.g_sensitivity)(i, j) = 0.0;
@@ -200,11 +211,11 @@ double median_interval(const std::vector<double>& t) {
   return dt[dt.size() / 2];
 }
 
-void finish(TriadFit& fit, const Stage& s, const TriadData& d, const TriadRows& rows, bool angle) {
-  // Rate rows carry one sample's noise sigma_s = N / sqrt(dt); angle rows are scaled to N itself.
+void finish(TriadFit& fit, const Stage& s, const TriadData& d, const TriadRows& rows) {
+  // Every row carries one sample's noise sigma_s = N / sqrt(dt).
   const double dt = median_interval(d.t_s);
   fit.sample_rate_hz = 1.0 / dt;
-  for (std::size_t a = 0; a < 3; ++a) fit.noise_density[a] = fit.uncertainty.noise_radps[a] * (angle ? 1.0 : std::sqrt(dt));
+  for (std::size_t a = 0; a < 3; ++a) fit.noise_density[a] = fit.uncertainty.noise_radps[a] * std::sqrt(dt);
   for (const auto& name : s.undetermined) fit.notes.push_back(name + ": not determined by the data - held at its nominal value");
   fit.angles = analyse_angles(fit.uncertainty.misalignment_known);
   // Residual rms per gyro over the problem's rows, from the model as it will be used.
@@ -280,7 +291,7 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   if (o.estimation == "sequential") fit.model.surfaces = sequential_surfaces;
   if (!stage.covariance.ok) fit.notes.push_back("covariance: " + stage.covariance.message);
   fit.uncertainty = uncertainty_of(stage, o.g_sensitivity, o.max_sigma, fit.model, fit.notes);
-  finish(fit, stage, d, rows, mode == "angle");
+  finish(fit, stage, d, rows);
   fit.summary = stage.summary;
   fit.summary.details["stages"] = stages;
   fit.summary.details["estimation"] = o.estimation;

@@ -38,8 +38,8 @@ struct TriadFitOptions {
   bool g_sensitivity = false;         // estimate G (needs accel_{x,y,z}_mps2)
   std::string reference = "auto";     // rate | angle | auto (angle when the metadata say "reference: angle")
   double max_sigma = 0.01;            // M, G entries with a larger sigma are reported as not determined
-  double collinearity = 1e-2;         // a linear parameter within this sine of the span of those before it is
-                                      // held at nominal (its sigma would be inflated ~1/collinearity)
+  double collinearity = 1e-2;         // a surface coefficient within this sine of the span of M, b, G is held
+                                      // at nominal (it would inflate their sigmas ~1/collinearity)
   std::string surface_solver = "ols"; // rbf surfaces: the RBF solver of the sequential fit / joint start
   OptionMap surface_options;          // surface.<key>=<value>: options of the surface kind or its solver
   OptionTable table();

@@ -110,28 +110,40 @@ TriadRows angle_rows(const TriadData& d) {
   }
   TriadRows rows;
   const auto n = static_cast<std::size_t>(d.size());
-  std::size_t begin = 0;
-  int segments = 0;
-  while (begin < n) {
+  int integrated = 0, held = 0;
+  for (std::size_t begin = 0; begin < n;) {
     std::size_t end = begin;
     while (end < n && d.position_id[end] == d.position_id[begin]) ++end;
-    // Sample k is the mean rate over (t_{k-1}, t_k]; the first sample takes the following interval.
-    std::vector<double> dt;
-    double total = 0.0;
-    for (std::size_t k = begin; k < end; ++k) {
-      const double h = k > 0 ? d.t_s[k] - d.t_s[k - 1] : (n > 1 ? d.t_s[1] - d.t_s[0] : 1.0);
-      dt.push_back(h);
-      total += h;
+    if (d.reference.middleRows(static_cast<Eigen::Index>(begin), static_cast<Eigen::Index>(end - begin)).isZero(0.0)) {
+      // A static hold (reference 0 throughout): known at every sample, one row each.
+      for (std::size_t k = begin; k < end; ++k) {
+        rows.sample.push_back(static_cast<int>(k));
+        rows.weight.push_back(1.0);
+        rows.start.push_back(static_cast<int>(rows.sample.size()));
+      }
+      ++held;
+    } else {
+      // A turn known by its angle: one row, the integral over the segment. Sample k is the mean rate over
+      // (t_{k-1}, t_k]; the first sample of a segment takes the following interval. Weights dt_k / sqrt(sum dt^2)
+      // give the row the noise of one sample, like the per-sample rows.
+      std::vector<double> dt;
+      double sum2 = 0.0;
+      for (std::size_t k = begin; k < end; ++k) {
+        const double h = k > begin ? d.t_s[k] - d.t_s[k - 1] : (end - begin > 1 ? d.t_s[k + 1] - d.t_s[k] : 1.0);
+        dt.push_back(h);
+        sum2 += h * h;
+      }
+      for (std::size_t k = begin; k < end; ++k) {
+        rows.sample.push_back(static_cast<int>(k));
+        rows.weight.push_back(dt[k - begin] / std::sqrt(sum2));
+      }
+      rows.start.push_back(static_cast<int>(rows.sample.size()));
+      ++integrated;
     }
-    for (std::size_t k = begin; k < end; ++k) {
-      rows.sample.push_back(static_cast<int>(k));
-      rows.weight.push_back(dt[k - begin] / std::sqrt(total));
-    }
-    rows.start.push_back(static_cast<int>(rows.sample.size()));
-    ++segments;
     begin = end;
   }
-  rows.description = str_cat(segments, " segments of constant position_id, each known by its integral (known angles)");
+  rows.description = str_cat(integrated, " turns known by their integral (known angles) and ", held,
+                             " static holds sample by sample, segments of constant position_id");
   return rows;
 }
 

@@ -2,10 +2,10 @@
 //
 //   r_ia = sum_k w_ak [ (I + M) omega_k + b(T_k) + G f_k + e(T_k, g_k) - g_k ]_i
 //
-// one residual group per gyro i (its own noise level), one row a per sample (rate reference: w = 1) or per
-// segment of constant position_id (angle reference - Ferraris and IMU-TK's known rotations between static
-// positions: w_ak = dt_k / sqrt(T_a), the segment's integral, scaled so every row has the per-sample noise
-// of a 1-s mean). Parameter blocks per gyro i, in priority order for the observability analysis:
+// one residual group per gyro i (its own noise level), one row a per sample (rate reference: w = 1), or,
+// with the angle reference (Ferraris's known rotations between static positions), one row per turning
+// segment of constant position_id - its integral, w_ak = dt_k / sqrt(sum dt^2), so it carries one sample's
+// noise - and one row per sample of a static hold (a segment whose reference is zero throughout). Parameter blocks per gyro i, in priority order for the observability analysis:
 //   misalignment_i (row i of M) | bias_i (c_i0..c_inb) | g_sensitivity_i (row i of G) | surface_i linear
 //   coefficients | surface_i nodes.
 // Each gyro's equation involves only its own blocks, so the groups are independent least-squares problems
@@ -33,7 +33,7 @@ struct TriadRows {
 };
 
 TriadRows rate_rows(const TriadData& data);
-// One row per maximal run of equal position_id (Error when the recording has none).
+// Angle reference (Error when the recording has no position_id).
 TriadRows angle_rows(const TriadData& data);
 
 struct TriadProblemSpec {

@@ -192,6 +192,66 @@ TEST(TriadFit, KnownAnglesAloneDetermineTheSameMatrixAsRates) {
   EXPECT_LT((f.model.misalignment - true_m(sensor)).cwiseAbs().maxCoeff(), 1e-9);
 }
 
+// Ferraris: static holds known sample by sample (reference 0) and hand turns of unknown rate profile known
+// only by their 360-degree angle (the recording carries the turn's mean rate).
+TEST(TriadFit, HandTurnsKnownByTheirAngleDetermineTheMatrixAndRatesCannot) {
+  Eigen::Matrix3d m;
+  m << 3e-3, -2e-3, 1e-2, 4e-3, -5e-3, 2e-3, -1e-3, 6e-3, 1e-3;
+  const Eigen::Vector3d bias(0.01, -0.02, 0.005);
+  TriadData d;
+  std::vector<Eigen::Vector3d> true_rate, ref;
+  int id = 0;
+  const double dt = 0.01;
+  for (int seg = 0; seg < 9; ++seg) {
+    ++id;
+    const int n = 300;
+    double shape_sum = 0.0;
+    for (int k = 0; k < n; ++k) shape_sum += std::sin(units::kPi * (k + 0.5) / n);
+    for (int k = 0; k < n; ++k) {
+      Eigen::Vector3d w = Eigen::Vector3d::Zero(), r = Eigen::Vector3d::Zero();
+      if (seg >= 6) {  // a turn about axis seg - 6: a sine-shaped rate whose samples sum to 2 pi / dt
+        w(seg - 6) = 2 * units::kPi / dt * std::sin(units::kPi * (k + 0.5) / n) / shape_sum;
+        r(seg - 6) = 2 * units::kPi / (n * dt);
+      }
+      true_rate.push_back(w);
+      ref.push_back(r);
+      d.t_s.push_back((static_cast<double>(true_rate.size()) - 1) * dt);
+      d.position_id.push_back(id);
+    }
+  }
+  const auto n = static_cast<Eigen::Index>(true_rate.size());
+  d.gyro.resize(n, 3);
+  d.reference.resize(n, 3);
+  d.temp_c = Eigen::MatrixX3d::Constant(n, 3, 20.0);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    d.gyro.row(k) = ((Eigen::Matrix3d::Identity() + m) * true_rate[static_cast<std::size_t>(k)] + bias).transpose();
+    d.reference.row(k) = ref[static_cast<std::size_t>(k)].transpose();
+  }
+  TriadFitOptions o;
+  o.reference = "angle";
+  const TriadFit angle = fit_triad(d, o);
+  EXPECT_LT((angle.model.misalignment - m).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_NE(angle.reference.find("3 turns"), std::string::npos) << angle.reference;
+  o.reference = "rate";  // the mean rate taken sample by sample: wrong wherever the hand sped up or slowed
+  EXPECT_GT(fit_triad(d, o).residual_rms_dph[0], 1e3);
+}
+
+// With turns at one rate only, a cubic rate term looks like M_ii: the surface coefficient is held, M_ii kept.
+TEST(TriadFit, ASurfaceCoefficientThatMimicsTheScaleFactorYieldsToIt) {
+  TriadSensor sensor = planted_triad(10.0);
+  for (auto& g : sensor.gyros) g.errors.scale_factor_rate = Polynomial{{0.0, 0.0, -3e-6 / (units::kDegToRad * units::kDegToRad)}, 0.0};
+  TriadFitOptions o;
+  o.surfaces = "classical";
+  o.bias_order = 0;
+  o.surface_options = {{"sf_temperature_order", "0"}, {"sf_rate_order", "2"}};
+  const TriadFit f = fit_triad(simulate_triad_data(sensor, six_positions({25}, 120, 2), 4), o);
+  EXPECT_NE(nlohmann::json(f.notes).dump().find("surface_x_sf_rate_2"), std::string::npos);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(f.model.misalignment(i, i), -300e-6, 5 * f.uncertainty.misalignment_sigma(i, i)) << i;
+    EXPECT_LT(f.uncertainty.misalignment_sigma(i, i), 30e-6) << i;
+  }
+}
+
 TEST(TriadModel, FileRoundTripAndCompensationInvertTheModelExactly) {
   TriadModel m;
   m.misalignment << 2e-4, -1e-3, 3e-3, 8e-4, -5e-4, 1.4e-3, 4e-4, -1e-3, 1e-4;
