@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   register_cof(app, action);
   register_explain(app, action);
   register_design(app, action);
+  register_import(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
