@@ -17,6 +17,7 @@ struct AllanCommandOptions {
   std::string column = "gyro_dps";
   std::string subtract;
   std::string out;
+  std::string kalibr;
   AllanOptions allan;
 };
 
@@ -48,6 +49,10 @@ void run_allan(const AllanCommandOptions& o) {
             << "  K  = " << r.fit.rate_random_walk * 60.0 << " (deg/h)/sqrt(h)\n"
             << "  Q  = " << r.fit.quantization << " arcsec\n"
             << "  R  = " << r.fit.rate_ramp * 3600.0 << " (deg/h)/h\n";
+  if (!o.kalibr.empty()) {
+    write_kalibr_noise_yaml(o.kalibr, r.fit, 1.0 / dt, o.recording + ", column " + o.column);
+    std::cout << "wrote " << o.kalibr << " (Kalibr IMU noise model, gyro terms in continuous-time units)\n";
+  }
 }
 
 }  // namespace
@@ -63,6 +68,8 @@ void register_allan(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_option("--confidence", o->allan.confidence, "Two-sided confidence of the intervals")->capture_default_str();
   cmd->add_option("--out", o->out, "Output directory: allan.csv, allan.json, allan.png")->required();
+  cmd->add_option("--kalibr", o->kalibr, "Also write a Kalibr imu.yaml with the gyro noise density and random walk "
+                                         "(continuous-time units; the conversion is written in the file)");
   cmd->footer(
       "The fit: sigma^2(tau) = 3Q^2/tau^2 + N^2/tau + (2ln2/pi)B^2 + K^2 tau/3 + R^2 tau^2/2 (IEEE Std 952),\n"
       "non-negative least squares on relative residuals weighted by the chi-square degrees of freedom.\n"
