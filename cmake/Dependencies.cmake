@@ -64,6 +64,18 @@ if(NOT MPI_CXX_FOUND)
   message(STATUS "gyrosid: MPI not found - gyrosid-mpi is not built (Debian: libopenmpi-dev openmpi-bin)")
 endif()
 
+# Python bindings (python/): pybind11 and the Debian interpreter, whose numpy the tests use (a pyenv or venv
+# python earlier on PATH may lack it).
+if(NOT DEFINED Python3_EXECUTABLE AND EXISTS /usr/bin/python3)
+  set(Python3_EXECUTABLE /usr/bin/python3)
+endif()
+set(PYBIND11_FINDPYTHON ON)
+find_package(Python3 QUIET COMPONENTS Interpreter Development.Module)
+find_package(pybind11 CONFIG QUIET)
+if(NOT pybind11_FOUND OR NOT Python3_FOUND)
+  gyrosid_missing("pybind11 and the Python headers (the Python bindings)" "pybind11-dev python3-dev")
+endif()
+
 find_program(GNUPLOT_EXECUTABLE gnuplot)
 if(NOT GNUPLOT_EXECUTABLE)
   gyrosid_missing("gnuplot (plots are rendered with it)" "gnuplot-nox")

@@ -27,6 +27,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox
   libopenmpi-dev openmpi-bin
+  pybind11-dev python3-dev
+  chromium
   python3 python3-numpy python3-scipy python3-sklearn python3-yaml
 )
 # libFuzzer comes with clang's runtime libraries.

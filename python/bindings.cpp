@@ -1,0 +1,237 @@
+// Python bindings of gyrosid (pybind11): numpy arrays in and out, the library's functions called in-process,
+// results as the same JSON documents the command writes (parsed into Python dicts). The package is
+// python/gyrosid; see python/README.md.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <memory>
+
+#include "core/error.h"
+#include "core/recording.h"
+#include "core/units.h"
+#include "explain/explain.h"
+#include "model/calibration_model.h"
+#include "model/compensate_recording.h"
+#include "nav/cof_report.h"
+#include "pipeline/main_job.h"
+#include "report/allan_report.h"
+#include "report/cof_json.h"
+#include "report/explain_json.h"
+#include "report/triad_json.h"
+#include "sensor/allan.h"
+#include "sensor/sensor_config.h"
+#include "sim/simulate.h"
+#include "solvers/calibrate.h"
+#include "solvers/triad/triad_fit.h"
+
+namespace py = pybind11;
+
+namespace gyrosid::python {
+namespace {
+
+// A JSON document as Python objects (through Python's json module: exact for every number).
+py::object to_python(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+nlohmann::json from_python(const py::object& o) {
+  return nlohmann::json::parse(py::module_::import("json").attr("dumps")(o).cast<std::string>());
+}
+
+py::array_t<double> to_numpy(const double* data, std::size_t n) { return py::array_t<double>(static_cast<py::ssize_t>(n), data); }
+std::vector<double> from_numpy(const py::array_t<double, py::array::c_style | py::array::forcecast>& a) {
+  if (a.ndim() != 1) throw Error("expected a one-dimensional array");
+  return {a.data(), a.data() + a.size()};
+}
+
+// Option values as the command's key=value text (Python True/False as true/false).
+OptionMap option_map(const py::dict& options) {
+  OptionMap out;
+  for (const auto& [k, v] : options) {
+    const std::string key = py::str(k);
+    out[key] = py::isinstance<py::bool_>(v) ? (v.cast<bool>() ? "true" : "false") : std::string(py::str(v));
+  }
+  return out;
+}
+
+// A calibration model with what its file holds beside it (training provenance, solver summary).
+struct Model {
+  std::shared_ptr<CalibrationModel> model;
+  nlohmann::json extra = nlohmann::json::object();
+};
+
+Recording recording_of_columns(const py::dict& columns, const py::dict& metadata, const std::string& source) {
+  Recording rec(source);
+  for (const auto& [k, v] : metadata) rec.set_meta(py::str(k), py::str(v));
+  for (const auto& [k, v] : columns) rec.set_column(py::str(k), from_numpy(v.cast<py::array_t<double, py::array::c_style | py::array::forcecast>>()));
+  // The file round trip applies every rule of the format (required columns, increasing t_s, ...).
+  return parse_recording(format_recording(rec), source);
+}
+
+Model calibrate_py(const Recording& rec, const std::string& model, const std::string& solver, const py::dict& options,
+                   const std::vector<std::string>& features, const std::string& target, const std::string& normalization) {
+  CalibrationRequest r;
+  r.model = model, r.solver = solver, r.options = option_map(options), r.features = features;
+  r.target = parse_enum<ModelTarget>(target, "target");
+  r.normalization = parse_enum<NormalizationKind>(normalization, "normalization");
+  CalibrationResult c = calibrate(rec, r);
+  return {std::shared_ptr<CalibrationModel>(std::move(c.model)), {{"training", c.training}, {"summary", c.summary}}};
+}
+
+py::array_t<double> predict_py(const Model& m, const py::array_t<double, py::array::c_style | py::array::forcecast>& x) {
+  const auto d = static_cast<py::ssize_t>(m.model->features().size());
+  if (x.ndim() != 2 || x.shape(1) != d) throw Error("predict: x must be an N x " + std::to_string(d) + " array (the model's features)");
+  py::array_t<double> out(x.shape(0));
+  for (py::ssize_t i = 0; i < x.shape(0); ++i) out.mutable_at(i) = m.model->predict(x.data(i, 0));
+  return out;
+}
+
+py::dict allan_py(const py::array_t<double, py::array::c_style | py::array::forcecast>& rate_dph, double dt_s) {
+  const std::vector<AllanPoint> curve = overlapping_allan_deviation(from_numpy(rate_dph), dt_s, AllanOptions{});
+  const AllanCoefficients fit = fit_allan(curve);
+  std::vector<double> tau, adev, lo, hi;
+  for (const auto& p : curve) tau.push_back(p.tau_s), adev.push_back(p.adev), lo.push_back(p.ci_low), hi.push_back(p.ci_high);
+  py::dict out;
+  out["tau_s"] = to_numpy(tau.data(), tau.size());
+  out["adev_dph"] = to_numpy(adev.data(), adev.size());
+  out["ci_low_dph"] = to_numpy(lo.data(), lo.size());
+  out["ci_high_dph"] = to_numpy(hi.data(), hi.size());
+  out["arw_deg_rt_h"] = fit.angle_random_walk / 60.0;
+  out["bias_instability_dph"] = fit.bias_instability;
+  out["rrw_dph_rt_h"] = fit.rate_random_walk * 60.0;
+  out["quantization_arcsec"] = fit.quantization;
+  out["rate_ramp_dph_per_h"] = fit.rate_ramp * 3600.0;
+  return out;
+}
+
+py::object cof_py(const py::object& model, const std::string& trajectory, const std::string& sensor, int monte_carlo,
+                  std::uint64_t seed, double start_temp_c) {
+  nav::CofRequest r;
+  r.trajectory = trajectory, r.sensor = sensor, r.seed = seed, r.options.start_temp_c = start_temp_c;
+  r.monte_carlo = monte_carlo != 0;
+  r.mc.runs = monte_carlo > 0 ? monte_carlo : 0;  // -1: automatic stop
+  const CalibrationModel* m = nullptr;
+  nav::CompensationMode mode = nav::CompensationMode::model;
+  if (model.is_none()) {
+    r.model = "none", mode = nav::CompensationMode::none;
+  } else if (py::isinstance<py::str>(model) && model.cast<std::string>() == "truth") {
+    r.model = "truth", mode = nav::CompensationMode::truth;
+  } else {
+    m = model.cast<const Model&>().model.get();
+    r.model = std::string(m->kind());
+  }
+  const nav::CofReport report = nav::score_flight(nav::load_flight(trajectory, r.rate_hz), as_triad(load_sensor_file(sensor)), m, mode, r);
+  return to_python(cof_json(report));
+}
+
+py::tuple explain_py(const Recording& rec, const std::string& model_path, const std::string& baseline_path, const std::string& effects) {
+  explain::ExplainOptions o;
+  o.model_path = model_path, o.baseline_path = baseline_path, o.effects = effects;
+  explain::ExplainResult r = explain::explain_recording(rec, o);
+  return py::make_tuple(to_python(to_json(r.summary)), Model{std::shared_ptr<CalibrationModel>(std::move(r.model)), nlohmann::json::object()});
+}
+
+py::object calibrate_triad_py(const Recording& rec, const py::dict& options) {
+  TriadFitOptions o;
+  const OptionMap map = option_map(options);
+  o.table().apply(map);
+  if (const std::string p = o.validate(); !p.empty()) throw Error("triad: " + p);
+  const TriadFit fit = fit_triad(make_triad_data(rec), o, rec.meta("reference").value_or(""));
+  return to_python(triad_fit_json(fit, {{"recording", rec.source()}, {"samples", rec.rows()}, {"options", map}}));
+}
+
+py::object run_main_job_py(const std::filesystem::path& out, const std::vector<std::string>& flights, bool noisy,
+                           const std::string& rbf_config, std::uint64_t seed) {
+  MainJobOptions o;
+  o.out = out, o.flights = flights, o.noisy = noisy, o.rbf_config = rbf_config, o.seed = seed;
+  o.on_step = [](int, int, const std::string&) {};
+  run_main_job(o);
+  std::ifstream in(out / "summary.json");
+  return to_python(nlohmann::json::parse(in));
+}
+
+void bind_recording(py::module_& m) {
+  py::class_<Recording>(m, "Recording", "A recording (docs/recording_format.md): named columns with their unit in the name.")
+      .def(py::init(&recording_of_columns), py::arg("columns"), py::arg("metadata") = py::dict(), py::arg("source") = "<python>",
+           "From a dict of 1-D arrays; the format's rules are checked (required columns, increasing t_s, ...).")
+      .def_static("load", &read_recording, py::arg("path"))
+      .def("save", [](const Recording& r, const std::filesystem::path& p) { write_recording(r, p); }, py::arg("path"))
+      .def_property_readonly("names", &Recording::names)
+      .def_property_readonly("source", &Recording::source)
+      .def_property_readonly("metadata", [](const Recording& r) {
+        py::dict d;
+        for (const auto& [k, v] : r.metadata()) d[py::str(k)] = v;
+        return d;
+      })
+      .def("__len__", &Recording::rows)
+      .def("__getitem__", [](const Recording& r, const std::string& name) {
+        const auto& c = r.column(name);
+        return to_numpy(c.data(), c.size());
+      })
+      .def("columns", [](const Recording& r) {
+        py::dict d;
+        for (const auto& n : r.names()) d[py::str(n)] = to_numpy(r.column(n).data(), r.rows());
+        return d;
+      });
+}
+
+void bind_model(py::module_& m) {
+  py::class_<Model>(m, "Model", "A calibration model; saves to and loads from the same JSON as `gyrosid calibrate`.")
+      .def_property_readonly("kind", [](const Model& x) { return std::string(x.model->kind()); })
+      .def_property_readonly("features", [](const Model& x) { return x.model->features(); })
+      .def_property_readonly("summary", [](const Model& x) { return to_python(x.extra.value("summary", nlohmann::json::object())); })
+      .def_property_readonly("training", [](const Model& x) { return to_python(x.extra.value("training", nlohmann::json::object())); })
+      .def("predict", &predict_py, py::arg("x"), "Model output (rate error, rad/s) for N x d inputs in SI units, the order of features.")
+      .def("to_json", [](const Model& x) {
+        nlohmann::json j = x.model->to_json();
+        for (auto it = x.extra.begin(); it != x.extra.end(); ++it) j[it.key()] = it.value();
+        return j.dump(1);
+      })
+      .def("save", [](const Model& x, const std::filesystem::path& p) { save_model(p, *x.model, x.extra); }, py::arg("path"))
+      .def("export_c", [](const Model& x, const std::filesystem::path& dir, const std::string& prefix) { x.model->export_c(dir, prefix); },
+           py::arg("dir"), py::arg("prefix") = "gyro");
+  m.def("load_model", [](const std::filesystem::path& p) {
+    std::ifstream in(p);
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    nlohmann::json extra = nlohmann::json::object();
+    for (const char* k : {"training", "summary"}) {
+      if (j.is_object() && j.contains(k)) extra[k] = j[k];
+    }
+    return Model{std::shared_ptr<CalibrationModel>(load_model(p)), extra};
+  }, py::arg("path"));
+}
+
+}  // namespace
+}  // namespace gyrosid::python
+
+PYBIND11_MODULE(_gyrosid, m) {
+  using namespace gyrosid;
+  using namespace gyrosid::python;
+  m.doc() = "gyrosid: gyroscope calibration as system identification (in-process bindings)";
+  py::register_exception<Error>(m, "Error", PyExc_ValueError);
+  bind_recording(m);
+  bind_model(m);
+  m.def("simulate", [](const std::string& sensor, const std::string& trajectory, std::uint64_t seed, bool noise_free, std::optional<std::size_t> samples) {
+    if (noise_free) return simulate(without_noise(load_sensor_file(sensor)), load_trajectory_file(trajectory), seed).recording;
+    return simulate_files(sensor, trajectory, seed, samples).recording;
+  }, py::arg("sensor") = "builtin:sensors/open_loop_fog.yaml", py::arg("trajectory") = "builtin:trajectories/dual_scan.yaml",
+        py::arg("seed") = 1, py::arg("noise_free") = false, py::arg("samples") = std::nullopt,
+        "A sensor along a calibration trajectory, as `gyrosid simulate` (same seed, same numbers).");
+  m.def("calibrate", &calibrate_py, py::arg("recording"), py::arg("model") = "rbf", py::arg("solver") = "ols",
+        py::arg("options") = py::dict(), py::arg("features") = std::vector<std::string>{}, py::arg("target") = "error",
+        py::arg("normalization") = "range", "Fit a model kind (rbf with a named solver, classical, greybox, ...) to a recording.");
+  m.def("calibrate_triad", &calibrate_triad_py, py::arg("recording"), py::arg("options") = py::dict(),
+        "Estimate a triad's misalignment, biases and surfaces; returns the model file's JSON as a dict.");
+  m.def("compensate", [](const Model& model, const Recording& rec) { return compensate_recording(*model.model, rec).recording; },
+        py::arg("model"), py::arg("recording"), "The recording with compensated_dps added.");
+  m.def("allan", &allan_py, py::arg("rate_dph"), py::arg("dt_s"), "Overlapping Allan deviation and the IEEE Std 952 noise fit.");
+  m.def("cof", &cof_py, py::arg("model"), py::arg("trajectory") = "short", py::arg("sensor") = "builtin:sensors/open_loop_fog.yaml",
+        py::arg("monte_carlo") = 0, py::arg("seed") = 1, py::arg("start_temp_c") = 10.0,
+        "Criterion of fit (cof.json as a dict); model None (raw gyros), 'truth' or a Model; monte_carlo runs (-1: until normal).");
+  m.def("explain", &explain_py, py::arg("recording"), py::arg("model_path") = "", py::arg("baseline_path") = "", py::arg("effects") = "",
+        "Missing-physics finder: (explain.json as a dict, the explained Model).");
+  m.def("run_main_job", &run_main_job_py, py::arg("out"), py::arg("flights") = std::vector<std::string>{"short", "medium", "long"},
+        py::arg("noisy") = false, py::arg("rbf_config") = "", py::arg("seed") = 1, "The main job in-process; returns summary.json.");
+}

@@ -1,0 +1,87 @@
+"""The Python bindings against the command and against known truths: same seed, same numbers as `gyrosid`;
+a planted bias recovered; models saved by Python loaded by the command's reader and back."""
+import json
+import os
+import subprocess
+import tempfile
+import unittest
+
+import numpy as np
+
+import gyrosid
+
+BUILD_PYTHON = next(p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p)
+GYROSID = os.path.join(os.path.dirname(os.path.abspath(BUILD_PYTHON)), "gyrosid")
+
+
+class Bindings(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory()
+
+    def tearDown(self):
+        self.dir.cleanup()
+
+    def path(self, name):
+        return os.path.join(self.dir.name, name)
+
+    def test_simulate_equals_the_command(self):
+        rec = gyrosid.simulate(trajectory="builtin:trajectories/dual_scan.yaml", seed=3, samples=500)
+        subprocess.run([GYROSID, "--quiet", "simulate", "--trajectory", "builtin:trajectories/dual_scan.yaml", "--seed", "3",
+                        "--samples", "500", "--out", self.path("cli.csv")], check=True, capture_output=True)
+        cli = gyrosid.Recording.load(self.path("cli.csv"))
+        self.assertEqual(len(rec), 500)
+        for name in ("t_s", "ref_rate_dps", "temp_c", "gyro_dps"):
+            np.testing.assert_array_equal(rec[name], cli[name])
+
+    def test_recording_from_numpy_checks_the_format(self):
+        t = np.arange(5.0)
+        rec = gyrosid.Recording({"t_s": t, "ref_rate_dps": t, "temp_c": 20 + t, "gyro_dps": t + 1e-3})
+        self.assertEqual(rec.names, ["t_s", "ref_rate_dps", "temp_c", "gyro_dps"])
+        with self.assertRaisesRegex(gyrosid.Error, "t_s"):
+            gyrosid.Recording({"t_s": t[::-1].copy(), "ref_rate_dps": t, "temp_c": t, "gyro_dps": t})
+        with self.assertRaisesRegex(gyrosid.Error, "missing required column 'gyro_dps'"):
+            gyrosid.Recording({"t_s": t, "ref_rate_dps": t, "temp_c": t})
+
+    def test_classical_recovers_a_planted_bias_and_compensates(self):
+        # A gyro whose only error is a bias of 36 deg/h (0.01 deg/s): the classical model finds it.
+        t = np.arange(2000.0)
+        rate = 50 * np.sin(t / 40.0)
+        temp = -20 + 80 * t / t[-1]
+        rec = gyrosid.Recording({"t_s": t, "ref_rate_dps": rate, "temp_c": temp, "gyro_dps": rate + 0.01})
+        model = gyrosid.calibrate(rec, model="classical", options={"bias_order": 1, "sf_temperature_order": 1, "sf_rate_order": 1})
+        self.assertEqual(model.kind, "classical")
+        self.assertEqual(model.summary["termination"], "converged")
+        x = np.column_stack([np.radians(rate[:10]), temp[:10]])
+        np.testing.assert_allclose(np.degrees(model.predict(x)), 0.01, atol=1e-9)
+        compensated = gyrosid.compensate(model, rec)
+        np.testing.assert_allclose(compensated["compensated_dps"], rate, atol=1e-9)
+
+    def test_models_round_trip_through_the_commands_files(self):
+        rec = gyrosid.simulate(seed=2, samples=800)
+        model = gyrosid.calibrate(rec, model="rbf", solver="ols", options={"width": 0.3, "max_nodes": 30})
+        model.save(self.path("m.json"))
+        rec.save(self.path("r.csv"))
+        # The command reads the Python model; its compensation equals the in-process one.
+        subprocess.run([GYROSID, "--quiet", "compensate", "--model", self.path("m.json"), "--recording", self.path("r.csv"),
+                        "--out", self.path("c.csv")], check=True, capture_output=True)
+        cli = gyrosid.Recording.load(self.path("c.csv"))["compensated_dps"]
+        np.testing.assert_array_equal(cli, gyrosid.compensate(model, rec)["compensated_dps"])
+        back = gyrosid.load_model(self.path("m.json"))
+        self.assertEqual(json.loads(back.to_json())["parameters"], json.loads(model.to_json())["parameters"])
+
+    def test_allan_finds_the_white_noise(self):
+        # White noise of 10 deg/h at 1 Hz: N = 10/60 deg/sqrt(h).
+        rng = np.random.default_rng(4)
+        fit = gyrosid.allan(10.0 * rng.standard_normal(36000), 1.0)
+        self.assertAlmostEqual(fit["arw_deg_rt_h"], 10.0 / 60.0, delta=0.01)
+        self.assertEqual(len(fit["tau_s"]), len(fit["adev_dph"]))
+
+    def test_criterion_of_fit_truth_and_raw(self):
+        truth = gyrosid.cof("truth", trajectory="short")
+        raw = gyrosid.cof(None, trajectory="short")
+        self.assertLess(truth["end_error_m"], 1e-9)
+        self.assertGreater(raw["end_error_m"], 1.0)
+
+
+if __name__ == "__main__":
+    unittest.main()
