@@ -250,7 +250,7 @@ class Experiment:
         if not os.path.isdir(root):
             print("real: %s not found - skipped" % root)
             return
-        text = "# Real sessions: imucal's Ferraris data\n\n"
+        text = "# Real sessions: imucal's Ferraris data, IMU-TK's Xsens data\n\n"
         snap = load_json(os.path.join(root, "tests", "snapshots", "example_cal.json"))
         parts = imu.annotated_session(os.path.join(root, "example_data", "annotated_session.csv"))
         peer = imu.ferraris_peer(parts, 204.8)
@@ -311,7 +311,69 @@ class Experiment:
         print(text)
 
     def xsens_note(self):
-        return ""
+        """IMU-TK's Xsens session: gyrosid on its static holds (bias, noise; M not determined) against our
+        re-derivation of IMU-TK's gravity-referenced calibration (import_imutk.py)."""
+        import import_imutk as tk
+        root = self.cfg["real"]["imu_tk"]
+        if not os.path.isdir(root):
+            return "## IMU-TK's Xsens session\n\n%s not found - skipped\n" % root
+        t, gyro, acc, holds = tk.load_session(root)
+        peer = tk.imutk_peer(t, gyro, acc, holds)
+        _, acc_cal = tk.accel_calibration(acc, holds)
+        rec = self.run.path("data", "real", "xsens_holds.csv")
+        tk.write_recording(rec, t, gyro, acc_cal(acc), holds, "imu_tk/bin/test_data/xsens_{acc,gyro}.mat")
+        model = self.run.path("models", "real", "xsens_holds.json")
+        self.run.run(["calibrate", "--model", "triad", "--recording", rec, "--out", model], model)
+        fit = load_json(model)
+        model_g = self.run.path("models", "real", "xsens_holds_g.json")
+        self.run.run(["calibrate", "--model", "triad", "--recording", rec, "--set", "g_sensitivity=true", "--out", model_g], model_g)
+        fit_g = load_json(model_g)
+        hold_bias = np.array([np.degrees((gyro[b:e].mean(axis=0) - tk.ZERO_COUNTS) / tk.GYRO_COUNTS_PER_RADPS) * 3600.0 for b, e in holds])
+        hold_se = np.array([np.degrees(gyro[b:e].std(axis=0) / math.sqrt(e - b) / tk.GYRO_COUNTS_PER_RADPS) * 3600.0 for b, e in holds])
+        ours, ours_sigma = matrix(fit), matrix(fit, "sigma")
+        rows = []
+        for i in range(3):
+            for j in range(3):
+                unit = "" if i == j else " (mrad)"
+                scale = 1.0 if i == j else 1e3
+                peer_value = peer["I_plus_M"][i, j] - (1.0 if i == j else 0.0)
+                rows.append({"entry": "M_%s%s%s" % (AXES[i], AXES[j], unit), "imutk_method": peer_value * scale,
+                             "sigma": peer["sigma"][i, j] * scale,
+                             "gyrosid": "not determined" if np.isnan(ours[i, j]) else ours[i, j] * scale,
+                             "gyrosid_sigma": "" if np.isnan(ours_sigma[i, j]) else ours_sigma[i, j] * scale})
+        peer_bias = np.degrees((peer["bias_counts"] - tk.ZERO_COUNTS) / tk.GYRO_COUNTS_PER_RADPS) * 3600.0
+        for i in range(3):
+            rows.append({"entry": "b_%s (deg/h at 6258 counts per rad/s)" % AXES[i], "imutk_method": peer_bias[i], "sigma": "",
+                         "gyrosid": fit["bias_dph"]["value"][i], "gyrosid_sigma": fit["bias_dph"]["sigma"][i]})
+        for i in range(3):
+            rows.append({"entry": "b_%s with G fitted" % AXES[i], "imutk_method": "", "sigma": "",
+                         "gyrosid": fit_g["bias_dph"]["value"][i], "gyrosid_sigma": fit_g["bias_dph"]["sigma"][i]})
+        for i in range(3):
+            for j in range(3):
+                rows.append({"entry": "G_%s%s (deg/h per m/s^2)" % (AXES[i], AXES[j]), "imutk_method": "", "sigma": "",
+                             "gyrosid": fit_g["g_sensitivity_dph_per_mps2"][i][j], "gyrosid_sigma": fit_g["g_sensitivity_sigma_dph_per_mps2"][i][j]})
+        cols = ["entry", "imutk_method", "sigma", "gyrosid", "gyrosid_sigma"]
+        write_csv(os.path.join(self.out, "real_xsens.csv"), rows, cols)
+        text = ("## IMU-TK's Xsens session (xsens_acc.mat, xsens_gyro.mat: raw counts, 100 Hz, 511.7 s)\n\n"
+                "%d static holds found by IMU-TK's accelerometer-variance detector, %d hand turns between them. The turns' "
+                "reference is gravity (a rotation known up to the turn about the vertical), which a gyrosid recording "
+                "cannot express, so gyrosid gets the holds only (reference 0, Earth rate neglected) and determines the "
+                "biases and noise (%s rad/s/sqrt(Hz)) but no entry of M: it reports all nine as not determined (%d "
+                "determined combinations) rather than a number. M comes from our re-derivation of IMU-TK's method "
+                "(accelerometer by |a| = g over the holds, then the gyro's T K by carrying each hold's gravity "
+                "direction through the integrated turn to the next; residual rms %.2g in unit-vector terms; sigmas "
+                "from its Gauss-Newton covariance). M_ii = the true scale over IMU-TK's initial 1/6258 rad/s per "
+                "count, minus 1. Biases: gyrosid's is the holds' common constant, IMU-TK's the mean of the 50 s "
+                "static start (one orientation). The holds' own means scatter by %s deg/h (standard deviation per gyro) "
+                "against a standard error of %s deg/h each: the bias depends on the orientation (or drifts in step with it: one "
+                "512 s session cannot tell the two apart). gyrosid's fit with "
+                "`--set g_sensitivity=true` takes that up as G (rows G_ below) and its residual rms per gyro drops from "
+                "%s to %s deg/h.\n\n"
+                % (len(holds), peer["turns"], ", ".join("%.3g" % v for v in fit["noise_density_radps_rt_hz"]),
+                   fit["observable"]["independent_combinations"], peer["residual_rms"],
+                   ", ".join("%.0f" % v for v in hold_bias.std(axis=0)), ", ".join("%.0f" % v for v in hold_se.mean(axis=0)),
+                   ", ".join("%.0f" % v for v in fit["residual_rms_dph"]), ", ".join("%.0f" % v for v in fit_g["residual_rms_dph"])))
+        return text + markdown_table(rows, cols) + "\n"
 
 
 def main():
