@@ -4,6 +4,7 @@
 #include <nlopt.h>
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <sstream>
 
@@ -82,6 +83,8 @@ double median_interval(const std::vector<double>& t_s) {
 }
 
 namespace {
+
+constexpr double kLog2Pi = 1.8378770664093454836;
 
 // Sample times, their typical interval and the runs without gaps (for the Allan fit of the noise).
 struct TimeAxis {
@@ -278,31 +281,63 @@ std::vector<double> log_widths(const BayesFit& fit, bool per_input) {
   return rho;
 }
 
-// Type-II maximum likelihood of the noise model at fixed widths: the evidence with beta = 1 (Sigma_0 is the
-// noise covariance itself) over the logs of the white variance, the random-walk increment variance, the
-// Gauss-Markov variance and time, by BOBYQA from `start` (the Allan fit of a residual, whose drift terms a
-// first fit has partly absorbed). A term driven to its lower bound is dropped.
-NoiseModel noise_by_evidence(const BayesProblem& p, const Eigen::MatrixXd& centres, const Eigen::RowVectorXd& widths, const TimeAxis& axis,
-                             const std::vector<Eigen::Index>& rows, const NoiseModel& start, Precisions& warm, SolveMonitor& monitor) {
-  const double span = std::max(axis.t_s.back() - axis.t_s.front(), 10 * axis.dt_s);
-  const double w0 = std::max(start.white_var, 1e-10);
-  const std::vector<double> lower{std::log(1e-12), std::log(1e-9 * w0 * axis.dt_s / span), std::log(1e-6 * w0), std::log(2 * axis.dt_s)};
-  const std::vector<double> upper{std::log(10.0), std::log(10.0 * axis.dt_s / span), std::log(10.0), std::log(2 * span)};
-  auto model_of = [&](const std::vector<double>& v) {
+// The noise model's free parameters for a search: logs of the white variance, the random-walk increment
+// variance, the Gauss-Markov variance and time, bounded; a term at its lower bound is dropped.
+struct NoiseParameters {
+  std::vector<double> lower, upper, start;
+  double dt_s;
+
+  NoiseParameters(const TimeAxis& axis, const NoiseModel& from) : dt_s(axis.dt_s) {
+    const double span = std::max(axis.t_s.back() - axis.t_s.front(), 10 * axis.dt_s);
+    const double w0 = std::max(from.white_var, 1e-10);
+    lower = {std::log(1e-12), std::log(1e-9 * w0 * axis.dt_s / span), std::log(1e-6 * w0), std::log(2 * axis.dt_s)};
+    upper = {std::log(10.0), std::log(10.0 * axis.dt_s / span), std::log(10.0), std::log(2 * span)};
+    start = {std::log(w0), std::log(std::max(from.rw_q, 0.01 * w0 * axis.dt_s / span)), std::log(std::max(from.gm_var, 0.01 * w0)),
+             std::log(from.gm_var > 0 ? from.gm_tau_s : 0.1 * span)};
+    for (std::size_t k = 0; k < start.size(); ++k) start[k] = std::clamp(start[k], lower[k], upper[k]);
+  }
+  NoiseModel model(const std::vector<double>& v) const {
     NoiseModel m;
-    m.dt_s = axis.dt_s;
+    m.dt_s = dt_s;
     m.white_var = std::exp(v[0]);
     m.rw_q = v[1] <= lower[1] + 1e-6 ? 0.0 : std::exp(v[1]);
     m.gm_var = v[2] <= lower[2] + 1e-6 ? 0.0 : std::exp(v[2]);
     m.gm_tau_s = m.gm_var > 0 ? std::exp(v[3]) : 0.0;
     return m;
-  };
-  std::vector<double> v{std::log(w0), std::log(std::max(start.rw_q, 0.01 * w0 * axis.dt_s / span)),
-                        std::log(std::max(start.gm_var, 0.01 * w0)), std::log(start.gm_var > 0 ? start.gm_tau_s : 0.1 * span)};
-  for (std::size_t k = 0; k < v.size(); ++k) v[k] = std::clamp(v[k], lower[k], upper[k]);
+  }
+  NoiseModel minimise(const std::function<double(const std::vector<double>&)>& objective, int evaluations) const {
+    BoundedSearchOptions so;
+    so.algorithm = "LN_BOBYQA", so.max_evaluations = evaluations, so.xtol_rel = 1e-3;
+    return model(minimize_bounded(objective, start, lower, upper, so).x);
+  }
+};
+
+// Gaussian log-likelihood of a residual r under a noise model: -1/2 (|W r|^2 + log|Sigma| + N log 2 pi).
+double residual_log_likelihood(const Eigen::VectorXd& r, const NoiseModel& m, const TimeAxis& axis, const std::vector<Eigen::Index>& rows) {
+  const Whitener w(m, rows, axis.t_s, RandomWalkStart::zero);
+  return -0.5 * (w.apply(r).squaredNorm() + w.log_determinant() + static_cast<double>(r.size()) * kLog2Pi);
+}
+
+// Maximum likelihood of the noise model for a fixed residual (the plug-in estimate: O(N) per evaluation, a
+// screen for drift before any refit; the fit that produced r has absorbed some of it).
+NoiseModel noise_of_residual(const Eigen::VectorXd& r, const TimeAxis& axis, const std::vector<Eigen::Index>& rows,
+                             const NoiseModel& start, SolveMonitor& monitor) {
+  const NoiseParameters np(axis, start);
+  return np.minimise([&](const std::vector<double>& v) {
+    const double value = -residual_log_likelihood(r, np.model(v), axis, rows);
+    monitor.iteration(value / static_cast<double>(r.size()));
+    return value;
+  }, 80);
+}
+
+// Type-II maximum likelihood of the noise model at fixed widths: the evidence with beta = 1 (Sigma_0 is the
+// noise covariance itself), the RBF weights integrated out - what the plug-in estimate misses.
+NoiseModel noise_by_evidence(const BayesProblem& p, const Eigen::MatrixXd& centres, const Eigen::RowVectorXd& widths, const TimeAxis& axis,
+                             const std::vector<Eigen::Index>& rows, const NoiseModel& start, Precisions& warm, SolveMonitor& monitor) {
+  const NoiseParameters np(axis, start);
   const Eigen::MatrixXd phi = gaussian_columns(p.x, centres, widths);
-  const std::function<double(const std::vector<double>&)> objective = [&](const std::vector<double>& x) {
-    const Whitener w(model_of(x), rows, axis.t_s, RandomWalkStart::zero);
+  return np.minimise([&](const std::vector<double>& x) {
+    const Whitener w(np.model(x), rows, axis.t_s, RandomWalkStart::zero);
     const FixedPart fixed(p.fixed, p.y, &w);
     Eigen::MatrixXd phi_p = phi;
     fixed.project(phi_p);
@@ -310,11 +345,7 @@ NoiseModel noise_by_evidence(const BayesProblem& p, const Eigen::MatrixXd& centr
     const double value = optimise_precisions(ev, warm, true);
     monitor.iteration(-value / static_cast<double>(p.y.size()));
     return -value;
-  };
-  BoundedSearchOptions so;
-  so.algorithm = "LN_BOBYQA", so.max_evaluations = 60, so.xtol_rel = 1e-3;
-  const BoundedSearchResult r = minimize_bounded(objective, v, lower, upper, so);
-  return model_of(r.x);
+  }, 60);
 }
 
 std::string describe(const NoiseModel& m, double to_dph) {
@@ -356,11 +387,20 @@ BayesFit fit_bayes(const BayesProblem& p, const BayesFitOptions& o, SolveMonitor
   white.noise_choice = "white (option noise=white)";
   if (o.noise == "white") return white;
 
-  const NoiseModel allan = fit_noise_model(residual(p, white), axis.runs, axis.dt_s);
+  // Screen: the white fit's residual under the best coloured model against white noise (plug-in likelihoods).
+  const Eigen::VectorXd r = residual(p, white);
+  NoiseModel white_only;
+  white_only.dt_s = axis.dt_s, white_only.white_var = r.squaredNorm() / static_cast<double>(r.size());
+  const NoiseModel allan = fit_noise_model(r, axis.runs, axis.dt_s);
+  const NoiseModel screened = noise_of_residual(r, axis, rows, allan, monitor);
+  const double screen = residual_log_likelihood(r, screened, axis, rows) - residual_log_likelihood(r, white_only, axis, rows);
+  const double screen_penalty = 0.5 * std::max(1, screened.parameters() - 1) * std::log(static_cast<double>(p.y.size()));
   std::optional<BayesFit> coloured;
-  if (allan.rw_q > 0 || allan.gm_var > 0 || o.noise == "coloured") {
-    BayesFit current = white;
+  if ((screened.rw_q > 0 || screened.gm_var > 0) && (o.noise == "coloured" || screen > screen_penalty)) {
+    // The evidence search starts from the Allan fit: the plug-in estimate lets a random walk stand in for
+    // drift the white fit has half absorbed.
     NoiseModel model = allan;
+    BayesFit current = white;
     Precisions warm{white.log_alpha, 0.0};
     for (int pass = 0; pass < o.noise_passes; ++pass) {
       model = noise_by_evidence(p, centres, current.widths, axis, rows, model, warm, monitor);
@@ -374,21 +414,25 @@ BayesFit fit_bayes(const BayesProblem& p, const BayesFitOptions& o, SolveMonitor
       current = fit;
     }
     coloured = current;
+  } else if (o.noise == "auto") {
+    white.noise_choice = str_cat("white: the best coloured model of the residual (", describe(screened, p.report_scale), ") raises its likelihood by ",
+                                 format_significant(screen, 3), ", below BIC's penalty ", format_significant(screen_penalty, 3));
+    return white;
   }
   if (!coloured) {
-    white.noise_choice = "white: the Allan deviation of the residual shows no random walk or Gauss-Markov drift";
+    white.noise_choice = "white: no random walk or Gauss-Markov drift in the residual";
     return white;
   }
   const int extra = std::max(1, coloured->noise->parameters() - 1);
   const double penalty = 0.5 * extra * std::log(static_cast<double>(p.y.size()));
   const double gain = coloured->log_evidence - white.log_evidence;
-  const std::string model = describe(*coloured->noise, p.report_scale);
+  const std::string coloured_model = describe(*coloured->noise, p.report_scale);
   if (o.noise == "coloured" || gain > penalty) {
-    coloured->noise_choice = str_cat("coloured (", model, "): log evidence +", format_significant(gain, 3),
+    coloured->noise_choice = str_cat("coloured (", coloured_model, "): log evidence +", format_significant(gain, 3),
                                      " over white noise, above BIC's penalty ", format_significant(penalty, 3), " for the drift parameters");
     return *coloured;
   }
-  white.noise_choice = str_cat("white: the coloured model (", model, ") gains ", format_significant(gain, 3),
+  white.noise_choice = str_cat("white: the coloured model (", coloured_model, ") gains ", format_significant(gain, 3),
                                " in log evidence, below BIC's penalty ", format_significant(penalty, 3));
   white.evaluations = coloured->evaluations;
   return white;

@@ -283,7 +283,7 @@ TEST(BayesFit, GaussMarkovDriftIsNoiseNotSurface) {
   const auto [white, white_rms] = fit_with("white");
   const auto [coloured, coloured_rms] = fit_with("auto");
   ASSERT_TRUE(coloured.noise.has_value()) << coloured.noise_choice;
-  EXPECT_LT(coloured_rms, 0.7 * white_rms) << "white " << white_rms << ", coloured " << coloured_rms;
+  EXPECT_LT(coloured_rms, 0.7 * white_rms) << "white " << white_rms << ", coloured " << coloured_rms << ": " << coloured.noise_choice;
   EXPECT_GT(coloured.noise->gm_tau_s, 50.0);
   EXPECT_LT(coloured.noise->gm_tau_s, 450.0);
 }
