@@ -87,17 +87,17 @@ DesignContext::DesignContext(const SensorSpec& sensor, std::shared_ptr<const Env
   if ((criterion == Criterion::cof || criterion == Criterion::cof_minimax) && envelope_->flights.empty()) {
     fail("design: criterion '", to_string(criterion), "' needs flights in the envelope");
   }
-  prior_sd_ = prior_scales(*regressor_, family, model, model_domain_, gyro().errors);
+  prior_ = Prior::independent(prior_scales(*regressor_, family, model, model_domain_, gyro().errors));
   lin_ = linearise(*envelope_, *regressor_);
   const Eigen::Index p = regressor_->size();
   scaled_surface_moment_ = Eigen::MatrixXd::Zero(p, p);
   auto add_moment = [&](const Eigen::MatrixXd& a, double weight) {
-    const Eigen::MatrixXd scaled = a * prior_sd_.asDiagonal();
+    const Eigen::MatrixXd scaled = a * prior_.root;
     scaled_surface_moment_ += weight * scaled.transpose() * scaled / static_cast<double>(a.rows());
   };
   if (envelope_->uniform_samples) add_moment(lin_.uniform_columns, 1.0);
   for (const auto& f : lin_.flights) {
-    scaled_sensitivity_.push_back(f.sensitivity * prior_sd_.asDiagonal());
+    scaled_sensitivity_.push_back(f.sensitivity * prior_.root);
     add_moment(f.surface_columns, 1.0 / static_cast<double>(lin_.flights.size()));
   }
 }
@@ -120,7 +120,7 @@ LinearEstimate DesignContext::estimate(const Observations& o, bool with_target) 
     a.conservativeResize(Eigen::NoChange, a.cols() + 1);
     a.col(a.cols() - 1) = o.true_error;
   }
-  return linear_estimate(whiten(a, o.inputs.t_s, o.weight_s, noise_), prior_sd_, with_target);
+  return linear_estimate(whiten(a, o.inputs.t_s, o.weight_s, noise_), prior_, with_target);
 }
 
 double DesignContext::objective(const LinearEstimate& e) const {

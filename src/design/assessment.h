@@ -85,7 +85,7 @@ class DesignContext {
   const Domain& model_domain() const { return model_domain_; }
   Criterion criterion() const { return criterion_; }
   ModelFamily family() const { return family_; }
-  const Eigen::VectorXd& prior_sd() const { return prior_sd_; }
+  const Prior& prior() const { return prior_; }
   const Linearisation& linearisation() const { return lin_; }
 
   // The reference criterion of fit per flight (envelope order) for cof_minimax: a prediction's cof_m.
@@ -105,10 +105,10 @@ class DesignContext {
   Domain model_domain_;
   NoiseSpec noise_;
   std::unique_ptr<Regressor> regressor_;
-  Eigen::VectorXd prior_sd_;
+  Prior prior_;
   Linearisation lin_;
-  std::vector<Eigen::MatrixXd> scaled_sensitivity_;  // S_f diag(s) per flight
-  Eigen::MatrixXd scaled_surface_moment_;            // diag(s) M diag(s), M = mean a a' over the envelope
+  std::vector<Eigen::MatrixXd> scaled_sensitivity_;  // S_f L per flight
+  Eigen::MatrixXd scaled_surface_moment_;            // L' M L, M = mean a a' over the envelope
   std::vector<double> log_reference_;                // log R_f^2 per flight
 };
 

@@ -67,11 +67,15 @@ Eigen::MatrixXd whiten(const Eigen::MatrixXd& a, const std::vector<double>& t, c
   return out;
 }
 
-LinearEstimate linear_estimate(const Eigen::MatrixXd& whitened, const Eigen::VectorXd& prior_sd, bool has_target) {
-  const Eigen::Index p = prior_sd.size();
+Prior Prior::independent(const Eigen::VectorXd& sd) {
+  if (!(sd.array() > 0).all()) fail("design: prior standard deviations must be positive");
+  return {Eigen::VectorXd::Zero(sd.size()), sd.asDiagonal()};
+}
+
+LinearEstimate linear_estimate(const Eigen::MatrixXd& whitened, const Prior& prior, bool has_target) {
+  const Eigen::Index p = prior.size();
   if (whitened.cols() != p + (has_target ? 1 : 0)) fail("linear_estimate: ", whitened.cols(), " columns for ", p, " parameters");
-  if (!(prior_sd.array() > 0).all()) fail("linear_estimate: prior standard deviations must be positive");
-  const Eigen::MatrixXd scaled = whitened.leftCols(p) * prior_sd.asDiagonal();
+  const Eigen::MatrixXd scaled = whitened.leftCols(p) * prior.root;
   Eigen::MatrixXd info = Eigen::MatrixXd::Zero(p, p);
   info.selfadjointView<Eigen::Lower>().rankUpdate(scaled.transpose());
   info = info.selfadjointView<Eigen::Lower>();
@@ -80,10 +84,10 @@ LinearEstimate linear_estimate(const Eigen::MatrixXd& whitened, const Eigen::Vec
   const Eigen::LLT<Eigen::MatrixXd> llt(precision);  // eigenvalues >= 1: always positive definite
   if (llt.info() != Eigen::Success) fail("linear_estimate: the precision is not positive definite (non-finite columns?)");
   LinearEstimate e;
-  e.prior_sd = prior_sd;
+  e.prior = prior;
   e.posterior = llt.solve(Eigen::MatrixXd::Identity(p, p));
   e.estimator = e.posterior * info * e.posterior;
-  if (has_target) e.expected = llt.solve(scaled.transpose() * whitened.col(p));
+  if (has_target) e.expected = llt.solve(scaled.transpose() * (whitened.col(p) - whitened.leftCols(p) * prior.mean));
   e.log_det_information = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
   return e;
 }

@@ -10,11 +10,13 @@
 // A sqrt(w) / N). Quantization noise and rate ramp are left out (their effect on a calibration is below
 // the white noise's for averaging times beyond a second, and a ramp is a drift, not a noise).
 //
-// With a Gaussian prior theta ~ N(0, diag(s^2)) the posterior covariance is P = (W'W + diag(1/s^2))^-1
-// (what designs minimise). The calibration is the regularised least-squares fit with the same prior (the RBF
-// proxy's prior is its regularisation; the physics models' prior is so wide that only directions no sample
-// determines feel it): its covariance is the sandwich P W'W P, its expected estimate on noise-free data
-// gives the bias of the model class.
+// With a Gaussian prior theta ~ N(m, L L') - independent scales s (L = diag(s), m = 0) for a model fitted
+// afresh, or an existing calibration's posterior when a design asks what a new recording adds to it - the
+// parameters in prior units z = L^-1 (theta - m) have the posterior covariance P~ = (W~'W~ + I)^-1,
+// W~ = W L (what designs minimise). The calibration is the regularised least-squares fit with the same prior
+// (the RBF proxy's prior is its regularisation; the physics models' prior is so wide that only directions no
+// sample determines feel it): its covariance is the sandwich L P~ W~'W~ P~ L', its expected estimate on
+// noise-free data gives the bias of the model class.
 #pragma once
 
 #include <Eigen/Core>
@@ -38,21 +40,30 @@ struct NoiseSpec {
 Eigen::MatrixXd whiten(const Eigen::MatrixXd& a, const std::vector<double>& t_s, const Eigen::VectorXd& weight_s,
                        const NoiseSpec& noise);
 
-// The linearised calibration: posterior and estimator covariance in the prior-scaled parameters
-// theta~ = theta / s (well conditioned: every eigenvalue of the posterior precision is >= 1).
+// The Gaussian prior of the parameters: mean m and a square root L of the covariance (diagonal for
+// independent scales).
+struct Prior {
+  Eigen::VectorXd mean;
+  Eigen::MatrixXd root;
+  static Prior independent(const Eigen::VectorXd& sd);
+  Eigen::Index size() const { return root.rows(); }
+};
+
+// The linearised calibration, in prior units z = L^-1 (theta - m) (well conditioned: every eigenvalue of the
+// posterior precision is >= 1).
 struct LinearEstimate {
-  Eigen::VectorXd prior_sd;    // s
-  Eigen::MatrixXd posterior;   // P~ = (W~'W~ + I)^-1, scaled parameters
+  Prior prior;
+  Eigen::MatrixXd posterior;   // P~ = (W~'W~ + I)^-1
   Eigen::MatrixXd estimator;   // P~ W~'W~ P~: covariance of the calibration's estimate
-  Eigen::VectorXd expected;    // P~ W~' e~: its estimate on noise-free data (scaled), when a target was given
+  Eigen::VectorXd expected;    // P~ W~' (e~ - W m): its estimate on noise-free data, when a target was given
   double log_det_information = 0.0;  // log det(W~'W~ + I)
   // Back to model units.
-  Eigen::MatrixXd posterior_covariance() const { return prior_sd.asDiagonal() * posterior * prior_sd.asDiagonal(); }
-  Eigen::MatrixXd estimator_covariance() const { return prior_sd.asDiagonal() * estimator * prior_sd.asDiagonal(); }
-  Eigen::VectorXd expected_theta() const { return prior_sd.cwiseProduct(expected); }
+  Eigen::MatrixXd posterior_covariance() const { return prior.root * posterior * prior.root.transpose(); }
+  Eigen::MatrixXd estimator_covariance() const { return prior.root * estimator * prior.root.transpose(); }
+  Eigen::VectorXd expected_theta() const { return prior.mean + prior.root * expected; }
 };
 
 // `whitened` is whiten([A | e]) when `has_target`, else whiten(A).
-LinearEstimate linear_estimate(const Eigen::MatrixXd& whitened, const Eigen::VectorXd& prior_sd, bool has_target);
+LinearEstimate linear_estimate(const Eigen::MatrixXd& whitened, const Prior& prior, bool has_target);
 
 }  // namespace gyrosid::design

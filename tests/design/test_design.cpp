@@ -105,6 +105,32 @@ TEST(DesignInformation, KalmanWhiteningEqualsDenseGeneralisedLeastSquares) {
   EXPECT_LT((whiten(a, t, w, plain) - (a.array().colwise() * (w.array() / 4e-6).sqrt()).matrix()).norm(), 1e-12 * a.norm() * 500);
 }
 
+TEST(DesignInformation, ACorrelatedPriorGivesTheBayesPosteriorAndItsMean) {
+  // theta ~ N(m, L L') and y = W theta + e, e ~ N(0, I): posterior covariance (W'W + (L L')^-1)^-1 and mean
+  // that covariance times (W'y + (L L')^-1 m), computed here directly in model units.
+  RandomStream r(11, "test/prior");
+  const int n = 40, p = 4;
+  Eigen::MatrixXd w(n, p + 1);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j <= p; ++j) w(i, j) = r.normal();
+  Eigen::MatrixXd root = Eigen::MatrixXd::Zero(p, p);
+  Eigen::VectorXd mean(p);
+  for (int i = 0; i < p; ++i) {
+    mean(i) = r.normal(0.0, 3.0);
+    for (int j = 0; j <= i; ++j) root(i, j) = i == j ? 0.5 + r.uniform() : r.normal(0.0, 0.5);
+  }
+  const LinearEstimate e = linear_estimate(w, Prior{mean, root}, true);
+  const Eigen::MatrixXd prior_precision = (root * root.transpose()).inverse();
+  const Eigen::MatrixXd wp = w.leftCols(p);
+  const Eigen::MatrixXd covariance = (wp.transpose() * wp + prior_precision).inverse();
+  const Eigen::VectorXd posterior_mean = covariance * (wp.transpose() * w.col(p) + prior_precision * mean);
+  EXPECT_LT((e.posterior_covariance() - covariance).norm(), 1e-10 * covariance.norm());
+  EXPECT_LT((e.expected_theta() - posterior_mean).norm(), 1e-10 * posterior_mean.norm());
+  const Eigen::MatrixXd sandwich = covariance * wp.transpose() * wp * covariance;
+  EXPECT_LT((e.estimator_covariance() - sandwich).norm(), 1e-10 * sandwich.norm());
+  EXPECT_THROW(Prior::independent(Eigen::Vector2d(1.0, 0.0)), Error);
+}
+
 TEST(DesignRegressors, ClassicalColumnsAreTheClassicalModelsTerms) {
   const Domain d{-30.0, 40.0, dps_to_radps(100.0)};
   const auto reg = make_regressor(ModelFamily::classical, ModelOptions{}, d, GyroErrorModel{}, 0.0);
@@ -317,7 +343,7 @@ TEST(DesignInformation, ColouredNoiseCovarianceMatchesSimulatedGeneralisedLeastS
   const NoiseSpec noise = NoiseSpec::of(gyro.noise);
   const Eigen::MatrixXd a = reg->columns(o.inputs);
   const Eigen::VectorXd prior = Eigen::VectorXd::Constant(reg->size(), 1.0);
-  const LinearEstimate e = linear_estimate(whiten(a, o.inputs.t_s, o.weight_s, noise), prior, false);  // prior: the fit below
+  const LinearEstimate e = linear_estimate(whiten(a, o.inputs.t_s, o.weight_s, noise), Prior::independent(prior), false);  // prior: the fit below
   const Eigen::MatrixXd w = whiten(a, o.inputs.t_s, o.weight_s, noise);
   Eigen::MatrixXd precision = w.transpose() * w;
   precision.diagonal().array() += 1.0;
