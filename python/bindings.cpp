@@ -13,7 +13,9 @@
 
 #include "core/error.h"
 #include "core/recording.h"
+#include "core/enum_names.h"
 #include "core/units.h"
+#include "design/design.h"
 #include "explain/explain.h"
 #include "model/calibration_model.h"
 #include "model/compensate_recording.h"
@@ -21,6 +23,7 @@
 #include "pipeline/main_job.h"
 #include "report/allan_report.h"
 #include "report/cof_json.h"
+#include "report/design_report.h"
 #include "report/explain_json.h"
 #include "report/triad_json.h"
 #include "sensor/allan.h"
@@ -28,6 +31,7 @@
 #include "sim/simulate.h"
 #include "solvers/calibrate.h"
 #include "solvers/triad/triad_fit.h"
+#include "trajectory/programme.h"
 
 namespace py = pybind11;
 
@@ -152,6 +156,31 @@ py::object run_main_job_py(const std::filesystem::path& out, const std::vector<s
   return to_python(nlohmann::json::parse(in));
 }
 
+// `gyrosid design` in-process (design/design.h): the designed programme as trajectory YAML (what
+// trajectory.yaml holds) and design.json as a dict. Options as --set: space.*, model.*, envelope.*,
+// quadrature.* for the design, anything else for the solver.
+py::tuple design_py(double budget_min, const std::string& model, const std::vector<std::string>& envelope, const std::string& sensor_path,
+                    const std::string& solver, const std::string& criterion, std::uint64_t seed, const py::dict& options) {
+  design::DesignSettings settings;
+  OptionMap design_options;
+  design::DesignRequest request;
+  for (const auto& [key, value] : option_map(options)) (design::DesignSettings::owns(key) ? design_options : request.solver_options)[key] = value;
+  settings.table().apply(design_options);
+  settings.envelope.flights = envelope;
+  settings.space.budget_min = budget_min;
+  const auto crit = parse_enum<design::Criterion>(criterion, "criterion");
+  if (crit == design::Criterion::cof_minimax) throw Error("criterion cof_minimax needs a reference trajectory: use `gyrosid design --reference`");
+  const SensorSpec sensor = load_sensor_file(sensor_path);
+  const auto env = std::make_shared<const design::Envelope>(design::load_envelope(settings.envelope, as_triad(sensor)));
+  const design::DesignSpace space = design::design_space(*env, settings.space);
+  const design::DesignContext context(sensor, env, parse_enum<design::ModelFamily>(model, "model"), settings.model, crit, design::model_domain(space));
+  request.space = settings.space, request.quadrature = settings.quadrature, request.solver = solver, request.seed = seed;
+  const design::DesignResult r = design::design_trajectory(context, request);
+  const nlohmann::json provenance = {{"model", model}, {"sensor", sensor_path}, {"envelope", envelope}, {"seed", seed}, {"solver", solver},
+                                     {"options", from_python(options)}, {"command", "gyrosid.design (Python)"}};
+  return py::make_tuple(programme_yaml(r.trajectory), to_python(design_json(r, provenance)));
+}
+
 void bind_recording(py::module_& m) {
   py::class_<Recording>(m, "Recording", "A recording (docs/recording_format.md): named columns with their unit in the name.")
       .def(py::init(&recording_of_columns), py::arg("columns"), py::arg("metadata") = py::dict(), py::arg("source") = "<python>",
@@ -234,4 +263,8 @@ PYBIND11_MODULE(_gyrosid, m) {
         "Missing-physics finder: (explain.json as a dict, the explained Model).");
   m.def("run_main_job", &run_main_job_py, py::arg("out"), py::arg("flights") = std::vector<std::string>{"short", "medium", "long"},
         py::arg("noisy") = false, py::arg("rbf_config") = "", py::arg("seed") = 1, "The main job in-process; returns summary.json.");
+  m.def("design", &design_py, py::arg("budget_min"), py::arg("model") = "rbf", py::arg("envelope") = std::vector<std::string>{"short", "medium", "long"},
+        py::arg("sensor") = "builtin:sensors/open_loop_fog.yaml", py::arg("solver") = "nlopt", py::arg("criterion") = "cof", py::arg("seed") = 1,
+        py::arg("options") = py::dict(),
+        "A calibration trajectory designed for a time budget, as `gyrosid design`: (trajectory YAML text, design.json as a dict).");
 }

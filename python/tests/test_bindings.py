@@ -82,6 +82,21 @@ class Bindings(unittest.TestCase):
         self.assertLess(truth["end_error_m"], 1e-9)
         self.assertGreater(raw["end_error_m"], 1.0)
 
+    def test_design_fits_the_budget_improves_and_simulates(self):
+        opts = {"space.segments": 2, "global_evaluations": 60, "local_evaluations": 40}
+        yaml_text, d = gyrosid.design(8, model="classical", envelope=["short"], seed=4, options=opts)
+        self.assertAlmostEqual(d["duration_min"], 8.0, places=9)
+        self.assertLessEqual(d["objective"], d["solver_summary"]["initial_cost"])
+        self.assertGreater(d["predicted"]["flights"]["short"]["cof_m"], 0.0)
+        again, _ = gyrosid.design(8, model="classical", envelope=["short"], seed=4, options=opts)
+        self.assertEqual(yaml_text, again)  # same seed, same design
+        with open(self.path("trajectory.yaml"), "w") as f:
+            f.write(yaml_text)
+        rec = gyrosid.simulate(trajectory=self.path("trajectory.yaml"), seed=1)
+        self.assertEqual(len(rec["t_s"]), 8 * 60 * 3)  # 8 min at the design's 3 Hz
+        with self.assertRaises(ValueError):
+            gyrosid.design(8, options={"no_such_option": 1})
+
 
 if __name__ == "__main__":
     unittest.main()
