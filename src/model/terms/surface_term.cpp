@@ -1,6 +1,6 @@
 // The scale-factor error as a bicubic spline surface over a (T, omega) grid (thesis figs 3.5/3.6): the
 // not-a-knot interpolation is linear in the grid values, so column (i, j) is omega times the surface
-// through a unit value at node (i, j), held at the grid's edge outside it.
+// through a unit value at node (i, j), held at the grid's edge outside it (sensor/spline_surface.h).
 #include <algorithm>
 #include <iomanip>
 
@@ -27,17 +27,38 @@ std::vector<std::string> ScaleFactorSurface::column_names() const {
   return out;
 }
 
+namespace {
+
+// The not-a-knot cardinal cubic splines through the knots (unit value at one knot, zero at the others) at
+// each x, held at the ends (n x knots): the 1-D factors of the bicubic surface's basis, each evaluated as
+// the cubic Hermite interpolant of its knot values and slopes (the surface's own construction).
+Eigen::MatrixXd cardinal_splines(const std::vector<double>& knots, const Eigen::VectorXd& x) {
+  const Eigen::MatrixXd slope = spline_slope_operator(knots);  // slopes at the knots = slope * values
+  const auto m = static_cast<Eigen::Index>(knots.size());
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(x.size(), m);
+  for (Eigen::Index k = 0; k < x.size(); ++k) {
+    const double v = std::clamp(x(k), knots.front(), knots.back());
+    auto i = static_cast<Eigen::Index>(std::upper_bound(knots.begin(), knots.end(), v) - knots.begin());
+    i = std::clamp<Eigen::Index>(i, 1, m - 1) - 1;
+    const double h = knots[static_cast<std::size_t>(i) + 1] - knots[static_cast<std::size_t>(i)];
+    const double u = (v - knots[static_cast<std::size_t>(i)]) / h, u2 = u * u, u3 = u2 * u;
+    out(k, i) += 2 * u3 - 3 * u2 + 1;
+    out(k, i + 1) += -2 * u3 + 3 * u2;
+    out.row(k) += h * ((u3 - 2 * u2 + u) * slope.row(i) + (u3 - u2) * slope.row(i + 1));
+  }
+  return out;
+}
+
+}  // namespace
+
+// The surface's basis is a tensor product: B_ij(T, w) = a_i(T) b_j(w) with a, b the 1-D cardinal splines.
 void ScaleFactorSurface::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const {
-  const std::size_t nt = temps_c_.size(), nw = rates_dps_.size();
   const Eigen::VectorXd& rate = in.signals.rate;
-  for (std::size_t i = 0; i < nt; ++i) {
-    for (std::size_t j = 0; j < nw; ++j) {
-      Eigen::MatrixXd unit = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(nt), static_cast<Eigen::Index>(nw));
-      unit(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = 1.0;
-      const SplineSurface basis(temps_c_, rates_dps_, unit, OutsideGridPolicy::clamp);
-      const auto col = static_cast<Eigen::Index>(i * nw + j);
-      for (Eigen::Index k = 0; k < rate.size(); ++k) out(k, col) = rate(k) * basis(in.coil.temp_c(k), units::radps_to_dps(rate(k))).value;
-    }
+  const Eigen::MatrixXd a = cardinal_splines(temps_c_, in.coil.temp_c);
+  const Eigen::MatrixXd b = cardinal_splines(rates_dps_, rate * units::kRadToDeg);
+  const auto nw = static_cast<Eigen::Index>(rates_dps_.size());
+  for (Eigen::Index i = 0; i < a.cols(); ++i) {
+    for (Eigen::Index j = 0; j < nw; ++j) out.col(i * nw + j) = rate.cwiseProduct(a.col(i)).cwiseProduct(b.col(j));
   }
 }
 
