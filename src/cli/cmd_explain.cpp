@@ -61,7 +61,7 @@ void register_explain(CLI::App& app, Action& action) {
   cmd->add_option("--axis", c->options.input.axis, "Triad recordings: the gyro to explain (x, y or z)");
   cmd->add_option("--effects", c->options.effects, "Restrict the library to these effects (comma-separated ids)");
   cmd->add_option("--alpha", c->options.selection.alpha, "Family-wise error rate over the library (Holm)")->capture_default_str();
-  cmd->add_option("--bootstrap", c->options.selection.bootstrap, "Block-bootstrap resamples for the p-values")->capture_default_str();
+  cmd->add_option("--bootstrap", c->options.selection.bootstrap, "Block-bootstrap resamples for the p-values (raised to 2m/alpha for m candidates when fewer: below it no p-value could pass Holm)")->capture_default_str();
   cmd->add_option("--max-effects", c->options.selection.max_effects, "Forward-selection steps at most")->capture_default_str();
   cmd->add_option("--seed", c->options.selection.seed, "Seed of the bootstrap")->capture_default_str();
   cmd->add_option("--heldout-every", c->options.input.heldout_every,

@@ -53,7 +53,7 @@ Candidate Effect::candidate(Term term) const {
 }
 
 Eigen::MatrixXd Effect::columns(const Candidate& c, double tau_s, const ModelColumns& m) const {
-  const Term t = c.nonlinear == NonlinearParameter::time_constant ? c.term->with_time_constant(tau_s) : *c.term;
+  const Term t = c.nonlinear == NonlinearParameter::term_parameter ? c.term->with_parameter(tau_s) : *c.term;
   return term_columns(t, m.signals, coil_temperature(m.signals, m.lag_tau_s), m.scaling);
 }
 
@@ -93,7 +93,7 @@ std::string separating_experiment(const Effect& a, const Effect& b) {
 ModelSpec with_effect(const ModelSpec& model, const Candidate& c, double tau) {
   ModelSpec m = model;
   if (c.nonlinear == NonlinearParameter::coil_lag) m.lag_tau_s = tau;
-  else m.terms.push_back(c.nonlinear == NonlinearParameter::time_constant ? c.term->with_time_constant(tau) : *c.term);
+  else m.terms.push_back(c.nonlinear == NonlinearParameter::term_parameter ? c.term->with_parameter(tau) : *c.term);
   return m;
 }
 

@@ -25,9 +25,10 @@ namespace gyrosid::explain {
 
 class Effect;
 
-// A nonlinear parameter a candidate is tried at (a grid, then refined in the refit): the coil's thermal lag
-// (which acts on the model's own temperature terms) or a time constant inside the candidate's term.
-enum class NonlinearParameter { none, coil_lag, time_constant };
+// A nonlinear parameter a candidate is tried at (a grid, refined when it is selected and in the refit): the
+// coil's thermal lag (which acts on the model's own temperature terms) or the parameter inside the
+// candidate's term (a time constant, a transition width, a change point's time).
+enum class NonlinearParameter { none, coil_lag, term_parameter };
 
 struct Candidate {
   const Effect* effect = nullptr;
@@ -36,6 +37,8 @@ struct Candidate {
   std::vector<double> tau_grid_s;    // values tried for the nonlinear parameter
   std::string_view id() const;
   int nonlinear_parameters() const { return nonlinear == NonlinearParameter::none ? 0 : 1; }
+  // The parameter is a positive scale (refined on a log scale) rather than a location (a time).
+  bool scale_parameter() const { return nonlinear != NonlinearParameter::term_parameter || term->parameter()->scale; }
 };
 
 // The model a recording is explained against and the recording's ranges, as the effects see them.
@@ -100,8 +103,10 @@ class Effect {
   virtual std::string_view description() const = 0;
   // Its parameters and their units, for --help.
   virtual std::string_view parameters_help() const = 0;
-  // Physics is reported as a found effect; anything else (a channel, a change point) as unexplained.
+  // Physics is reported as a found effect; anything else as unexplained structure of this kind
+  // (follows_channel, change_point, trend_change).
   virtual bool is_physics() const { return true; }
+  virtual std::string_view unexplained_kind() const { return "follows_channel"; }
 
   virtual Proposal propose(const CandidateContext& context) const = 0;
   // The columns a candidate adds at nonlinear parameter tau: its term, its time constant set to tau.

@@ -57,19 +57,20 @@ std::vector<Candidate> propose_candidates(const ModelSpec& base, const ExplainIn
   return out;
 }
 
-// The accepted model: the base plus every judged effect that passed; the rest into `dropped`.
+// The accepted model: the base plus every judged effect that passed; the rest demoted, with the reason.
 struct Accepted {
   ModelSpec model;
   bool lag_selected = false;
   std::vector<Judged> effects;
-  std::vector<DroppedEffect> dropped;
+  std::vector<DemotedEffect> demoted;
 };
 
 Accepted accept(const std::vector<Judged>& judged, const ModelSpec& base, const SelectionResult& sel, double min_stability) {
   Accepted a{base, false, {}, {}};
   for (const auto& j : judged) {
     if (!j.accepted(min_stability)) {
-      a.dropped.push_back({j.effect.score.id, j.stability, j.heldout_gain, j.heldout_z,
+      const auto z = j.heldout_testable ? std::optional<double>(j.heldout_z) : std::nullopt;
+      a.demoted.push_back({j.effect.score.id, j.effect.score.delta_bic, j.stability, j.heldout_gain, z,
                            j.stability < min_stability ? "unstable across training blocks" : "not confirmed on the held-out blocks"});
       continue;
     }
@@ -119,14 +120,21 @@ void report_effects(const Accepted& accepted, std::size_t base_terms, const Refi
       const Eigen::Index s0 = term_start[static_cast<std::size_t>(this_term)];
       params = effect.parameters(t, fit.beta.segment(s0, t.size()), fit.beta_sigma.segment(s0, t.size()), scaling);
     }
-    for (const auto& tc : fit.time_constants) {
-      if (tc.term == this_term) params.push_back({"tau_s", tc.tau_s, tc.low_s, tc.high_s, false});
+    for (const auto& nl : fit.nonlinear) {
+      if (nl.term == this_term) params.push_back({nl.name, nl.value, nl.low, nl.high, false});
+    }
+    if (j.term) {
+      const auto p = fit.model.terms[static_cast<std::size_t>(this_term)].parameter();
+      if (p && !p->scale) params.push_back(PhysicalParameter::reference_value(p->name, p->value));
     }
     if (!effect.is_physics()) {
       Unexplained u;
-      u.kind = UnexplainedKind::follows_channel;
-      u.channel = (*s.candidate.term)->channels().front();
-      u.t_start_s = in.signals.t_s.front(), u.t_end_s = in.signals.t_s.back();
+      u.kind = parse_enum<UnexplainedKind>(effect.unexplained_kind(), "unexplained kind");
+      const auto channels = (*s.candidate.term)->channels();
+      if (!channels.empty()) u.channel = channels.front();
+      const auto at = fit.model.terms[static_cast<std::size_t>(this_term)].parameter();
+      const bool located = at && !at->scale;  // a change point: its time
+      u.t_start_s = located ? at->value : in.signals.t_s.front(), u.t_end_s = located ? at->value : in.signals.t_s.back();
       u.statistic = s.score.delta_bic, u.p_value = s.score.p_value, u.parameters = params;
       out.unexplained.push_back(u);
       continue;
@@ -229,7 +237,8 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
                  rms(result.residual_after_dph, in, true), "ceres", final_fit.termination, final_fit.iterations, final_fit.covariance_ok};
   summary.recording = recording_summary(in, o);
   summary.simulation = sim.description;
-  summary.selection = {o.selection.alpha, o.selection.bootstrap, o.selection.seed, sel.steps, untestable, accepted.dropped, sel.noise};
+  summary.selection = {o.selection.alpha, sel.bootstrap, o.selection.seed, sel.steps, untestable, sel.noise};
+  summary.demoted = accepted.demoted;
   summary.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -20,7 +20,7 @@
 namespace gyrosid::explain {
 
 enum class Verdict { missing_physics, unexplained_residual, no_missing_physics };
-enum class UnexplainedKind { follows_channel, correlation, time_window, temperature_rate_cell };
+enum class UnexplainedKind { follows_channel, change_point, trend_change, correlation, time_window, temperature_rate_cell };
 
 }  // namespace gyrosid::explain
 
@@ -36,8 +36,10 @@ struct EnumNames<explain::Verdict> {
 template <>
 struct EnumNames<explain::UnexplainedKind> {
   static constexpr std::string_view kNoun = "unexplained structure";
-  static constexpr std::array<std::pair<explain::UnexplainedKind, std::string_view>, 4> kTable{
+  static constexpr std::array<std::pair<explain::UnexplainedKind, std::string_view>, 6> kTable{
       {{explain::UnexplainedKind::follows_channel, "follows_channel"},
+       {explain::UnexplainedKind::change_point, "change_point"},
+       {explain::UnexplainedKind::trend_change, "trend_change"},
        {explain::UnexplainedKind::correlation, "correlation"},
        {explain::UnexplainedKind::time_window, "time_window"},
        {explain::UnexplainedKind::temperature_rate_cell, "temperature_rate_cell"}}};
@@ -68,7 +70,8 @@ struct Unexplained {
   std::optional<std::string> channel;
   double t_start_s = 0.0, t_end_s = 0.0;
   double statistic = 0.0;  // dBIC (follows_channel), peak correlation, or z
-  // follows_channel: the selection's p-value and the channel's coefficient.
+  // follows_channel, change_point, trend_change: the selection's p-value and the coefficient (a channel's
+  // gain, a step's height, a trend's slope); the change's time is t_start_s = t_end_s.
   double p_value = 1.0;
   std::vector<PhysicalParameter> parameters;
   // correlation: at which lag, against which threshold.
@@ -80,10 +83,12 @@ struct Unexplained {
   bool heating = true;
 };
 
-// An effect the selection added but judging removed, and why.
-struct DroppedEffect {
+// An effect the selection added but judging demoted, and why (unstable, not confirmed on the held-out
+// blocks, or weak evidence the held-out blocks cannot test).
+struct DemotedEffect {
   std::string id;
-  double stability = 0.0, heldout_gain_dph2 = 0.0, heldout_z = 0.0;
+  double delta_bic = 0.0, stability = 0.0, heldout_gain_dph2 = 0.0;
+  std::optional<double> heldout_z;
   std::string reason;
 };
 
@@ -117,13 +122,13 @@ struct SelectionRecord {
   std::uint64_t seed = 0;
   std::vector<std::vector<CandidateScore>> steps;
   std::vector<std::string> untestable;
-  std::vector<DroppedEffect> dropped;
   NoiseModel whitening;
 };
 
 struct ExplainSummary {
   Verdict verdict = Verdict::no_missing_physics;
   std::vector<FoundEffect> effects;
+  std::vector<DemotedEffect> demoted;
   std::vector<Unexplained> unexplained;
   NoiseSummary noise;
   FitSummary fit;

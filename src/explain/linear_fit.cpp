@@ -20,11 +20,26 @@ WhitenedFit fit_whitened(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, dou
   Eigen::VectorXd norms = x.colwise().norm().transpose();
   for (Eigen::Index j = 0; j < norms.size(); ++j) norms(j) = norms(j) > 0 ? norms(j) : 1.0;
   const Eigen::MatrixXd xs = x * norms.cwiseInverse().asDiagonal();
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(xs);
+  // Two stages: a blocked Householder QR reduces the N x p columns to their p x p triangle (xs = Q1 R1); a
+  // column-pivoted QR of that triangle decides the rank (R1 P = Q2 R2) - the decision pivoting xs itself
+  // would make, since Q1 keeps every column's norm and every inner product - at a cost of O(N p^2) in
+  // blocked (matrix-matrix) steps instead of O(N p^2) in rank-one updates.
+  const Eigen::Index n = x.rows(), p = x.cols();
+  Eigen::MatrixXd q1;
+  Eigen::MatrixXd r1;
+  if (n > p) {
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr1(xs);
+    r1 = qr1.matrixQR().topRows(p).triangularView<Eigen::Upper>();
+    q1 = qr1.householderQ() * Eigen::MatrixXd::Identity(n, p);
+  } else {
+    r1 = xs;
+    q1 = Eigen::MatrixXd::Identity(n, n);
+  }
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(r1.rows(), r1.cols());
   qr.setThreshold(tolerance);
-  qr.compute(xs);
+  qr.compute(r1);
   f.rank = static_cast<int>(qr.rank());
-  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(x.rows(), f.rank);
+  const Eigen::MatrixXd q = q1 * (qr.householderQ() * Eigen::MatrixXd::Identity(r1.rows(), f.rank));
   f.basis = q;
   // Coefficients of the kept (pivot) columns: R11 b = Q1' y.
   const Eigen::VectorXd qty = q.transpose() * y;
@@ -37,6 +52,21 @@ WhitenedFit fit_whitened(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, dou
   f.residual = y - q * qty;
   f.rss = f.residual.squaredNorm();
   return f;
+}
+
+double whitened_rss(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, double tolerance) {
+  const Eigen::Index n = x.rows(), p = x.cols();
+  if (p == 0) return y.squaredNorm();
+  if (n <= p) return fit_whitened(x, y, tolerance).rss;
+  Eigen::VectorXd norms = x.colwise().norm().transpose();
+  for (Eigen::Index j = 0; j < norms.size(); ++j) norms(j) = norms(j) > 0 ? norms(j) : 1.0;
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr1(x * norms.cwiseInverse().asDiagonal());
+  const Eigen::VectorXd z = qr1.householderQ().adjoint() * y;  // Q1' y: the first p entries in the span of Q1
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(p, p);
+  qr.setThreshold(tolerance);
+  qr.compute(qr1.matrixQR().topRows(p).triangularView<Eigen::Upper>());
+  const Eigen::VectorXd z2 = qr.householderQ().adjoint() * z.head(p);
+  return z.tail(n - p).squaredNorm() + z2.tail(p - qr.rank()).squaredNorm();
 }
 
 Eigen::MatrixXd new_directions(const Eigen::MatrixXd& c, const Eigen::MatrixXd& basis, double tolerance) {

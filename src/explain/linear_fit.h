@@ -21,6 +21,10 @@ struct WhitenedFit {
 // Columns whose pivoted-QR diagonal falls below tolerance * |R_11| are dropped as dependent.
 WhitenedFit fit_whitened(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, double tolerance = 1e-9);
 
+// The residual sum of squares of fit_whitened(x, y) alone (same rank decision), without forming Q or the
+// coefficients: for likelihoods evaluated many times.
+double whitened_rss(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, double tolerance = 1e-9);
+
 // An orthonormal basis of the part of c orthogonal to `basis` (Gram-Schmidt twice, then pivoted QR);
 // columns with less than `tolerance` of their norm left are dropped. Zero columns out: nothing new.
 Eigen::MatrixXd new_directions(const Eigen::MatrixXd& c, const Eigen::MatrixXd& basis, double tolerance = 1e-6);

@@ -12,13 +12,13 @@
 namespace gyrosid::explain {
 namespace {
 
-ModelSpec at_time_constants(ModelSpec m, const std::vector<TimeConstant>& taus, const std::vector<double>& log_tau) {
+ModelSpec at_parameters(ModelSpec m, const std::vector<NonlinearFit>& taus, const std::vector<double>& log_tau) {
   for (std::size_t k = 0; k < taus.size(); ++k) {
     if (taus[k].term < 0) {
       m.lag_tau_s = std::exp(log_tau[k]);
     } else {
       Term& term = m.terms[static_cast<std::size_t>(taus[k].term)];
-      term = term.with_time_constant(std::exp(log_tau[k]));
+      term = term.with_parameter(std::exp(log_tau[k]));
     }
   }
   return m;
@@ -28,7 +28,7 @@ ModelSpec at_time_constants(ModelSpec m, const std::vector<TimeConstant>& taus, 
 // log(tau) per time constant. The beta Jacobian is -W X; a log(tau) Jacobian is a central difference.
 class RefitCost : public ceres::CostFunction {
  public:
-  RefitCost(const ExplainInput& in, const Eigen::VectorXd& yw, ModelSpec model, std::vector<TimeConstant> taus,
+  RefitCost(const ExplainInput& in, const Eigen::VectorXd& yw, ModelSpec model, std::vector<NonlinearFit> taus,
             std::vector<Eigen::Index> kept, const TermScaling& sc, const Whitener& w)
       : in_(in), yw_(yw), model_(std::move(model)), taus_(std::move(taus)), kept_(std::move(kept)), sc_(sc), w_(w) {
     set_num_residuals(static_cast<int>(yw.size()));
@@ -38,7 +38,7 @@ class RefitCost : public ceres::CostFunction {
 
   // Whitened design (kept columns) with the given log time constants.
   Eigen::MatrixXd design(const std::vector<double>& log_tau) const {
-    const ModelSpec m = at_time_constants(model_, taus_, log_tau);
+    const ModelSpec m = at_parameters(model_, taus_, log_tau);
     const Eigen::MatrixXd x = w_.apply(model_columns(m, in_.signals, sc_));
     Eigen::MatrixXd out(x.rows(), static_cast<Eigen::Index>(kept_.size()));
     for (std::size_t c = 0; c < kept_.size(); ++c) out.col(static_cast<Eigen::Index>(c)) = x.col(kept_[c]);
@@ -73,14 +73,14 @@ class RefitCost : public ceres::CostFunction {
   const ExplainInput& in_;
   const Eigen::VectorXd& yw_;
   ModelSpec model_;
-  std::vector<TimeConstant> taus_;
+  std::vector<NonlinearFit> taus_;
   std::vector<Eigen::Index> kept_;
   const TermScaling& sc_;
   const Whitener& w_;
 };
 
 // Variable projection: the time constants by BOBYQA, every linear coefficient solved exactly inside.
-void optimise_time_constants(const ExplainInput& in, const Eigen::VectorXd& yw, const ModelSpec& model, const std::vector<TimeConstant>& taus,
+void optimise_parameters(const ExplainInput& in, const Eigen::VectorXd& yw, const ModelSpec& model, const std::vector<NonlinearFit>& taus,
                              const TermScaling& sc, const Whitener& w, std::vector<double>& log_tau) {
   if (taus.empty()) return;
   const double duration = in.signals.t_s.back() - in.signals.t_s.front();
@@ -93,8 +93,8 @@ void optimise_time_constants(const ExplainInput& in, const Eigen::VectorXd& yw, 
   bobyqa.xtol_abs = 1e-4;
   bobyqa.max_evaluations = 100 * static_cast<int>(log_tau.size());
   log_tau = minimize_bounded([&](const std::vector<double>& x) {
-              const ModelSpec m = at_time_constants(model, taus, x);
-              return fit_whitened(w.apply(model_columns(m, in.signals, sc)), yw).rss;
+              const ModelSpec m = at_parameters(model, taus, x);
+              return whitened_rss(w.apply(model_columns(m, in.signals, sc)), yw);
             }, log_tau, lo, hi, bobyqa).x;
 }
 
@@ -110,7 +110,7 @@ ceres::Solver::Summary polish(ceres::Problem& problem) {
   return summary;
 }
 
-// Standard deviations of the coefficients and 95 % intervals of the time constants (log-normal), from
+// Standard deviations of the coefficients and 95 % intervals of the nonlinear parameters (log-normal), from
 // ceres::Covariance scaled by the residual variance.
 void intervals(ceres::Problem& problem, const std::vector<double*>& blocks, const std::vector<Eigen::Index>& kept, double sigma2,
                RefitResult& out) {
@@ -130,8 +130,8 @@ void intervals(ceres::Problem& problem, const std::vector<double*>& blocks, cons
     double v = 0.0;
     covariance.GetCovarianceBlock(blocks[k + 1], blocks[k + 1], &v);
     const double s = std::sqrt(std::max(0.0, sigma2 * v)), log_tau = *blocks[k + 1];
-    out.time_constants[k].low_s = std::exp(log_tau - 1.96 * s);
-    out.time_constants[k].high_s = std::exp(log_tau + 1.96 * s);
+    out.nonlinear[k].low = std::exp(log_tau - 1.96 * s);
+    out.nonlinear[k].high = std::exp(log_tau + 1.96 * s);
   }
 }
 
@@ -142,13 +142,14 @@ RefitResult refit(const ExplainInput& in, const Eigen::VectorXd& y, const ModelS
   RefitResult out;
   const Eigen::VectorXd yw = w.apply(y);
   for (std::size_t t = 0; t < model.terms.size(); ++t) {
-    if (const auto tau = model.terms[t]->time_constant_s()) out.time_constants.push_back({static_cast<int>(t), *tau});
+    const auto p = model.terms[t].parameter();
+    if (p && p->scale) out.nonlinear.push_back({static_cast<int>(t), p->name, p->value});
   }
-  if (refine_lag && model.lag_tau_s > 0) out.time_constants.push_back({-1, model.lag_tau_s});
+  if (refine_lag && model.lag_tau_s > 0) out.nonlinear.push_back({-1, "tau_s", model.lag_tau_s});
   std::vector<double> log_tau;
-  for (const auto& t : out.time_constants) log_tau.push_back(std::log(t.tau_s));
-  optimise_time_constants(in, yw, model, out.time_constants, sc, w, log_tau);
-  out.model = at_time_constants(model, out.time_constants, log_tau);
+  for (const auto& t : out.nonlinear) log_tau.push_back(std::log(t.value));
+  optimise_parameters(in, yw, model, out.nonlinear, sc, w, log_tau);
+  out.model = at_parameters(model, out.nonlinear, log_tau);
 
   // Linear coefficients at the optimum; dependent columns are dropped before the joint problem.
   const Eigen::MatrixXd x0 = w.apply(model_columns(out.model, in.signals, sc));
@@ -164,12 +165,12 @@ RefitResult refit(const ExplainInput& in, const Eigen::VectorXd& y, const ModelS
   ceres::Problem problem;
   std::vector<double*> blocks{beta.data()};
   for (auto& v : log_tau) blocks.push_back(&v);
-  problem.AddResidualBlock(new RefitCost(in, yw, model, out.time_constants, kept, sc, w), nullptr, blocks);
+  problem.AddResidualBlock(new RefitCost(in, yw, model, out.nonlinear, kept, sc, w), nullptr, blocks);
   const ceres::Solver::Summary summary = kept.empty() ? ceres::Solver::Summary() : polish(problem);
   out.termination = kept.empty() ? "no parameters" : ceres::TerminationTypeToString(summary.termination_type);
   out.iterations = static_cast<int>(summary.iterations.size());
-  out.model = at_time_constants(model, out.time_constants, log_tau);
-  for (std::size_t k = 0; k < out.time_constants.size(); ++k) out.time_constants[k].tau_s = std::exp(log_tau[k]);
+  out.model = at_parameters(model, out.nonlinear, log_tau);
+  for (std::size_t k = 0; k < out.nonlinear.size(); ++k) out.nonlinear[k].value = std::exp(log_tau[k]);
 
   out.beta = Eigen::VectorXd::Zero(x0.cols());
   out.beta_sigma = Eigen::VectorXd::Zero(x0.cols());

@@ -14,10 +14,14 @@
 
 namespace gyrosid::explain {
 
-struct TimeConstant {
-  int term = -1;          // index of the warm-up term, or -1 for the thermal lag
-  double tau_s = 0.0;
-  double low_s = 0.0, high_s = 0.0;  // 95 % interval
+// A nonlinear scale parameter refined with the coefficients: the coil's thermal lag (term -1, tau_s) or a
+// term's (a warm-up's tau_s, a hysteresis's width_c). A term's location parameter (a change point's time)
+// keeps the value the selection's scan found.
+struct NonlinearFit {
+  int term = -1;
+  std::string name;
+  double value = 0.0;
+  double low = 0.0, high = 0.0;  // 95 % interval (log-normal)
 };
 
 struct RefitResult {
@@ -25,7 +29,7 @@ struct RefitResult {
   Eigen::VectorXd beta;            // per column of the model's design matrix (deg/h per column unit); 0 if dropped
   Eigen::VectorXd beta_sigma;      // standard deviations (0 where not computable)
   std::vector<char> kept;          // per column: identifiable
-  std::vector<TimeConstant> time_constants;
+  std::vector<NonlinearFit> nonlinear;
   double residual_sigma = 0.0;     // whitened residual standard deviation, deg/h
   std::string termination;
   int iterations = 0;

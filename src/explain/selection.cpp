@@ -9,8 +9,8 @@
 #include "core/progress.h"
 #include "core/random.h"
 #include "explain/linear_fit.h"
+#include "explain/noise_likelihood.h"
 
-#include <nlopt.hpp>
 
 namespace gyrosid::explain {
 
@@ -131,45 +131,6 @@ Evaluated evaluate(const Candidate& c, const ModelSpec& model, const ExplainInpu
   return e;
 }
 
-// The Gaussian log-likelihood of y under a model's columns, maximised over the noise: random-walk and
-// Gauss-Markov variances relative to the white one (BOBYQA over their logarithms; the Gauss-Markov time
-// constant held at the Allan fit's), the linear coefficients and the white variance concentrated out.
-// Comparing it with and without a candidate tells a deterministic effect from coloured noise that mimics it:
-// a true trend takes the random walk's place, a wander is not bettered by a trend.
-double max_log_likelihood(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::vector<Eigen::Index>& rows,
-                          const std::vector<double>& t_s, const NoiseModel& start) {
-  const double tau_g = start.gm_var > 0 ? start.gm_tau_s : 100.0 * start.dt_s;
-  std::function<double(const std::vector<double>&)> negative = [&](const std::vector<double>& v) {
-    NoiseModel m;
-    m.dt_s = start.dt_s;
-    m.white_var = 1.0;
-    m.rw_q = std::exp(v[0]);
-    m.gm_var = std::exp(v[1]);
-    m.gm_tau_s = tau_g;
-    const Whitener w(m, rows, t_s);
-    const WhitenedFit f = fit_whitened(w.apply(x), w.apply(y));
-    const double n = static_cast<double>(f.residual.size());
-    return 0.5 * n * std::log(f.rss / n) + 0.5 * w.log_determinant();
-  };
-  std::vector<double> v{std::log(std::max(start.rw_q / start.white_var, 1e-9)), std::log(std::max(start.gm_var / start.white_var, 1e-6))};
-  for (double& x0 : v) x0 = std::clamp(x0, -24.0, 2.0);
-  nlopt::opt opt(nlopt::LN_BOBYQA, 2);
-  opt.set_lower_bounds(std::vector<double>{-25.0, -25.0});
-  opt.set_upper_bounds(std::vector<double>{3.0, 3.0});
-  opt.set_xtol_abs(1e-3);
-  opt.set_maxeval(80);
-  opt.set_min_objective([](const std::vector<double>& x0, std::vector<double>&, void* f) {
-    return (*static_cast<std::function<double(const std::vector<double>&)>*>(f))(x0);
-  }, &negative);
-  double value = negative(v);
-  try {
-    opt.optimize(v, value);
-  } catch (const std::exception&) {
-    // BOBYQA may stop on roundoff; value holds its best.
-  }
-  return -value;
-}
-
 WhitenedFit fit_model(const ModelSpec& m, const ExplainInput& in, const Eigen::VectorXd& yw, const TermScaling& sc, const Whitener& w) {
   return fit_whitened(w.apply(model_columns(m, in.signals, sc)), yw);
 }
@@ -237,12 +198,13 @@ std::ptrdiff_t gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<
   }
   if (order.empty()) return -1;
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ev[a].score.delta_bic > ev[b].score.delta_bic; });
-  const double l0 = max_log_likelihood(model_columns(c.model, c.in.signals, c.sc), c.y, rows, c.in.signals.t_s, noise);
+  const NoiseLikelihood likelihood(rows, c.in.signals.t_s, noise);
+  const NoiseLikelihood::Optimum l0 = likelihood.maximise(model_columns(c.model, c.in.signals, c.sc), c.y);
   const double n = static_cast<double>(c.yw.size());
   for (std::size_t i : order) {
     const ModelSpec with = with_effect(c.model, open[i], ev[i].score.tau_s);
-    const double l1 = max_log_likelihood(model_columns(with, c.in.signals, c.sc), c.y, rows, c.in.signals.t_s, noise);
-    ev[i].score.ml_delta_bic = 2.0 * (l1 - l0) - (ev[i].score.columns + open[i].nonlinear_parameters()) * std::log(n);
+    const double l1 = likelihood.maximise(model_columns(with, c.in.signals, c.sc), c.y, l0).log_likelihood;
+    ev[i].score.ml_delta_bic = 2.0 * (l1 - l0.log_likelihood) - (ev[i].score.columns + open[i].nonlinear_parameters()) * std::log(n);
     if (ev[i].score.ml_delta_bic > 0) return static_cast<std::ptrdiff_t>(i);
   }
   return -1;
@@ -268,6 +230,31 @@ void find_alternatives(SelectedEffect& chosen, std::size_t b, const std::vector<
   }
 }
 
+// The chosen candidate's nonlinear parameter refined between its grid neighbours by two finer scans of the
+// same statistic (log-spaced for a scale, linear for a time): later candidates are tested against the model
+// at its best parameter, not at a grid point - a lag off by a grid step would leave a Shupe-like residual.
+double refine_parameter(const Candidate& c, double best, const Step& s) {
+  const std::vector<double>& g = c.tau_grid_s;
+  if (g.size() < 2) return best;
+  const auto at = static_cast<std::size_t>(std::min_element(g.begin(), g.end(), [&](double a, double b) {
+                                             return std::abs(a - best) < std::abs(b - best);
+                                           }) - g.begin());
+  double lo = g[at > 0 ? at - 1 : at], hi = g[at + 1 < g.size() ? at + 1 : at];
+  const bool scale = c.scale_parameter();
+  for (int level = 0; level < 2; ++level) {
+    Candidate fine = c;
+    fine.tau_grid_s.clear();
+    for (int k = 0; k <= 8; ++k) {
+      fine.tau_grid_s.push_back(scale ? lo * std::pow(hi / lo, k / 8.0) : lo + (hi - lo) * k / 8.0);
+    }
+    best = evaluate(fine, s.model, s.in, s.sc, s.w, s.fit).score.tau_s;
+    const double step = scale ? std::pow(hi / lo, 1.0 / 8.0) : (hi - lo) / 8.0;
+    lo = scale ? std::max(lo, best / step) : std::max(lo, best - step);
+    hi = scale ? std::min(hi, best * step) : std::min(hi, best + step);
+  }
+  return best;
+}
+
 // The noise model from what the current model leaves (ordinary least squares on the training rows).
 NoiseModel current_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& model, const TermScaling& sc,
                                const std::vector<Eigen::Index>& rows) {
@@ -291,6 +278,11 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
   }
   if (o.noise_model == NoiseModelSource::full) result.noise = full_model_noise(in, y, base, sc, candidates);
 
+  // A bootstrap p-value is at least 1/(B + 1), and Holm's first threshold is alpha/m for m candidates: with
+  // fewer resamples than 2m/alpha no candidate could ever be significant, whatever the data.
+  SelectionOptions options = o;
+  options.bootstrap = std::max(o.bootstrap, static_cast<int>(std::ceil(2.0 * static_cast<double>(candidates.size()) / o.alpha)));
+  result.bootstrap = options.bootstrap;
   std::vector<Candidate> open = candidates;
   Progress progress("explain: selecting effects", static_cast<std::size_t>(std::max(1, o.max_effects)));
   for (int step = 0; step < o.max_effects && !open.empty(); ++step) {
@@ -301,13 +293,14 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
     result.whitened_samples = static_cast<std::size_t>(yw.size());
     const WhitenedFit fit = fit_model(result.model, in, yw, sc, w);
     const Step c{in, y, sc, w, yw, result.model, fit};
-    std::vector<Evaluated> ev = score_candidates(open, c, o, step);
+    std::vector<Evaluated> ev = score_candidates(open, c, options, step);
     const std::ptrdiff_t best = gate_by_likelihood(ev, open, c, rows, result.noise);
     std::vector<CandidateScore> scores;
     for (const auto& e : ev) scores.push_back(e.score);
     result.steps.push_back(scores);
     if (best < 0) break;
     const auto b = static_cast<std::size_t>(best);
+    if (open[b].nonlinear != NonlinearParameter::none) ev[b].score.tau_s = refine_parameter(open[b], ev[b].score.tau_s, c);
     SelectedEffect chosen{open[b], ev[b].score, {}, {}};
     ModelSpec next = with_effect(result.model, open[b], ev[b].score.tau_s);
     find_alternatives(chosen, b, ev, open, c, next, fit_model(next, in, yw, sc, w), o.ambiguity_bic);

@@ -83,6 +83,7 @@ struct SelectionResult {
   std::vector<std::vector<CandidateScore>> steps;  // every candidate's score at every step
   NoiseModel noise;                              // the whitening model
   std::size_t whitened_samples = 0;
+  int bootstrap = 0;                             // resamples used (raised so Holm's smallest threshold is reachable)
 };
 
 // The whitener of the training samples for a noise model.

@@ -57,7 +57,8 @@ struct TermScaling {
 };
 
 // Coil temperature and its rate along the signals: the probe through a first-order lag (tau > 0, exact for
-// the linearly interpolated probe) or the probe itself with its central-difference rate.
+// the linearly interpolated probe) or the probe itself with its rate by local linear regression over
+// +-30 s (a quantised probe's sample-to-sample difference is noise).
 struct CoilTemperature {
   Eigen::VectorXd temp_c, rate_c_per_s;
 };
@@ -92,6 +93,15 @@ struct TermCode {
   std::string stem;                                      // unique identifier stem for the term's helpers
 };
 
+// A nonlinear parameter inside a term's columns: the warm-up's time constant (tau_s), the hysteresis's
+// transition width (width_c), a change point's time (t_s). Scale parameters are positive and refined on a
+// log scale; a location (a time) is refined by scanning.
+struct TermParameter {
+  std::string name;
+  double value = 0.0;
+  bool scale = true;
+};
+
 class TermBasis : public std::enable_shared_from_this<TermBasis> {
  public:
   virtual ~TermBasis() = default;
@@ -110,9 +120,9 @@ class TermBasis : public std::enable_shared_from_this<TermBasis> {
   // The term restricted to some of its columns (ascending indices; null when none is left) - for terms whose
   // columns stand alone (polynomial orders). Others (a surface's grid, a single column) stay whole.
   virtual std::shared_ptr<const TermBasis> subset(const std::vector<int>& columns) const;
-  // A nonlinear parameter inside the columns (the warm-up's time constant, s), if the kind has one.
-  virtual std::optional<double> time_constant_s() const { return std::nullopt; }
-  virtual std::shared_ptr<const TermBasis> with_time_constant(double tau_s) const;
+  // A nonlinear parameter inside the columns, if the kind has one.
+  virtual std::optional<TermParameter> parameter() const { return std::nullopt; }
+  virtual std::shared_ptr<const TermBasis> with_parameter(double value) const;
   // Appends the C99 statements; returns an empty string, or why the term cannot be exported.
   virtual std::string export_c(TermCode& code) const = 0;
 };
@@ -132,7 +142,8 @@ class Term {
     return dynamic_cast<const T*>(basis_.get());
   }
   std::optional<Term> subset(const std::vector<int>& columns) const;
-  Term with_time_constant(double tau_s) const { return Term(basis_->with_time_constant(tau_s)); }
+  std::optional<TermParameter> parameter() const { return basis_->parameter(); }
+  Term with_parameter(double value) const { return Term(basis_->with_parameter(value)); }
 
   nlohmann::json to_json() const;
   static Term from_json(const nlohmann::json& j);

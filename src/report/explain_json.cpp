@@ -69,7 +69,9 @@ json unexplained_json(const Unexplained& u) {
   json j = {{"channel", u.channel ? json(*u.channel) : json()}, {"t_start_s", u.t_start_s}, {"t_end_s", u.t_end_s},
             {"statistic", u.statistic}, {"kind", to_string(u.kind)}};
   switch (u.kind) {
-    case UnexplainedKind::follows_channel: j["p_value"] = u.p_value, put_parameters(u.parameters, j); break;
+    case UnexplainedKind::follows_channel:
+    case UnexplainedKind::change_point:
+    case UnexplainedKind::trend_change: j["p_value"] = u.p_value, put_parameters(u.parameters, j); break;
     case UnexplainedKind::correlation: j["lag_s"] = u.lag_s, j["threshold"] = u.threshold; break;
     case UnexplainedKind::time_window: j["mean_dph"] = u.mean_dph; break;
     case UnexplainedKind::temperature_rate_cell:
@@ -85,7 +87,9 @@ Unexplained unexplained_of(const json& j) {
   if (!j.at("channel").is_null()) u.channel = j["channel"].get<std::string>();
   u.t_start_s = j.at("t_start_s").get<double>(), u.t_end_s = j.at("t_end_s").get<double>(), u.statistic = j.at("statistic").get<double>();
   switch (u.kind) {
-    case UnexplainedKind::follows_channel: u.p_value = j.at("p_value").get<double>(), u.parameters = parameters_of(j); break;
+    case UnexplainedKind::follows_channel:
+    case UnexplainedKind::change_point:
+    case UnexplainedKind::trend_change: u.p_value = j.at("p_value").get<double>(), u.parameters = parameters_of(j); break;
     case UnexplainedKind::correlation: u.lag_s = j.at("lag_s").get<double>(), u.threshold = j.at("threshold").get<double>(); break;
     case UnexplainedKind::time_window: u.mean_dph = j.at("mean_dph").get<double>(); break;
     case UnexplainedKind::temperature_rate_cell:
@@ -159,17 +163,14 @@ json noise_terms_json(const std::vector<NoiseTerm>& terms) {
 }
 
 json selection_json(const SelectionRecord& s) {
-  json steps = json::array(), dropped = json::array();
+  json steps = json::array();
   for (const auto& step : s.steps) {
     json row = json::array();
     for (const auto& c : step) row.push_back(score_json(c));
     steps.push_back(row);
   }
-  for (const auto& d : s.dropped) {
-    dropped.push_back({{"id", d.id}, {"stability", d.stability}, {"heldout_gain_dph2", d.heldout_gain_dph2}, {"heldout_z", d.heldout_z}, {"reason", d.reason}});
-  }
   return {{"alpha", s.alpha}, {"bootstrap", s.bootstrap}, {"seed", s.seed}, {"steps", steps}, {"untestable", s.untestable},
-          {"dropped", dropped}, {"whitening_model", s.whitening.to_json()}};
+          {"whitening_model", s.whitening.to_json()}};
 }
 
 SelectionRecord selection_of(const json& j) {
@@ -180,9 +181,19 @@ SelectionRecord selection_of(const json& j) {
     for (const auto& c : row) s.steps.back().push_back(score_of(c));
   }
   s.untestable = j.at("untestable").get<std::vector<std::string>>();
-  for (const auto& d : j.at("dropped")) s.dropped.push_back({d.at("id"), d.at("stability"), d.at("heldout_gain_dph2"), d.at("heldout_z"), d.at("reason")});
   s.whitening = NoiseModel::from_json(j.at("whitening_model"));
   return s;
+}
+
+json demoted_json(const DemotedEffect& d) {
+  return {{"id", d.id}, {"delta_bic", d.delta_bic}, {"stability", d.stability}, {"heldout_gain_dph2", d.heldout_gain_dph2},
+          {"heldout_z", d.heldout_z ? json(*d.heldout_z) : json()}, {"reason", d.reason}};
+}
+
+DemotedEffect demoted_of(const json& j) {
+  DemotedEffect d{j.at("id"), j.at("delta_bic"), j.at("stability"), j.at("heldout_gain_dph2"), std::nullopt, j.at("reason")};
+  if (!j.at("heldout_z").is_null()) d.heldout_z = j["heldout_z"].get<double>();
+  return d;
 }
 
 json fit_json(const FitSummary& f) {
@@ -222,11 +233,13 @@ RecordingSummary recording_of(const json& j) {
 }  // namespace
 
 json to_json(const ExplainSummary& s) {
-  json effects = json::array(), unexplained = json::array();
+  json effects = json::array(), demoted = json::array(), unexplained = json::array();
   for (const auto& e : s.effects) effects.push_back(effect_json(e));
+  for (const auto& d : s.demoted) demoted.push_back(demoted_json(d));
   for (const auto& u : s.unexplained) unexplained.push_back(unexplained_json(u));
   return {{"verdict", to_string(s.verdict)},
           {"effects", effects},
+          {"demoted", demoted},
           {"noise", {{"terms", noise_terms_json(s.noise.terms)}, {"whitening_model", s.noise.whitening.to_json()}, {"noise_floor_dph", s.noise.floor_dph}}},
           {"unexplained", unexplained},
           {"fit", fit_json(s.fit)},
@@ -241,6 +254,7 @@ ExplainSummary explain_summary_from_json(const json& j) {
   ExplainSummary s;
   s.verdict = parse_enum<Verdict>(j.at("verdict").get<std::string>(), "explain.json verdict");
   for (const auto& e : j.at("effects")) s.effects.push_back(effect_of(e));
+  for (const auto& d : j.at("demoted")) s.demoted.push_back(demoted_of(d));
   for (const auto& u : j.at("unexplained")) s.unexplained.push_back(unexplained_of(u));
   const json& noise = j.at("noise");
   for (const auto& t : noise.at("terms")) {

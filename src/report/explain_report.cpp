@@ -163,7 +163,7 @@ void selection_markdown(const explain::ExplainSummary& j, std::ostringstream& md
     }
     md << "\n";
   }
-  for (const auto& d : j.selection.dropped) md << "- dropped " << d.id << ": " << d.reason << "\n";
+  for (const auto& d : j.demoted) md << "- demoted " << d.id << " (dBIC " << format_significant(d.delta_bic, 3) << "): " << d.reason << "\n";
   for (const auto& u : j.selection.untestable) md << "- not testable: " << u << "\n";
 }
 

@@ -171,7 +171,7 @@ TEST_P(EffectProperties, RecoversItsPlantedParametersFromNoiseFreeData) {
 TEST_P(EffectProperties, ItsParametersAndItsTermRoundTripThroughJson) {
   for (const Candidate& c : candidates()) {
     if (!c.term) continue;
-    const Term term = c.nonlinear == NonlinearParameter::time_constant ? c.term->with_time_constant(nonlinear_value(c)) : *c.term;
+    const Term term = c.nonlinear == NonlinearParameter::term_parameter ? c.term->with_parameter(nonlinear_value(c)) : *c.term;
     // The term: the same kind and the same columns after a JSON round trip.
     const Term back = Term::from_json(nlohmann::json::parse(term.to_json().dump()));
     EXPECT_EQ(back.kind(), term.kind());
@@ -214,7 +214,7 @@ TEST_P(EffectProperties, ItsExportAgreesWithTheCppEvaluation) {
       EXPECT_THROW(lagged.export_c(dir, "lagged"), Error);
       continue;
     }
-    const Term term = c.nonlinear == NonlinearParameter::time_constant ? c.term->with_time_constant(nonlinear_value(c)) : *c.term;
+    const Term term = c.nonlinear == NonlinearParameter::term_parameter ? c.term->with_parameter(nonlinear_value(c)) : *c.term;
     const Eigen::VectorXd beta = Eigen::VectorXd::LinSpaced(term.size(), 1e-5, 3e-5);
     const ExplainedModel model(scaling(), 0.0, {term}, beta);
     if (term->memory() != TermMemory::none) {

@@ -16,6 +16,9 @@ std::unique_ptr<Effect> thermal_hysteresis();
 // Time (time_effects.cpp).
 std::unique_ptr<Effect> warmup_transient();
 std::unique_ptr<Effect> aging_trend();
+// Not physics: changes of the bias at a time, reported as unexplained (time_effects.cpp).
+std::unique_ptr<Effect> bias_step();
+std::unique_ptr<Effect> bias_ramp();
 // Scale factor (scale_factor_effects.cpp).
 std::unique_ptr<Effect> scale_factor_asymmetry();
 std::unique_ptr<Effect> scale_factor_nonlinearity();

@@ -124,13 +124,21 @@ class ThermalHysteresis : public Effect {
     return "The bias differs between the heating and the cooling branch at the same temperature (thermal "
            "hysteresis): stresses in the coil potting and fibre jacket relax differently in each direction.";
   }
-  std::string_view parameters_help() const override { return "offset_dph: heating-branch bias minus cooling-branch bias (deg/h)"; }
+  std::string_view parameters_help() const override {
+    return "offset_dph: heating-branch bias minus cooling-branch bias (deg/h); width_c: temperature travel over which the bias moves "
+           "between the branches after a reversal (C)";
+  }
   Proposal propose(const CandidateContext& c) const override {
     if (!c.temp_varies) return {{}, kStatic};
     if (c.base_has<HysteresisTerm>()) return {};
     const Eigen::VectorXd branch = thermal_branch(c.in.signals, coil_temperature(c.in.signals, c.base_lag_tau_s), TermScaling{});
     if (!((branch.array() > 0).any() && (branch.array() < 0).any())) return {{}, "the recording has no pair of heating and cooling branches"};
-    return {{candidate(hysteresis_term())}, ""};
+    // The transition width between the branches, from a nearly sharp switch to a slow relaxation.
+    const double range = c.in.signals.temp_c.maxCoeff() - c.in.signals.temp_c.minCoeff();
+    Candidate h = candidate(hysteresis_term(0.2));
+    h.nonlinear = NonlinearParameter::term_parameter;
+    h.tau_grid_s = log_grid(0.2, std::clamp(0.5 * range, 0.4, 20.0), 8);
+    return {{h}, ""};
   }
   std::vector<PhysicalParameter> parameters(const Term&, const Eigen::VectorXd& beta, const Eigen::VectorXd& sigma,
                                             const TermScaling&) const override {

@@ -1,5 +1,7 @@
 // Terms with memory - the time since the first sample or the temperature history: Shupe (thesis eq 3.3,
-// bias proportional to the coil temperature's rate), heating/cooling hysteresis, warm-up transient, ageing.
+// bias proportional to the coil temperature's rate), heating/cooling hysteresis, warm-up transient, ageing,
+// and changes of the bias at a time (a step, a trend starting) that no physics of the library explains.
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -18,9 +20,38 @@ std::string HistoryTerm::export_c(TermCode&) const {
 
 void ShupeTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const { out.col(0) = in.coil.rate_c_per_s; }
 
-void HysteresisTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const {
-  out.col(0) = thermal_branch(in.signals, in.coil, in.scaling);
+HysteresisTerm::HysteresisTerm(double width_c) : width_c_(width_c) {
+  if (!(width_c_ >= 0)) fail("physics term hysteresis: width_c must be >= 0");
 }
+
+// The play operator P_r (a backlash of half-width r) on the coil temperature, started on the branch of
+// the first movement larger than r (before it the branch is unknown: the first one seen).
+void HysteresisTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const {
+  if (width_c_ == 0.0) {
+    out.col(0) = thermal_branch(in.signals, in.coil, in.scaling);
+    return;
+  }
+  const Eigen::VectorXd& x = in.coil.temp_c;
+  const double r = 0.5 * width_c_;
+  Eigen::Index first = 0;
+  while (first < x.size() && std::abs(x(first) - x(0)) <= r) ++first;
+  double y = first < x.size() ? x(0) - std::copysign(r, x(first) - x(0)) : x(0);
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    y = std::clamp(y, x(i) - r, x(i) + r);
+    out(i, 0) = (x(i) - y) / width_c_;
+  }
+}
+
+void HysteresisTerm::parameters_json(nlohmann::json& j) const {
+  if (width_c_ > 0) j["width_c"] = width_c_;
+}
+
+std::optional<TermParameter> HysteresisTerm::parameter() const {
+  if (width_c_ == 0.0) return std::nullopt;
+  return TermParameter{"width_c", width_c_, true};
+}
+
+std::shared_ptr<const TermBasis> HysteresisTerm::with_parameter(double width_c) const { return std::make_shared<HysteresisTerm>(width_c); }
 
 WarmupTerm::WarmupTerm(double tau_s) : tau_s_(tau_s) {
   if (!(tau_s_ > 0)) fail("physics term warmup: tau_s must be positive");
@@ -31,7 +62,14 @@ void WarmupTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) 
   for (Eigen::Index i = 0; i < out.rows(); ++i) out(i, 0) = std::exp(-(in.signals.t_s[static_cast<std::size_t>(i)] - t0) / tau_s_);
 }
 
-std::shared_ptr<const TermBasis> WarmupTerm::with_time_constant(double tau_s) const { return std::make_shared<WarmupTerm>(tau_s); }
+std::shared_ptr<const TermBasis> WarmupTerm::with_parameter(double tau_s) const { return std::make_shared<WarmupTerm>(tau_s); }
+
+void ChangeTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const {
+  for (Eigen::Index i = 0; i < out.rows(); ++i) {
+    const double dt = in.signals.t_s[static_cast<std::size_t>(i)] - t_s_;
+    out(i, 0) = dt < 0 ? 0.0 : ramp_ ? dt / 3600.0 : 1.0;
+  }
+}
 
 void AgingTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const {
   const double t0 = first_time(in);
@@ -39,7 +77,8 @@ void AgingTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) c
 }
 
 Term shupe_term() { return Term(std::make_shared<ShupeTerm>()); }
-Term hysteresis_term() { return Term(std::make_shared<HysteresisTerm>()); }
+Term hysteresis_term(double width_c) { return Term(std::make_shared<HysteresisTerm>(width_c)); }
+Term change_term(double t_s, bool ramp) { return Term(std::make_shared<ChangeTerm>(t_s, ramp)); }
 Term warmup_term(double tau_s) { return Term(std::make_shared<WarmupTerm>(tau_s)); }
 Term aging_term() { return Term(std::make_shared<AgingTerm>()); }
 

@@ -8,11 +8,15 @@
 //   scale_factor_surface  omega B_ij(T, omega)       the bicubic-spline basis of a (T, omega) grid (fig 3.6)
 //   asymmetry             |omega|                    (dSF differs by 2 beta between the senses)
 //   shupe                 dT_coil/dt, deg C/s        (eq 3.3)
-//   hysteresis            +1/2 heating, -1/2 cooling, held through plateaus
+//   hysteresis            (T - P_r(T)) / 2r: the play operator of half-width r = width/2 (Preisach's elementary
+//                         hysteron): +1/2 once heating has moved T by `width`, -1/2 once cooling has, linear
+//                         in between, held through plateaus (width 0: the legacy switch at a rate threshold)
 //   warmup                exp(-(t - t0) / tau)       t0 the first sample
 //   aging                 (t - t0) / 3600 s
 //   channel               named recorded channels as they are (specific force, magnetic field, other axes)
 //   channel_squared       their squares
+//   bias_step             1 from time t_s on, else 0             (a change point: outside the physics library)
+//   bias_ramp             (t - t_s) / 3600 s from t_s on, else 0 (a trend starting at t_s: likewise)
 #pragma once
 
 #include <array>
@@ -112,9 +116,16 @@ class ShupeTerm : public HistoryTerm {
 
 class HysteresisTerm : public HistoryTerm {
  public:
+  explicit HysteresisTerm(double width_c = 0.0);  // 0: the legacy threshold switch (model files before width_c)
   std::string_view kind() const override { return "hysteresis"; }
   void columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const override;
+  void parameters_json(nlohmann::json& j) const override;
   TermMemory memory() const override { return TermMemory::temperature_history; }
+  std::optional<TermParameter> parameter() const override;
+  std::shared_ptr<const TermBasis> with_parameter(double width_c) const override;
+
+ private:
+  double width_c_;
 };
 
 class WarmupTerm : public HistoryTerm {
@@ -124,11 +135,27 @@ class WarmupTerm : public HistoryTerm {
   void columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const override;
   void parameters_json(nlohmann::json& j) const override { j["tau_s"] = tau_s_; }
   TermMemory memory() const override { return TermMemory::time; }
-  std::optional<double> time_constant_s() const override { return tau_s_; }
-  std::shared_ptr<const TermBasis> with_time_constant(double tau_s) const override;
+  std::optional<TermParameter> parameter() const override { return TermParameter{"tau_s", tau_s_, true}; }
+  std::shared_ptr<const TermBasis> with_parameter(double tau_s) const override;
 
  private:
   double tau_s_;
+};
+
+// A change of the bias at time t_s: a step (ramp = false) or the start of a trend (ramp = true).
+class ChangeTerm : public HistoryTerm {
+ public:
+  ChangeTerm(double t_s, bool ramp) : t_s_(t_s), ramp_(ramp) {}
+  std::string_view kind() const override { return ramp_ ? "bias_ramp" : "bias_step"; }
+  void columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const override;
+  void parameters_json(nlohmann::json& j) const override { j["t_s"] = t_s_; }
+  TermMemory memory() const override { return TermMemory::time; }
+  std::optional<TermParameter> parameter() const override { return TermParameter{"t_s", t_s_, false}; }
+  std::shared_ptr<const TermBasis> with_parameter(double t_s) const override { return std::make_shared<ChangeTerm>(t_s, ramp_); }
+
+ private:
+  double t_s_;
+  bool ramp_;
 };
 
 class AgingTerm : public HistoryTerm {
@@ -162,7 +189,8 @@ Term scale_factor_polynomial(ScaleFactorPolynomial::Orders orders);
 Term scale_factor_surface(std::vector<double> temps_c, std::vector<double> rates_dps);
 Term asymmetry_term();
 Term shupe_term();
-Term hysteresis_term();
+Term hysteresis_term(double width_c = 0.0);
+Term change_term(double t_s, bool ramp);
 Term warmup_term(double tau_s);
 Term aging_term();
 Term channel_term(std::vector<std::string> channels, bool squared = false);

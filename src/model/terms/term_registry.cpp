@@ -30,11 +30,15 @@ const TermKindRegistry& term_kinds() {
                 return std::make_unique<ScaleFactorSurface>(list<double>(g, "temperatures_c"), list<double>(g, "rates_dps"));
               }})
         .add({"shupe", "dT_coil/dt, deg C/s", none, [](const nlohmann::json&) -> P { return std::make_unique<ShupeTerm>(); }})
-        .add({"hysteresis", "+1/2 on the heating branch, -1/2 on the cooling branch", none,
-              [](const nlohmann::json&) -> P { return std::make_unique<HysteresisTerm>(); }})
+        .add({"hysteresis", "+-1/2 on the heating/cooling branch, moving between them over width_c after a reversal", none,
+              [](const nlohmann::json& j) -> P { return std::make_unique<HysteresisTerm>(j.value("width_c", 0.0)); }})
         .add({"warmup", "exp(-(t - t0) / tau)", none,
               [](const nlohmann::json& j) -> P { return std::make_unique<WarmupTerm>(j.value("tau_s", 0.0)); }})
         .add({"aging", "(t - t0) / 1 h", none, [](const nlohmann::json&) -> P { return std::make_unique<AgingTerm>(); }})
+        .add({"bias_step", "1 from t_s on: a change point of the bias", none,
+              [](const nlohmann::json& j) -> P { return std::make_unique<ChangeTerm>(j.at("t_s").get<double>(), false); }})
+        .add({"bias_ramp", "(t - t_s) / 1 h from t_s on: a trend starting at t_s", none,
+              [](const nlohmann::json& j) -> P { return std::make_unique<ChangeTerm>(j.at("t_s").get<double>(), true); }})
         .add({"asymmetry", "|omega|", none, [](const nlohmann::json&) -> P { return std::make_unique<AsymmetryTerm>(); }})
         .add({"channel", "recorded channels as they are", none,
               [](const nlohmann::json& j) -> P { return std::make_unique<ChannelTerm>(list<std::string>(j, "channels"), false); }})

@@ -1,0 +1,42 @@
+#include "explain/noise_likelihood.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/bounded_search.h"
+#include "explain/linear_fit.h"
+
+namespace gyrosid::explain {
+
+NoiseLikelihood::NoiseLikelihood(std::vector<Eigen::Index> rows, const std::vector<double>& t_s, const NoiseModel& start)
+    : rows_(std::move(rows)), t_s_(t_s), start_(start), gm_tau_s_(start.gm_var > 0 ? start.gm_tau_s : 100.0 * start.dt_s) {}
+
+double NoiseLikelihood::negative(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::array<double, 2>& v) const {
+  NoiseModel m;
+  m.dt_s = start_.dt_s;
+  m.white_var = 1.0;
+  m.rw_q = std::exp(v[0]);
+  m.gm_var = std::exp(v[1]);
+  m.gm_tau_s = gm_tau_s_;
+  const Whitener w(m, rows_, t_s_);
+  const double n = static_cast<double>(rows_.size());
+  return 0.5 * n * std::log(whitened_rss(w.apply(x), w.apply(y)) / n) + 0.5 * w.log_determinant();
+}
+
+NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) const {
+  Optimum from;
+  from.log_ratios = {std::clamp(std::log(std::max(start_.rw_q / start_.white_var, 1e-9)), -24.0, 2.0),
+                     std::clamp(std::log(std::max(start_.gm_var / start_.white_var, 1e-6)), -24.0, 2.0)};
+  return maximise(x, y, from);
+}
+
+NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Optimum& from) const {
+  BoundedSearchOptions bobyqa;
+  bobyqa.xtol_abs = 1e-3;
+  bobyqa.max_evaluations = 80;
+  const BoundedSearchResult r = minimize_bounded([&](const std::vector<double>& v) { return negative(x, y, {v[0], v[1]}); },
+                                                 {from.log_ratios[0], from.log_ratios[1]}, {-25.0, -25.0}, {3.0, 3.0}, bobyqa);
+  return {-r.value, {r.x[0], r.x[1]}};
+}
+
+}  // namespace gyrosid::explain

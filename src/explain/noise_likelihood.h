@@ -1,0 +1,43 @@
+// The Gaussian log-likelihood of a regression under the coloured-noise model (sensor/noise_model.h),
+// maximised over the noise: the random-walk and Gauss-Markov variances relative to the white one (BOBYQA
+// over their logarithms; the Gauss-Markov time constant held at the Allan fit's), the linear coefficients
+// and the white variance concentrated out (Kalman-whitened least squares; the whitener's log-determinant
+// is the determinant term). Comparing it with and without a deterministic term tells an effect from
+// coloured noise that mimics it: a true trend or step takes the random walk's place, a wander is not
+// bettered by one.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <array>
+#include <vector>
+
+#include "sensor/noise_model.h"
+
+namespace gyrosid::explain {
+
+class NoiseLikelihood {
+ public:
+  // rows: the samples (ascending); t_s: every sample's time; start: the Allan fit's model.
+  NoiseLikelihood(std::vector<Eigen::Index> rows, const std::vector<double>& t_s, const NoiseModel& start);
+
+  struct Optimum {
+    double log_likelihood = 0.0;
+    std::array<double, 2> log_ratios{};  // log(random-walk q / white), log(Gauss-Markov variance / white)
+  };
+  // Maximised from the start model's ratios, or from `from` (a nested model's optimum: the larger model's
+  // maximum is then never below the smaller's).
+  Optimum maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) const;
+  Optimum maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Optimum& from) const;
+  std::size_t samples() const { return rows_.size(); }
+
+ private:
+  double negative(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::array<double, 2>& v) const;
+
+  std::vector<Eigen::Index> rows_;
+  const std::vector<double>& t_s_;
+  NoiseModel start_;
+  double gm_tau_s_;
+};
+
+}  // namespace gyrosid::explain
