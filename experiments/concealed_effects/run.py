@@ -1,19 +1,24 @@
 #!/usr/bin/python3
 """Concealed effects: does `gyrosid explain` find, name and model an effect hidden in a recording, stay
-silent when nothing is missing, and say "unexplained" when the effect is outside its library?
+silent when nothing is missing, and say "unexplained" when the effect is outside its library - on
+recordings of gyrosid's own simulator and on recordings of an independent generator (independent.py)?
 
     experiments/concealed_effects/run.py [--gyrosid build/gyrosid] [--out experiments/concealed_effects/results]
-                                         [--seeds N] [--jobs 2] [--force]
+                                         [--generators simulator,independent] [--seeds N] [--jobs 2]
+                                         [--budget-min M] [--force]
 
-Writes results/summary.md (power curves, naming accuracy, parameter errors and interval coverage, held-out
-improvement, false discoveries on the controls, runtime), results/runs.csv (one row per recording) and
-results/power.png. Recordings and explain outputs stay under results/runs/ (reused on a rerun).
+Writes results/summary.md (both generators side by side against the targets, then each one's tables: power
+curves, naming, parameters and intervals, held-out excess removed, false discoveries on the controls,
+localisation, run time), results/runs.csv (one row per recording) and results/power.png. Recordings and
+explain outputs stay under results/runs/ and results/independent/ (reused on a rerun); --budget-min stops
+starting new recordings after M minutes, so a long sweep runs in resumable chunks.
 """
 import argparse
 import concurrent.futures
 import json
 import os
 import sys
+import time
 
 import numpy as np
 import yaml
@@ -22,7 +27,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "lib"))
 import generate as gen  # noqa: E402
-from gyrosid_experiments import Runner, fmt, gnuplot, markdown_table, write_csv, write_text  # noqa: E402
+import independent_cases  # noqa: E402
+from gyrosid_experiments import Runner, add_gyrosid_argument, fmt, gnuplot, markdown_table, write_csv, write_text  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 
@@ -36,6 +42,10 @@ class Experiment:
         self.base = yaml.safe_load(open(self.sensor))
         self.sigma = self.cfg["noise_sigma_dph"]
         self.shapes = {}
+        self.model = None
+
+    def simulation(self):
+        """The simulation of the first generator: a grey-box model calibrated on a separate dual scan."""
         s = self.cfg["simulation"]
         cal = self.run.path("simulation", "calibration.csv")
         self.run.run(["simulate", "--sensor", self.sensor, "--trajectory", s["trajectory"], "--seed", s["seed"], "--out", cal], cal)
@@ -102,6 +112,8 @@ class Experiment:
         if outside:
             t = cols["t_s"]
             shape = cols["supply_v"] - 5.0 if outside == "supply_voltage" else (t > t[0] + 0.6 * (t[-1] - t[0])).astype(float)
+            if outside == "bias_step":
+                truth["t_step_s"] = float(t[0] + 0.6 * (t[-1] - t[0]))
             c = m * self.sigma / gen.rms(gen.unabsorbed(cols, shape))
             cols["gyro_dps"] = cols["gyro_dps"] + c * shape / 3600.0
             truth["value"] = c
@@ -119,6 +131,12 @@ class Experiment:
         return truth
 
     def do(self, job):
+        if job.get("generator") == "independent":
+            truth = independent_cases.build(job)
+            out = os.path.join(job["dir"], "explain")
+            self.run.run(["explain", "--recording", os.path.join(job["dir"], "recording.csv"), "--out", out] +
+                         independent_cases.explain_args(job), os.path.join(out, "explain.json"))
+            return independent_cases.score(job, truth, json.load(open(os.path.join(out, "explain.json"))), job["dir"])
         truth = self.build(job)
         d = job["dir"]
         out = os.path.join(d, "explain")
@@ -133,7 +151,7 @@ PARAMETER = {}
 def score(job, truth, ex, d, sigma):
     effects = ex["effects"]
     names = [e["id"] for e in effects]
-    row = {"group": job["group"], "case": job["case"], "seed": job["seed"], "magnitude": truth.get("magnitude"),
+    row = {"generator": "simulator", "group": job["group"], "case": job["case"], "seed": job["seed"], "magnitude": truth.get("magnitude"),
            "verdict": ex["verdict"], "named": " ".join(names), "run_time_s": ex["run_time_s"],
            "heldout_ratio": ex["fit"]["heldout_rms_after_dph"] / sigma,
            "unexplained": " ".join(sorted({u["kind"] + (":" + u["channel"] if u["channel"] else "") for u in ex["unexplained"]}))}
@@ -156,13 +174,21 @@ def score(job, truth, ex, d, sigma):
         fitted = res["residual_before_dph"] - res["residual_after_dph"]
         if hit:
             row["effect_rel_err"] = gen.rms(fitted - planted) / gen.rms(planted)
+        held = res["heldout"] > 0
+        before, after = np.mean(res["residual_before_dph"][held] ** 2), np.mean(res["residual_after_dph"][held] ** 2)
+        if before - sigma ** 2 > 0.05 * sigma ** 2:  # the white noise's variance is the floor
+            row["heldout_excess_removed"] = (before - after) / (before - sigma ** 2)
+    if job.get("outside") == "bias_step":
+        t_step = truth["t_step_s"]
+        row["localised"] = any(u["kind"] in ("time_window", "change_point") and
+                               min(abs(u["t_start_s"] - t_step), abs(u["t_end_s"] - t_step)) <= 600.0 for u in ex["unexplained"])
     return row
 
 
 def jobs_of(cfg, out, seeds):
     jobs = []
     def add(group, case, seed, **kw):
-        jobs.append(dict(kw, group=group, case=case, seed=seed, dir=os.path.join(out, "runs", group, case, "seed%d" % seed)))
+        jobs.append(dict(kw, generator="simulator", group=group, case=case, seed=seed, dir=os.path.join(out, "runs", group, case, "seed%d" % seed)))
     for effect, spec in cfg["effects"].items():
         PARAMETER[effect] = spec.get("parameter")
         for i, m in enumerate(cfg["magnitudes"]):
@@ -197,8 +223,19 @@ def rate(rows, key):
 
 
 def summarize(cfg, rows, out):
-    md = ["# Concealed effects\n\n",
-          "Generated by `experiments/concealed_effects/run.py`. Base sensor `sensor.yaml` (white noise %s deg/h per 1-Hz "
+    md = ["# Concealed effects\n\n", "Generated by `experiments/concealed_effects/run.py` on two generators: gyrosid's own simulator "
+          "(with the grey-box simulation given to explain) and an independent generator (`independent.py`: another sensor, "
+          "other programmes, other noise, effects written in other laws; explain given no simulation and no options).\n\n",
+          both_generators_table(rows), independent_tables(rows)]
+    rows = [r for r in rows if r["generator"] == "simulator"]
+    if rows:
+        md += simulator_tables(cfg, rows, out)
+    write_text(os.path.join(out, "summary.md"), "".join(md))
+
+
+def simulator_tables(cfg, rows, out):
+    md = ["## Simulator (gyrosid simulate)\n\n",
+          "Base sensor `sensor.yaml` (white noise %s deg/h per 1-Hz "
           "sample); simulation: a grey-box model calibrated on a separate dual scan (bias cubic in T, scale factor "
           "quadratic in rate and linear in T); recordings of 224 min (thermal cycles, 13,440 samples) or 476 min "
           "(classical soak, g-sensitivity). Magnitude = RMS of the part of the effect the simulation cannot absorb, in "
@@ -218,7 +255,7 @@ def summarize(cfg, rows, out):
         table.append(row)
         plot_blocks.append("$d%d << EOD\n%s\nEOD\n" % (i, "\n".join("%g %g" % p for p in sorted(pts))))
         plot_cmds.append("$d%d using 1:2 with linespoints lw 2 title '%s'" % (i, e))
-    md += ["## Detection power (named, with correct first name in brackets) against magnitude\n\n",
+    md += ["### Detection power (named, with correct first name in brackets) against magnitude\n\n",
            markdown_table(table, ["effect"] + ["%s" % m for m in mags], ["effect"] + ["%s sigma" % m for m in mags]),
            "\nFor the thermal lag the magnitude is set by its time constant (%s s, largest first); the column shows the "
            "configured step, the plot the measured magnitude.\n\n![power](power.png)\n\n" % cfg["effects"]["thermal_lag"]["tau_s"]]
@@ -241,7 +278,7 @@ def summarize(cfg, rows, out):
         {"metric": "held-out rms after / noise sigma, median / max", "value": "%s / %s" % (fmt(np.median(held), 4), fmt(max(held), 4)) if held else "-", "target": "<= 1.10"},
         {"metric": "run time per recording (s), median / max", "value": "%s / %s" % (fmt(np.median([r["run_time_s"] for r in rows]), 3), fmt(max(r["run_time_s"] for r in rows), 3)), "target": "< 60"},
     ]
-    md += ["## Summary (targets of the issue)\n\n", markdown_table(summary, ["metric", "value", "target"])]
+    md += ["### Summary (targets of issue 5)\n\n", markdown_table(summary, ["metric", "value", "target"])]
 
     ctrl = [r for r in rows if r["group"] == "control"]
     cases = sorted({r["case"] for r in ctrl})
@@ -250,48 +287,134 @@ def summarize(cfg, rows, out):
              "verdicts": ", ".join(sorted({r["verdict"] + (" (" + r["named"] + ")" if r["named"] else "") for r in ctrl if r["case"] == c}))}
             for c in cases]
     fd = sum(1 for r in ctrl if r["verdict"] != "no_missing_physics")
-    md += ["\n## Negative controls (nothing missing from the physics)\n\n", markdown_table(crow, ["control", "recordings", "false discoveries", "verdicts"]),
+    md += ["\n### Negative controls (nothing missing from the physics)\n\n", markdown_table(crow, ["control", "recordings", "false discoveries", "verdicts"]),
            "\nFalse-discovery rate over all controls: %d / %d = %s (target <= 0.05).\n" % (fd, len(ctrl), fmt(fd / max(1, len(ctrl)), 3))]
     outside = [r for r in rows if r["group"] == "outside"]
     orow = [{"case": c, "recordings": len([r for r in outside if r["case"] == c]),
              "unexplained_residual": sum(1 for r in outside if r["case"] == c and r["verdict"] == "unexplained_residual"),
              "named an effect": sum(1 for r in outside if r["case"] == c and r["named"]),
              "localised as": ", ".join(sorted({r["unexplained"] for r in outside if r["case"] == c}))} for c in sorted({r["case"] for r in outside})]
-    md += ["\n## Effects outside the library\n\n", markdown_table(orow, ["case", "recordings", "unexplained_residual", "named an effect", "localised as"])]
+    md += ["\n### Effects outside the library\n\n", markdown_table(orow, ["case", "recordings", "unexplained_residual", "named an effect", "localised as"])]
     conf = [r for r in rows if r["group"] == "confounded"]
     frow = [{"design": c, "note": cfg["confounded"][c]["note"], "correct or honest ambiguity": fmt(rate([r for r in conf if r["case"] == c], "correct"), 2),
              "named": "; ".join(sorted({r["named"] for r in conf if r["case"] == c}))} for c in cfg["confounded"]]
-    md += ["\n## Confounded designs (magnitude 0.5)\n\n", markdown_table(frow, ["design", "note", "correct or honest ambiguity", "named"])]
-    write_text(os.path.join(out, "summary.md"), "".join(md))
+    md += ["\n### Confounded designs (magnitude 0.5)\n\n", markdown_table(frow, ["design", "note", "correct or honest ambiguity", "named"])]
+    return md
+
+
+def targets(rows):
+    """The targets of issue 12 measured on one generator's rows."""
+    strong = [r for r in rows if r["group"] in ("effect", "combination", "confounded") and r.get("magnitude") is not None
+              and not np.isnan(r["magnitude"]) and r["magnitude"] >= 0.25 - 1e-9]
+    ctrl = [r for r in rows if r["group"] == "control"]
+    excess = [r["heldout_excess_removed"] for r in strong if r.get("correct") and "heldout_excess_removed" in r]
+    steps = [r for r in rows if "localised" in r]
+    named_lag_shupe = [r for r in strong if r.get("correct") and any(n in r["named"].split() for n in ("shupe", "thermal_lag"))]
+    times = [r["run_time_s"] for r in rows]
+    return {
+        "naming correct at >= 0.25 sigma (incl. multi-effect)": "%s (%d/%d)" % (fmt(rate(strong, "correct"), 3), sum(1 for r in strong if r.get("correct")), len(strong)),
+        "false discoveries on controls": "%s (%d/%d)" % (fmt(sum(1 for r in ctrl if r["verdict"] != "no_missing_physics") / max(1, len(ctrl)), 3),
+                                                          sum(1 for r in ctrl if r["verdict"] != "no_missing_physics"), len(ctrl)),
+        "false discoveries beside a correct lag or Shupe": "%d/%d" % (sum(1 for r in named_lag_shupe if r.get("wrong_extra")), len(named_lag_shupe)),
+        "held-out excess removed, median / min (correctly named)": "%s / %s (n=%d)" % (fmt(float(np.median(excess)), 3), fmt(min(excess), 3), len(excess)) if excess else "-",
+        "correctly named with < 50 % of the excess removed": "%d" % sum(1 for x in excess if x < 0.5),
+        "steps reported unexplained and localised within 10 min": "%s (%d/%d)" % (fmt(rate(steps, "localised"), 3), sum(1 for r in steps if r["localised"]), len(steps)) if steps else "-",
+        "run time per recording (s), median / max": "%s / %s" % (fmt(float(np.median(times)), 3), fmt(max(times), 3)) if times else "-",
+    }
+
+
+TARGETS = {"naming correct at >= 0.25 sigma (incl. multi-effect)": ">= 0.9", "false discoveries on controls": "<= 0.05",
+           "false discoveries beside a correct lag or Shupe": "0", "held-out excess removed, median / min (correctly named)": ">= 0.9 / >= 0.5",
+           "correctly named with < 50 % of the excess removed": "0", "steps reported unexplained and localised within 10 min": ">= 0.9",
+           "run time per recording (s), median / max": "< 60 (<= 8 h at 1 Hz)"}
+
+
+def both_generators_table(rows):
+    by = {g: targets([r for r in rows if r["generator"] == g]) for g in ("simulator", "independent")}
+    table = [{"target": k, "simulator (gyrosid simulate)": by["simulator"][k], "independent generator": by["independent"][k], "wanted": TARGETS[k]}
+             for k in TARGETS]
+    return ("## Both generators against the targets (issue 12)\n\n" +
+            markdown_table(table, ["target", "simulator (gyrosid simulate)", "independent generator", "wanted"]) + "\n")
+
+
+def independent_tables(rows):
+    rows = [r for r in rows if r["generator"] == "independent"]
+    if not rows:
+        return ""
+    cases = []
+    for case in sorted({(r["group"], r["case"]) for r in rows}):
+        rs = [r for r in rows if (r["group"], r["case"]) == case]
+        ex = [r["heldout_excess_removed"] for r in rs if "heldout_excess_removed" in r]
+        cases.append({"group": case[0], "case": case[1], "recordings": len(rs),
+                      "correct": fmt(rate(rs, "correct"), 2) if any("correct" in r for r in rs) else "-",
+                      "wrong extra": sum(r.get("wrong_extra", 0) for r in rs),
+                      "excess removed (median)": fmt(float(np.median(ex)), 3) if ex else "-",
+                      "localised": fmt(rate(rs, "localised"), 2) if any("localised" in r for r in rs) else "-",
+                      "verdicts / named": "; ".join(sorted({r["verdict"] + (" (" + r["named"] + ")" if r["named"] else "") for r in rs})),
+                      "time (s, max)": fmt(max(r["run_time_s"] for r in rs), 3)})
+    return ("## Independent generator, case by case\n\n" + markdown_table(cases, ["group", "case", "recordings", "correct", "wrong extra",
+            "excess removed (median)", "localised", "verdicts / named", "time (s, max)"]) + "\n")
+
+
+def run_jobs(exp, jobs, workers, budget_min):
+    """Runs every job (explains already on disk are read back); stops starting new ones after the budget.
+    Returns the rows, or None when the budget ran out first."""
+    start = time.time()
+    rows, pending = [], list(jobs)
+
+    def guarded(job):
+        if budget_min and time.time() - start > 60.0 * budget_min and not os.path.exists(os.path.join(job["dir"], "explain", "explain.json")):
+            return None
+        return exp.do(job)
+
+    with concurrent.futures.ThreadPoolExecutor(workers) as pool:
+        for k, row in enumerate(pool.map(guarded, pending)):
+            rows.append(row)
+            if (k + 1) % 10 == 0 or k + 1 == len(pending):
+                sys.stderr.write("  %d/%d recordings explained\n" % (k + 1, len(pending)))
+    missing = sum(1 for r in rows if r is None)
+    if missing:
+        sys.stderr.write("budget of %s min used: %d recordings left; run again to continue\n" % (budget_min, missing))
+        return None
+    return rows
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--gyrosid", default=os.path.join(ROOT, "build", "gyrosid"))
+    add_gyrosid_argument(ap)
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
-    ap.add_argument("--seeds", type=int, default=None, help="seeds per effect and magnitude (config: seeds)")
+    ap.add_argument("--generators", default="simulator,independent", help="comma-separated: simulator, independent")
+    ap.add_argument("--seeds", type=int, default=None, help="seeds per effect and magnitude (config: seeds, independent.seeds)")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--budget-min", type=float, default=0.0, help="stop starting new recordings after this many minutes (0: no limit)")
     ap.add_argument("--force", action="store_true")
     args = ap.parse_args()
     os.environ["GYROSID_THREADS"] = "1"  # one thread per explain, --jobs explains at a time
     exp = Experiment(args)
-    jobs = jobs_of(exp.cfg, os.path.abspath(args.out), args.seeds or exp.cfg["seeds"])
+    generators = args.generators.split(",")
+    out = os.path.abspath(args.out)
+    jobs = []
+    if "simulator" in generators:
+        exp.simulation()
+        jobs += jobs_of(exp.cfg, out, args.seeds or exp.cfg["seeds"])
+    if "independent" in generators:
+        jobs += independent_cases.jobs(exp.cfg["independent"], out, args.seeds or exp.cfg["independent"]["seeds"])
     sys.stderr.write("%d recordings\n" % len(jobs))
     # Shapes first (shared, not thread-safe to create twice).
     for j in jobs:
         e = j.get("effect")
+        if j["generator"] != "simulator":
+            continue
         if e in ("shupe", "scale_factor_asymmetry"):
             exp.sensor_shape(j["trajectory"], **{("shupe" if e == "shupe" else "asymmetry"): 1.0})
         elif e == "thermal_lag":
             exp.sensor_shape(j["trajectory"], coil_tau=j["tau_s"])
-    rows = []
-    with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-        for k, row in enumerate(pool.map(exp.do, jobs)):
-            rows.append(row)
-            if (k + 1) % 10 == 0 or k + 1 == len(jobs):
-                sys.stderr.write("  %d/%d recordings explained\n" % (k + 1, len(jobs)))
-    cols = ["group", "case", "seed", "magnitude", "verdict", "named", "detected", "correct", "ambiguous", "wrong_extra", "param_rel_err",
-            "param_covered", "effect_rel_err", "heldout_ratio", "unexplained", "run_time_s"]
+    rows = run_jobs(exp, jobs, args.jobs, args.budget_min)
+    if rows is None:
+        return
+    cols = ["generator", "group", "case", "seed", "magnitude", "verdict", "named", "detected", "correct", "ambiguous", "wrong_extra",
+            "param_rel_err", "param_covered", "effect_rel_err", "heldout_ratio", "heldout_excess_removed", "localised", "unexplained",
+            "run_time_s"]
     write_csv(os.path.join(args.out, "runs.csv"), rows, cols)
     summarize(exp.cfg, rows, args.out)
     sys.stderr.write("wrote %s/summary.md\n" % args.out)
