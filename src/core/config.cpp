@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -176,12 +177,12 @@ double ConfigNode::as_number() const {
   }
 }
 
-std::int64_t ConfigNode::as_integer() const {
+int ConfigNode::as_integer() const {
   if (!node_.IsScalar()) fail(where(), ": expected an integer");
   try {
-    return node_.as<std::int64_t>();
+    return node_.as<int>();  // yaml-cpp refuses text, fractions and values outside int's range
   } catch (const YAML::Exception&) {
-    fail(where(), ": expected an integer, found '", node_.Scalar(), "'");
+    fail(where(), ": expected an integer (at most ", std::numeric_limits<int>::max(), " in magnitude), found '", node_.Scalar(), "'");
   }
 }
 
@@ -195,6 +196,14 @@ std::vector<double> ConfigNode::as_numbers() const {
   if (!node_.IsSequence()) fail(where(), ": expected a list of numbers");
   std::vector<double> out;
   for (std::size_t i = 0; i < node_.size(); ++i) out.push_back(at(i).as_number());
+  return out;
+}
+
+std::vector<int> ConfigNode::as_integers() const {
+  if (node_.IsScalar()) return {as_integer()};
+  if (!node_.IsSequence()) fail(where(), ": expected a list of integers");
+  std::vector<int> out;
+  for (std::size_t i = 0; i < node_.size(); ++i) out.push_back(at(i).as_integer());
   return out;
 }
 
@@ -214,8 +223,8 @@ double ConfigNode::number(std::string_view key) const { return (*this)[key].as_n
 double ConfigNode::number(std::string_view key, double fallback) const {
   return has(key) ? (*this)[key].as_number() : fallback;
 }
-std::int64_t ConfigNode::integer(std::string_view key) const { return (*this)[key].as_integer(); }
-std::int64_t ConfigNode::integer(std::string_view key, std::int64_t fallback) const {
+int ConfigNode::integer(std::string_view key) const { return (*this)[key].as_integer(); }
+int ConfigNode::integer(std::string_view key, int fallback) const {
   return has(key) ? (*this)[key].as_integer() : fallback;
 }
 std::string ConfigNode::text(std::string_view key) const { return (*this)[key].as_text(); }
@@ -234,6 +243,10 @@ bool ConfigNode::flag(std::string_view key, bool fallback) const {
 std::vector<double> ConfigNode::numbers(std::string_view key) const { return (*this)[key].as_numbers(); }
 std::vector<double> ConfigNode::numbers(std::string_view key, const std::vector<double>& fallback) const {
   return has(key) ? (*this)[key].as_numbers() : fallback;
+}
+
+std::vector<int> ConfigNode::integers(std::string_view key, const std::vector<int>& fallback) const {
+  return has(key) ? (*this)[key].as_integers() : fallback;
 }
 
 std::string ConfigNode::resolve(const std::string& relative) const {

@@ -35,19 +35,21 @@ class ConfigNode {
   // Typed values of children; the one-argument forms require the key.
   double number(std::string_view key) const;
   double number(std::string_view key, double fallback) const;
-  std::int64_t integer(std::string_view key) const;
-  std::int64_t integer(std::string_view key, std::int64_t fallback) const;
+  int integer(std::string_view key) const;  // whole numbers within int's range
+  int integer(std::string_view key, int fallback) const;
   std::string text(std::string_view key) const;
   std::string text(std::string_view key, const std::string& fallback) const;
   bool flag(std::string_view key, bool fallback) const;
   std::vector<double> numbers(std::string_view key) const;
   std::vector<double> numbers(std::string_view key, const std::vector<double>& fallback) const;
+  std::vector<int> integers(std::string_view key, const std::vector<int>& fallback) const;
 
   // This node's own value.
   double as_number() const;
-  std::int64_t as_integer() const;
+  int as_integer() const;
   std::string as_text() const;
   std::vector<double> as_numbers() const;
+  std::vector<int> as_integers() const;
   std::vector<std::vector<double>> as_matrix() const;  // sequence of equal-length sequences
 
   bool is_map() const { return node_.IsMap(); }

@@ -51,7 +51,7 @@ NoiseOptions load_noise(const ConfigNode& node) {
   if (band.size() != 2) fail(node.where("bias_instability_band_s"), ": expected [tau_min_s, tau_max_s]");
   n.bias_instability_tau_min_s = band[0];
   n.bias_instability_tau_max_s = band[1];
-  n.bias_instability_per_decade = static_cast<int>(node.integer("bias_instability_per_decade", 3));
+  n.bias_instability_per_decade = node.integer("bias_instability_per_decade", 3);
   n.rrw_rad_s_rt_s = dph_rt_h_to_rad_s_rt_s(node.number("rrw_dph_rt_h", 0.0));
   n.rate_ramp_radps2 = dph_per_h_to_radps2(node.number("rate_ramp_dph_per_h", 0.0));
   if (auto gm = node.find("gauss_markov")) {

@@ -264,7 +264,7 @@ FlightProfile load_flight_profile(const ConfigNode& node) {
   FlightProfile p;
   p.name = node.text("name", "flight");
   p.description = node.text("description", "");
-  p.substeps = static_cast<int>(node.integer("substeps", 10));
+  p.substeps = node.integer("substeps", 10);
   if (auto i = node.find("initial")) {
     i->allow_only({"lat_deg", "lon_deg", "h_m", "speed_mps", "flight_path_deg", "heading_deg", "bank_deg"});
     p.initial.lat_deg = i->number("lat_deg", p.initial.lat_deg);

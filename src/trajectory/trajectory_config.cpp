@@ -41,7 +41,7 @@ TrajectorySpec load_trajectory(const ConfigNode& node) {
       }
     }
   };
-  const int position = static_cast<int>(node.integer("position", 2));
+  const int position = node.integer("position", 2);
 
   TrajectorySpec spec;
   switch (kind) {
@@ -76,8 +76,7 @@ TrajectorySpec load_trajectory(const ConfigNode& node) {
       o.plateaus_c = node.numbers("plateaus_c");
       o.ramp_rate_c_per_min = node.number("ramp_rate_c_per_min", 5.0);
       o.settle_min = node.number("settle_min", 30.0);
-      o.positions.clear();
-      for (double p : node.numbers("positions", {1, 2, 3, 4, 5, 6})) o.positions.push_back(static_cast<int>(p));
+      o.positions = node.integers("positions", {1, 2, 3, 4, 5, 6});
       for (double r : node.numbers("rates_dps")) o.rates_radps.push_back(dps_to_radps(r));
       o.step_dwell_s = node.number("step_dwell_s", 20.0);
       spec.profile = classical_soak(validated(o, node));
@@ -103,7 +102,7 @@ TrajectorySpec load_trajectory(const ConfigNode& node) {
       o.boundary_scan_min = node.number("boundary_scan_min", 2.0);
       o.position = position;
       if (kind == CalibrationKind::test_cycles) {
-        o.temperature_cycles = static_cast<int>(node.integer("temperature_cycles"));
+        o.temperature_cycles = node.integer("temperature_cycles");
         // m rate cycles per temperature cycle = m/2 per scan (one up, one down)
         o.rate_cycles_per_scan = 0.5 * node.number("rate_cycles_per_temperature_cycle");
       } else {

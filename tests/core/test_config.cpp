@@ -57,6 +57,19 @@ TEST(Config, SyntaxErrorNamesLine) {
   EXPECT_THAT(error_of([] { ConfigNode::parse("a: [1, 2\nb: 3\n", "broken.yaml"); }), HasSubstr("broken.yaml:"));
 }
 
+// Found by fuzzing: a position of 6e101 was cast to int (undefined behaviour). Integers are whole and within
+// int's range, or a located error.
+TEST(Config, IntegersAreWholeAndInRange) {
+  const ConfigNode c = ConfigNode::parse("n: 7\nlist: [1, -6]\nbig: 2147483648\nhuge: [1, 6e101]\nfrac: 2.5\n", "i.yaml");
+  EXPECT_EQ(c.integer("n"), 7);
+  EXPECT_EQ(c.integer("absent", 3), 3);
+  EXPECT_EQ(c.integers("list", {}), (std::vector<int>{1, -6}));
+  EXPECT_EQ(c.integers("absent", {4, 5}), (std::vector<int>{4, 5}));
+  EXPECT_THAT(error_of([&] { c.integer("big"); }), HasSubstr("i.yaml:3"));
+  EXPECT_THAT(error_of([&] { c.integers("huge", {}); }), HasSubstr("huge[1]"));
+  EXPECT_THAT(error_of([&] { c.integer("frac"); }), HasSubstr("'2.5'"));
+}
+
 TEST(Config, RaggedMatrixIsRejected) {
   const ConfigNode c = ConfigNode::parse("m:\n  - [1, 2]\n  - [3]\n", "m.yaml");
   EXPECT_THAT(error_of([&] { c["m"].as_matrix(); }), HasSubstr("row has 1 values"));
