@@ -135,6 +135,32 @@ EvidenceAt evidence_at(const BayesProblem& p, const Eigen::MatrixXd& centres, co
   return out;
 }
 
+// The narrowest identifiable width of each input: an input recorded at discrete levels (a rate table's
+// plateaus, a chamber's temperature steps; gaps wider than 0.5 % of the normalised range cover over half of
+// it) carries no information between its levels, where a narrower node would fall back to the prior mean
+// and its predictive sigma would vanish with the node; the evidence cannot see this. Its bound is the
+// median spacing of the levels; other inputs keep min_width.
+std::vector<double> identifiable_min_widths(const Eigen::MatrixXd& x, double min_width) {
+  constexpr double kLevelGap = 0.01;  // normalised inputs span [-1, 1]
+  std::vector<double> bounds;
+  for (Eigen::Index k = 0; k < x.cols(); ++k) {
+    std::vector<double> v(x.col(k).data(), x.col(k).data() + x.rows());
+    std::sort(v.begin(), v.end());
+    std::vector<double> gaps;
+    double covered = 0.0;
+    for (std::size_t i = 1; i < v.size(); ++i) {
+      if (v[i] - v[i - 1] > kLevelGap) gaps.push_back(v[i] - v[i - 1]), covered += v[i] - v[i - 1];
+    }
+    double bound = min_width;
+    if (!v.empty() && covered > 0.5 * (v.back() - v.front())) {
+      std::nth_element(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2), gaps.end());
+      bound = std::max(bound, gaps[gaps.size() / 2]);
+    }
+    bounds.push_back(bound);
+  }
+  return bounds;
+}
+
 namespace {
 
 // The evidence as a function of the log widths, for one noise model (one FixedPart); keeps the best point.
@@ -190,31 +216,37 @@ struct SearchOutcome {
   std::string message;
 };
 
-// Scan of one common width (unless a start is given), then the bounded search over the log widths.
-SearchOutcome search_widths(WidthSearch& search, const BayesFitOptions& o, Eigen::Index d, const std::vector<double>* start) {
+// Scan of one common width (unless a start is given), then the bounded search over the log widths, each
+// bounded below by `min_widths` (identifiable_min_widths).
+SearchOutcome search_widths(WidthSearch& search, const BayesFitOptions& o, const std::vector<double>& min_widths, const std::vector<double>* start) {
+  const std::size_t nv = o.per_input_widths ? min_widths.size() : 1;
+  std::vector<double> lower(nv, std::log(*std::max_element(min_widths.begin(), min_widths.end())));
+  if (o.per_input_widths) std::transform(min_widths.begin(), min_widths.end(), lower.begin(), [](double w) { return std::log(w); });
+  const std::vector<double> upper(nv, std::log(std::max(o.max_width, std::exp(*std::max_element(lower.begin(), lower.end())))));
+  auto bounded = [&](std::vector<double> rho) {
+    if (rho.size() != nv) rho.assign(nv, rho[0]);
+    for (std::size_t k = 0; k < nv; ++k) rho[k] = std::clamp(rho[k], lower[k], upper[k]);
+    return rho;
+  };
   std::vector<double> rho;
   std::vector<double> none;
   if (start) {
-    rho = *start;
+    rho = bounded(*start);
   } else if (o.scan > 0) {
     double best = INFINITY;
     for (int i = 0; i < o.scan; ++i) {
       const double f = o.scan == 1 ? 0.5 : static_cast<double>(i) / (o.scan - 1);
-      const std::vector<double> r{std::log(o.scan_min) + f * (std::log(o.scan_max) - std::log(o.scan_min))};
+      const std::vector<double> r = bounded({std::log(o.scan_min) + f * (std::log(o.scan_max) - std::log(o.scan_min))});
       const double v = search(r, none);
       if (v < best) best = v, rho = r;
     }
   } else {
-    rho = {std::log(o.width)};
+    rho = bounded({std::log(o.width)});
   }
   search.warm_start(search.best_precisions());
-  const std::size_t nv = o.per_input_widths ? static_cast<std::size_t>(d) : 1;
-  if (rho.size() != nv) rho.assign(nv, rho[0]);
   BoundedSearchOptions so;
   so.algorithm = o.algorithm, so.max_evaluations = o.evaluations, so.xtol_rel = 1e-3;
-  const BoundedSearchResult r = minimize_bounded(ObjectiveWithGradient(std::ref(search)), rho,
-                                                 std::vector<double>(nv, std::log(o.min_width)),
-                                                 std::vector<double>(nv, std::log(o.max_width)), so);
+  const BoundedSearchResult r = minimize_bounded(ObjectiveWithGradient(std::ref(search)), rho, lower, upper, so);
   SearchOutcome out;
   out.widths = search.widths_of(search.best_rho());
   out.precisions = search.best_precisions();
@@ -268,7 +300,7 @@ BayesFit fit_under(const BayesProblem& p, const BayesFitOptions& o, const Whiten
   if (centres.rows() == 0) {
     s.widths = Eigen::RowVectorXd::Ones(p.x.cols());
   } else {
-    s = search_widths(search, o, p.x.cols(), start);
+    s = search_widths(search, o, identifiable_min_widths(p.x, o.min_width), start);
   }
   finish(p, fixed, s, fixed_beta, fit);
   fit.termination = s.termination, fit.message = s.message, fit.evaluations = search.evaluations();

@@ -85,6 +85,10 @@ struct EvidenceAt {
 EvidenceAt evidence_at(const BayesProblem& problem, const Eigen::MatrixXd& centres, const Eigen::RowVectorXd& widths,
                        const FixedPart& fixed, bool fixed_beta, Precisions warm, Eigen::VectorXd* gradient);
 
+// The lower bound of each input's width (normalised units): min_width, or for an input recorded at
+// discrete levels (gaps over 0.01 covering over half its range) the median spacing of its levels.
+std::vector<double> identifiable_min_widths(const Eigen::MatrixXd& x, double min_width);
+
 // The noise model (variances) scaled by `factor`^2 (e.g. from unit-RMS target units to deg/h).
 NoiseModel scaled(NoiseModel model, double factor);
 // The given noise (options noise=given) for sampling interval dt_s, in units of y_scale rad/s.
