@@ -4,7 +4,7 @@ Gauss-Markov noise, 5 seeds; surface error, held-out compensation error, criteri
 predictive-band coverage; the Cramer-Rao floor and scikit-learn peers on the same recordings.
 
     experiments/noisy_calibration/run.py [--gyrosid build/gyrosid] [--out experiments/noisy_calibration/results]
-                                         [--budget-min 25] [--part reference|sensor_c|all] [--summary-only]
+                                         [--budget-min 25] [--part reference|sensor_c|scaling|all] [--summary-only]
 
 Everything is cached under --out: a run stops starting new work after --budget-min minutes (exit status 3:
 more to do) and the next run resumes, so the sweep goes in chunks under the experiment lock:
@@ -95,7 +95,8 @@ class Experiment:
         row["surface_coverage_95"] = s.get("sigma", {}).get("coverage_95", "")
         row["heldout_rms_dph"], row["heldout_coverage_95"], _ = self.compensation_scores(
             model, self.validation(), self.run.path("heldout", tag + ".csv"))
-        for flight in ref["flights"]:
+        cof = self.cfg["cof"]
+        for flight in ref["flights"] if row["noise"] in cof["noises"] and row["method"] in cof["methods"] else []:
             cdir = self.run.path("cof", tag, flight, "x")[:-2]
             self.gyrosid(["cof", "--model", model, "--sensor", ref["sensor"], "--trajectory", flight, "--out", cdir],
                          os.path.join(cdir, "cof.json"))
@@ -201,18 +202,35 @@ class Experiment:
 
     def reference(self):
         cfg = self.cfg
-        for seed in cfg["seeds"]:
-            for noise in cfg["noises"]:
+        for noise in cfg["noises"]:  # the config lists the target noises first
+            for seed in noise.get("seeds", cfg["seeds"]):
                 for trajectory in cfg["reference"]["trajectories"]:
                     recording = self.reference_recording(trajectory, noise, seed)
                     for m in cfg["methods"]:
-                        if m.get("slow") and noise["name"] not in cfg["full"] and seed not in cfg["slow_seeds"]:
+                        if m.get("slow") and seed not in cfg["slow_seeds"]:
                             continue
                         self.reference_method(trajectory, noise, seed, m["name"], m["args"], recording)
                     self.reference_floor(trajectory, noise, seed, recording)
                     if noise["name"] in cfg["full"] or seed in cfg["slow_seeds"]:
                         self.reference_peers(trajectory, noise, seed, recording)
                 self.classical_soak(noise, seed)
+
+    # --- time and memory against N ---------------------------------------------------------------------
+
+    def scaling(self):
+        """Training time and peak memory of the named methods on noisy recordings resampled to N samples."""
+        sc = self.cfg["scaling"]
+        noise = next(n for n in self.cfg["noises"] if n["name"] == sc["noise"])
+        methods = {m["name"]: m["args"] for m in self.cfg["methods"]}
+        for n in sc["samples"]:
+            rec = self.run.path("data", "scaling", "n%d.csv" % n)
+            self.gyrosid(["simulate", "--sensor", self.sensor_with(noise), "--trajectory", sc["trajectory"], "--samples", n,
+                          "--seed", 1, "--out", rec], rec)
+            for name in sc["methods"]:
+                model = self.run.path("models", "scaling", "n%d" % n, name + ".json")
+                self.gyrosid(["calibrate", "--recording", rec] + methods[name] + ["--out", model], model)
+                self.rows.append(self.model_row({"sensor": "reference", "trajectory": "scaling", "noise": sc["noise"], "seed": 1,
+                                                 "method": name}, model))
 
     # --- sensor C (independent generator) ------------------------------------------------------------------
 
@@ -236,8 +254,8 @@ class Experiment:
         c = self.cfg["sensor_c"]
         methods = {m["name"]: m["args"] for m in self.cfg["methods"]}
         grid, heldout = self.c_fixed_recordings()
-        for seed in self.cfg["seeds"]:
-            for noise in c["noises"]:
+        for noise in c["noises"]:
+            for seed in noise.get("seeds", self.cfg["seeds"]):
                 for prog in c["programmes"]:
                     rec = self.run.path("data", "c", prog, noise["name"], "seed%d.csv" % seed)
                     if not os.path.exists(rec):
@@ -283,7 +301,7 @@ def main():
     ap.add_argument("--config", default=os.path.join(HERE, "config.yaml"))
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--budget-min", type=float, default=25.0)
-    ap.add_argument("--part", choices=["reference", "sensor_c", "all"], default="all")
+    ap.add_argument("--part", choices=["reference", "sensor_c", "scaling", "all"], default="all")
     ap.add_argument("--summary-only", action="store_true", help="summarise what is cached, compute nothing")
     args = ap.parse_args()
     cfg = yaml.safe_load(open(args.config))
@@ -291,7 +309,7 @@ def main():
     if args.summary_only:
         e.deadline = 0.0
     done = True
-    for part in (["sensor_c", "reference"] if args.part == "all" else [args.part]):
+    for part in (["sensor_c", "reference", "scaling"] if args.part == "all" else [args.part]):
         try:
             getattr(e, part)()
         except OutOfTime:

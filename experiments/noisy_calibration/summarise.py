@@ -5,8 +5,8 @@ import statistics
 
 from gyrosid_experiments import fmt, write_text
 
-BEST = "hybrid"  # gyrosid's best configuration: builtin:calibration/rbf_noisy.yaml
 PEERS = ["gp_sklearn", "krr_sklearn"]
+NOT_CANDIDATES = {"crb_floor", "crb_oracle", "classical_scan", "classical_soak"}
 
 
 def num(v):
@@ -23,8 +23,26 @@ def cell(rows, metric, **key):
     return (statistics.median(vals), len(vals)) if vals else (None, 0)
 
 
+def recording(r):
+    return tuple(r[k] for k in ("sensor", "trajectory", "noise", "seed"))
+
+
+def best_method(rows):
+    """gyrosid's best configuration, chosen from the data: among the methods run on every recording that has
+    a floor, the lowest median over recordings of held-out rms / floor. Returns (method, {method: median})."""
+    floors = {recording(r): num(r["heldout_rms_dph"]) for r in rows if r["method"] == "crb_floor" and num(r.get("heldout_rms_dph"))}
+    ratios = {}
+    for r in rows:
+        if r["method"] in NOT_CANDIDATES or r["method"].endswith("_sklearn") or recording(r) not in floors:
+            continue
+        if num(r.get("heldout_rms_dph")) is not None:
+            ratios.setdefault(r["method"], {})[recording(r)] = num(r["heldout_rms_dph"]) / floors[recording(r)]
+    medians = {m: statistics.median(v.values()) for m, v in ratios.items() if set(v) == set(floors)}
+    return (min(medians, key=medians.get) if medians else "hybrid"), medians
+
+
 def order(values, preferred):
-    return [v for v in preferred if v in values] + sorted(v for v in values if v not in preferred)
+    return [v for v in dict.fromkeys(preferred) if v in values] + sorted(v for v in values if v not in preferred)
 
 
 def grid_table(rows, metric, sensor, trajectory, noises, methods):
@@ -53,13 +71,13 @@ def ratio_table(rows, sensor, trajectory, noises, methods):
     return head + body
 
 
-def section_sensor(rows, sensor, cfg_noises, title):
+def section_sensor(rows, sensor, cfg_noises, title, best):
     md = []
-    trajectories = order({r["trajectory"] for r in rows if r["sensor"] == sensor and r["trajectory"] != "soak"}, ["dual", "test_4x16"])
+    trajectories = order({r["trajectory"] for r in rows if r["sensor"] == sensor and r["trajectory"] not in ("soak", "scaling")}, ["dual", "test_4x16"])
     for t in trajectories:
         noises = [n for n in cfg_noises if any(r["noise"] == n and r["trajectory"] == t and r["sensor"] == sensor for r in rows)]
         methods = order({r["method"] for r in rows if r["sensor"] == sensor and r["trajectory"] == t},
-                        ["crb_floor", "crb_oracle", BEST, "default", "bayes", "ols", "lrols_loo", "ofs_loo", "nlopt", "ceres", "ipopt",
+                        ["crb_floor", "crb_oracle", best, "hybrid", "hybrid_white", "default", "bayes", "ols", "lrols_loo", "ofs_loo", "nlopt", "ceres", "ipopt",
                          "classical_scan"] + PEERS)
         md.append("\n### %s, %s: surface rms (deg/h)\n\n" % (title, t) + grid_table(rows, "surface_rms_dph", sensor, t, noises, methods))
         md.append("\n### %s, %s: held-out rms (deg/h)\n\n" % (title, t) + grid_table(rows, "heldout_rms_dph", sensor, t, noises, methods))
@@ -71,7 +89,7 @@ def section_sensor(rows, sensor, cfg_noises, title):
     return md
 
 
-def cof_section(rows, noises):
+def cof_section(rows, noises, best):
     md = ["\n## Criterion of fit (reference sensor, noise-free flights; m, long: after 1 h; medians over seeds)\n\n"]
     for n in noises:
         if not any(r["noise"] == n and r["method"] == "classical_soak" for r in rows):
@@ -79,23 +97,29 @@ def cof_section(rows, noises):
         md.append("\n### %s\n\n| trained on | method | short | medium | long (1 h) |\n|---|---|---|---|---|\n" % n)
         for t in ["soak", "dual", "test_4x16"]:
             for m in order({r["method"] for r in rows if r["trajectory"] == t and r["sensor"] == "reference"},
-                           ["classical_soak", "crb_oracle", BEST, "default", "bayes", "ols", "nlopt", "ceres", "classical_scan"]):
+                           ["classical_soak", "crb_oracle", best, "hybrid", "default", "bayes", "ols", "nlopt", "ceres", "classical_scan"]):
                 vals = [cell(rows, k, sensor="reference", trajectory=t, noise=n, method=m)[0] for k in ("cof_short_m", "cof_medium_m", "cof_long_1h_m")]
                 if any(v is not None for v in vals):
                     md.append("| %s | %s | %s |\n" % (t, m, " | ".join(fmt(v) if v is not None else "" for v in vals)))
     return md
 
 
-def time_section(rows):
+def time_section(rows, best):
     md = ["\n## Time and memory (medians; reference sensor, white 10 deg/h)\n\n| trajectory | method | samples | time (s) | peak RSS (MB) | nodes |\n|---|---|---|---|---|---|\n"]
     for t in ["dual", "test_4x16"]:
-        for m in order({r["method"] for r in rows if r["trajectory"] == t}, [BEST, "default", "bayes", "ols", "nlopt", "ceres"] + PEERS):
+        for m in order({r["method"] for r in rows if r["trajectory"] == t}, [best, "hybrid", "hybrid_white", "default", "bayes", "ols", "nlopt", "ceres"] + PEERS):
             key = dict(sensor="reference", trajectory=t, noise="white_10", method=m)
             tv = cell(rows, "time_s", **key)[0]
             if tv is None:
                 continue
             md.append("| %s | %s | %s | %s | %s | %s |\n" % (t, m, fmt(cell(rows, "samples", **key)[0]), fmt(tv),
                                                             fmt(cell(rows, "peak_rss_mb", **key)[0]), fmt(cell(rows, "nodes", **key)[0])))
+    scaling = [r for r in rows if r["trajectory"] == "scaling"]
+    if scaling:
+        md.append("\nAgainst N (test trajectory resampled, white 10 deg/h, one run each; the machine is shared):\n\n"
+                  "| method | samples | time (s) | peak RSS (MB) | nodes |\n|---|---|---|---|---|\n")
+        for r in sorted(scaling, key=lambda r: (r["method"], num(r["samples"]))):
+            md.append("| %s | %s | %s | %s | %s |\n" % (r["method"], r["samples"], fmt(num(r["time_s"])), fmt(num(r["peak_rss_mb"])), r["nodes"]))
     return md
 
 
@@ -103,12 +127,14 @@ def per_seed(rows, metric, method, **key):
     return {r["seed"]: num(r.get(metric)) for r in rows if r["method"] == method and all(r.get(k) == v for k, v in key.items())}
 
 
-def targets_section(rows, cfg):
-    md = ["\n## Targets (issue 11)\n\n"]
+def targets_section(rows, cfg, best, medians):
+    md = ["\n## Targets (issue 11)\n\n",
+          "gyrosid's best configuration, chosen by the median over recordings of held-out rms / floor among the methods "
+          "run on every recording: `%s` (%s).\n\n" % (best, ", ".join("%s %s" % (m, fmt(v)) for m, v in sorted(medians.items(), key=lambda x: x[1])))]
     # 1. Held-out rms at most 1.3 x the floor, and below both peers on every recording.
     worst, beaten, total, time_ratio = 0.0, 0, 0, []
     for r in rows:
-        if r["method"] != BEST or num(r.get("heldout_rms_dph")) is None:
+        if r["method"] != best or num(r.get("heldout_rms_dph")) is None:
             continue
         key = {k: r[k] for k in ("sensor", "trajectory", "noise", "seed")}
         floor = per_seed(rows, "heldout_rms_dph", "crb_floor", **{k: v for k, v in key.items() if k != "seed"}).get(r["seed"])
@@ -119,34 +145,34 @@ def targets_section(rows, cfg):
             total += 1
             beaten += all(num(r["heldout_rms_dph"]) < num(p["heldout_rms_dph"]) and num(r["surface_rms_dph"]) < num(p["surface_rms_dph"]) for p in peers)
             time_ratio += [num(r["time_s"]) / num(p["time_s"]) for p in peers if num(p["time_s"])]
-    md.append("- Held-out rms of `%s` over the Cramer-Rao floor: worst recording %s (target <= 1.3).\n" % (BEST, fmt(worst)))
+    md.append("- Held-out rms of `%s` over the Cramer-Rao floor: worst recording %s (target <= 1.3).\n" % (best, fmt(worst)))
     if total:
         md.append("- Beats GP and KernelRidge on surface and held-out rms on %d of %d recordings with peers; median time %s of theirs.\n" % (
             beaten, total, fmt(statistics.median(time_ratio)) if time_ratio else "?"))
     # 2. CoF on the dual scan at 10 deg/h against the classical soak.
     for flight, key in (("short", "cof_short_m"), ("medium", "cof_medium_m"), ("long", "cof_long_1h_m")):
         soak = per_seed(rows, key, "classical_soak", sensor="reference", trajectory="soak", noise="white_10")
-        ours = per_seed(rows, key, BEST, sensor="reference", trajectory="dual", noise="white_10")
+        ours = per_seed(rows, key, best, sensor="reference", trajectory="dual", noise="white_10")
         seeds = sorted(set(soak) & set(ours))
         if seeds:
             ratios = [soak[s] / ours[s] for s in seeds]
             md.append("- CoF %s, dual scan 10 deg/h: classical soak / %s = %s per seed (median %s; target %s).\n" % (
-                flight, BEST, ", ".join(fmt(x) for x in ratios), fmt(statistics.median(ratios)), ">= 2" if flight != "long" else ">= 1"))
+                flight, best, ", ".join(fmt(x) for x in ratios), fmt(statistics.median(ratios)), ">= 2" if flight != "long" else ">= 1"))
     # 3. Gauss-Markov against white at the same power.
     for t in ["dual", "test_4x16"]:
-        w, _ = cell(rows, "surface_rms_dph", sensor="reference", trajectory=t, noise="white_10", method=BEST)
+        w, _ = cell(rows, "surface_rms_dph", sensor="reference", trajectory=t, noise="white_10", method=best)
         wf, _ = cell(rows, "surface_rms_dph", sensor="reference", trajectory=t, noise="white_10", method="crb_floor")
         for n in [x["name"] for x in cfg["noises"] if x.get("gm_sigma_dph")]:
-            g, _ = cell(rows, "surface_rms_dph", sensor="reference", trajectory=t, noise=n, method=BEST)
+            g, _ = cell(rows, "surface_rms_dph", sensor="reference", trajectory=t, noise=n, method=best)
             gf, _ = cell(rows, "surface_rms_dph", sensor="reference", trajectory=t, noise=n, method="crb_floor")
             if w and g:
                 md.append("- %s, %s: surface rms %s vs white 10 deg/h %s: ratio %s (target <= 2); the floors' ratio is %s.\n" % (
                     t, n, fmt(g), fmt(w), fmt(g / w), fmt(gf / wf) if gf and wf else "?"))
     # 4. Coverage.
-    cov = [num(r["heldout_coverage_95"]) for r in rows if r["method"] == BEST and num(r.get("heldout_coverage_95")) is not None]
+    cov = [num(r["heldout_coverage_95"]) for r in rows if r["method"] == best and num(r.get("heldout_coverage_95")) is not None]
     if cov:
         md.append("- 95 %% band coverage on held-out data, `%s`: median %s, range %s-%s over %d recordings (target 0.93-0.97).\n" % (
-            BEST, fmt(statistics.median(cov)), fmt(min(cov)), fmt(max(cov)), len(cov)))
+            best, fmt(statistics.median(cov)), fmt(min(cov)), fmt(max(cov)), len(cov)))
     return md
 
 
@@ -158,11 +184,12 @@ def write_summary(out, rows, cfg, command, done):
           "compensated - reference on a noise-free held-out trajectory. crb_floor: the expected rms of the efficient "
           "(Cramer-Rao) estimate of the true model along the same recording; crb_oracle: that estimate itself.\n" % (
               command, "" if done else " (partial: the sweep has not finished)")]
-    md += targets_section(rows, cfg)
+    best, medians = best_method(rows)
+    md += targets_section(rows, cfg, best, medians)
     md.append("\n## Reference sensor\n")
-    md += section_sensor(rows, "reference", noises, "reference")
-    md += cof_section(rows, noises)
-    md += time_section(rows)
+    md += section_sensor(rows, "reference", noises, "reference", best)
+    md += cof_section(rows, noises, best)
+    md += time_section(rows, best)
     md.append("\n## Sensor C (independent generator)\n")
-    md += section_sensor(rows, "C", [n["name"] for n in cfg["sensor_c"]["noises"]], "sensor C")
+    md += section_sensor(rows, "C", [n["name"] for n in cfg["sensor_c"]["noises"]], "sensor C", best)
     write_text(os.path.join(out, "summary.md"), "".join(md))
