@@ -96,8 +96,11 @@ class Experiment:
         row["heldout_rms_dph"], row["heldout_coverage_95"], _ = self.compensation_scores(
             model, self.validation(), self.run.path("heldout", tag + ".csv"))
         cof = self.cfg["cof"]
-        for flight in ref["flights"] if row["noise"] in cof["noises"] and row["method"] in cof["methods"] else []:
+        wanted = row["noise"] in cof["noises"] and row["method"] in cof["methods"]
+        for flight in ref["flights"]:
             cdir = self.run.path("cof", tag, flight, "x")[:-2]
+            if not wanted and not os.path.exists(os.path.join(cdir, "cof.json")):
+                continue
             self.gyrosid(["cof", "--model", model, "--sensor", ref["sensor"], "--trajectory", flight, "--out", cdir],
                          os.path.join(cdir, "cof.json"))
             c = load_json(os.path.join(cdir, "cof.json"))
@@ -200,9 +203,9 @@ class Experiment:
                       "--out", path], path)
         self.reference_method("soak", noise, seed, "classical_soak", ["--config", "builtin:calibration/classical.yaml"], path)
 
-    def reference(self):
+    def reference(self, only=None):
         cfg = self.cfg
-        for noise in cfg["noises"]:  # the config lists the target noises first
+        for noise in [n for n in cfg["noises"] if only is None or n["name"] in only]:
             for seed in noise.get("seeds", cfg["seeds"]):
                 for trajectory in cfg["reference"]["trajectories"]:
                     recording = self.reference_recording(trajectory, noise, seed)
@@ -250,11 +253,11 @@ class Experiment:
                              "gyro_dps": w + generator_c.error_dph(w, temp) / 3600.0})
         return grid, heldout
 
-    def sensor_c(self):
+    def sensor_c(self, only=None):
         c = self.cfg["sensor_c"]
         methods = {m["name"]: m["args"] for m in self.cfg["methods"]}
         grid, heldout = self.c_fixed_recordings()
-        for noise in c["noises"]:
+        for noise in [n for n in c["noises"] if only is None or n["name"] in only]:
             for seed in noise.get("seeds", self.cfg["seeds"]):
                 for prog in c["programmes"]:
                     rec = self.run.path("data", "c", prog, noise["name"], "seed%d.csv" % seed)
@@ -308,12 +311,19 @@ def main():
     e = Experiment(args, cfg)
     if args.summary_only:
         e.deadline = 0.0
+    # The target noises of both sensors first, so that a run cut short by its budget has them.
+    first = cfg["priority_noises"]
+    stages = {"all": [("sensor_c", first), ("reference", first), ("scaling", None), ("sensor_c", None), ("reference", None)],
+              "reference": [("reference", None)], "sensor_c": [("sensor_c", None)], "scaling": [("scaling", None)]}[args.part]
     done = True
-    for part in (["sensor_c", "reference", "scaling"] if args.part == "all" else [args.part]):
+    for part, only in stages:
         try:
-            getattr(e, part)()
+            getattr(e, part)(only) if only else getattr(e, part)()
         except OutOfTime:
             done = False
+            if not args.summary_only:  # out of budget; a summary goes on to what later stages have cached
+                break
+    e.rows = list({tuple(sorted((k, str(v)) for k, v in r.items())): r for r in e.rows}.values())  # stages revisit cached rows
     write_csv(os.path.join(e.out, "rows.csv"), e.rows, COLUMNS)
     import summarise  # noqa: E402
     summarise.write_summary(e.out, e.rows, cfg, " ".join(sys.argv), done)
