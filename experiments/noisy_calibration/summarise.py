@@ -127,10 +127,8 @@ def per_seed(rows, metric, method, **key):
     return {r["seed"]: num(r.get(metric)) for r in rows if r["method"] == method and all(r.get(k) == v for k, v in key.items())}
 
 
-def targets_section(rows, cfg, best, medians):
-    md = ["\n## Targets (issue 11)\n\n",
-          "gyrosid's best configuration, chosen by the median over recordings of held-out rms / floor among the methods "
-          "run on every recording: `%s` (%s).\n\n" % (best, ", ".join("%s %s" % (m, fmt(v)) for m, v in sorted(medians.items(), key=lambda x: x[1])))]
+def targets_section(rows, cfg, best):
+    md = ["\n### `%s`\n\n" % best]
     # 1. Held-out rms at most 1.3 x the floor, and below both peers on every recording.
     worst, beaten, total, time_ratio = 0.0, 0, 0, []
     for r in rows:
@@ -185,7 +183,11 @@ def write_summary(out, rows, cfg, command, done):
           "(Cramer-Rao) estimate of the true model along the same recording; crb_oracle: that estimate itself.\n" % (
               command, "" if done else " (partial: the sweep has not finished)")]
     best, medians = best_method(rows)
-    md += targets_section(rows, cfg, best, medians)
+    md.append("\n## Targets (issue 11)\n\ngyrosid's best configuration, chosen by the median over recordings of held-out rms / floor "
+              "among the methods run on every recording: `%s` (%s). The targets for it and for `hybrid` "
+              "(builtin:calibration/rbf_noisy.yaml):\n" % (best, ", ".join("%s %s" % (m, fmt(v)) for m, v in sorted(medians.items(), key=lambda x: x[1]))))
+    for method in dict.fromkeys([best, "hybrid"]):
+        md += targets_section(rows, cfg, method)
     md.append("\n## Reference sensor\n")
     md += section_sensor(rows, "reference", noises, "reference", best)
     md += cof_section(rows, noises, best)
