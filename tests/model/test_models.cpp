@@ -14,6 +14,7 @@
 #include "model/classical_model.h"
 #include "model/greybox_fit.h"
 #include "model/hybrid_model.h"
+#include "model/physics_terms.h"
 #include "error_of.h"
 #include "model_samples.h"
 #include "model/rbf_network.h"
@@ -151,6 +152,21 @@ TEST(HybridModel, RegressorsTimesWeightsArePredictionsAndSigmaIsTheQuadraticForm
   }
   EXPECT_THAT(testing_support::error_of([] { testing_support::model_samples().at("classical")()->regressors(Eigen::MatrixXd(1, 2)); }),
               ::testing::HasSubstr("no posterior"));
+}
+
+// Found by fuzzing: polynomial orders in a model file were converted to int without a check (1.8e86 is
+// undefined behaviour). Orders are whole numbers in [0, 12] or a named error; valid ones round-trip.
+TEST(PhysicsTerms, PolynomialOrdersFromFilesAreChecked) {
+  const auto load = [](const char* text) { return Term::from_json(nlohmann::json::parse(text)); };
+  const Term ok = load(R"({"kind": "scale_factor", "sf_orders": [[0, 1], [2, 3]]})");
+  EXPECT_EQ(ok.size(), 2);
+  EXPECT_EQ(Term::from_json(ok.to_json()).to_json(), ok.to_json());
+  EXPECT_EQ(load(R"({"kind": "bias_temperature", "orders": [1, 2, 3]})").size(), 3);
+  for (const char* bad : {R"({"kind": "bias_temperature", "orders": [1, 1.77778e86]})", R"({"kind": "bias_temperature", "orders": [-1]})",
+                          R"({"kind": "bias_temperature", "orders": [1.5]})", R"({"kind": "scale_factor", "sf_orders": [[1]]})",
+                          R"({"kind": "scale_factor", "sf_orders": [[1, "2"]]})"}) {
+    EXPECT_THAT(testing_support::error_of([&] { load(bad); }), ::testing::HasSubstr("orders")) << bad;
+  }
 }
 
 }  // namespace

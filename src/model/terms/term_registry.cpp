@@ -2,12 +2,41 @@
 // are, and its loader from the term's JSON fields.
 #include "model/terms/term_kinds.h"
 
+#include <cmath>
+
+#include "core/error.h"
+
 namespace gyrosid {
 namespace {
 
 template <typename T>
 std::vector<T> list(const nlohmann::json& j, const char* key) {
   return j.at(key).get<std::vector<T>>();
+}
+
+// A polynomial order from a model file: a whole number in [0, kMaxOrder] (found by fuzzing: nlohmann converts
+// 1.8e86 to int with undefined behaviour, and pow(dT, 1e9) is no model).
+constexpr int kMaxOrder = 12;
+int order(const nlohmann::json& j, const char* key) {
+  if (!j.is_number() || !(j.get<double>() >= 0 && j.get<double>() <= kMaxOrder) || j.get<double>() != std::floor(j.get<double>())) {
+    fail("physics term: '", key, "' holds ", j.dump(), "; expected whole orders from 0 to ", kMaxOrder);
+  }
+  return static_cast<int>(j.get<double>());
+}
+
+std::vector<int> orders(const nlohmann::json& j, const char* key) {
+  std::vector<int> out;
+  for (const auto& v : j.at(key)) out.push_back(order(v, key));
+  return out;
+}
+
+std::vector<std::array<int, 2>> order_pairs(const nlohmann::json& j, const char* key) {
+  std::vector<std::array<int, 2>> out;
+  for (const auto& v : j.at(key)) {
+    if (!v.is_array() || v.size() != 2) fail("physics term: '", key, "' holds ", v.dump(), "; expected pairs [i, j] of orders");
+    out.push_back({order(v[0], key), order(v[1], key)});
+  }
+  return out;
 }
 
 }  // namespace
@@ -19,10 +48,10 @@ const TermKindRegistry& term_kinds() {
     using P = std::unique_ptr<TermBasis>;
     r.add({"bias", "a constant", none, [](const nlohmann::json&) -> P { return std::make_unique<BiasTerm>(); }})
         .add({"bias_temperature", "dT^k for each order k (bias polynomial in the coil temperature)", none,
-              [](const nlohmann::json& j) -> P { return std::make_unique<TemperaturePolynomial>(list<int>(j, "orders")); }})
+              [](const nlohmann::json& j) -> P { return std::make_unique<TemperaturePolynomial>(orders(j, "orders")); }})
         .add({"scale_factor", "omega dT^i u^j for each (i, j) (scale-factor polynomial)", none,
               [](const nlohmann::json& j) -> P {
-                return std::make_unique<ScaleFactorPolynomial>(list<std::array<int, 2>>(j, "sf_orders"));
+                return std::make_unique<ScaleFactorPolynomial>(order_pairs(j, "sf_orders"));
               }})
         .add({"scale_factor_surface", "omega B_ij(T, omega): bicubic-spline scale-factor surface on a (T, omega) grid", none,
               [](const nlohmann::json& j) -> P {
