@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "solvers/ceres/gaussian_sum_cost.h"
+#include "solvers/common/ceres_support.h"
 #include "solvers/common/terminations.h"
 
 namespace gyrosid {
@@ -146,19 +147,6 @@ class VarProCost : public ceres::CostFunction {
   double sqrt_lambda_;
 };
 
-// Reports every Levenberg-Marquardt iteration's cost to the monitor.
-class MonitorCallback : public ceres::IterationCallback {
- public:
-  explicit MonitorCallback(SolveMonitor& monitor) : monitor_(monitor) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
-    monitor_.iteration(s.cost);
-    return ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  SolveMonitor& monitor_;
-};
-
 // Whether node j is seen above the truncation by any sample of rows [begin, begin + len) (at twice its
 // width: a margin for centres and widths to move during the solve).
 bool node_near_chunk(const RbfProblem& problem, const RbfNetwork& net, Eigen::Index j, Eigen::Index begin, Eigen::Index len,
@@ -213,11 +201,7 @@ void add_sample_blocks(const CeresOptions& o, const RbfProblem& problem, const R
 
 // Standard deviations of every node's parameters from ceres::Covariance, scaled by the residual variance.
 nlohmann::json parameter_sigmas(PackedNetwork& packed, ceres::Problem& cp, double final_cost, Eigen::Index n) {
-  ceres::Covariance::Options co;
-  co.algorithm_type = ceres::DENSE_SVD;
-  co.null_space_rank = -1;
-  co.min_reciprocal_condition_number = 1e-14;
-  ceres::Covariance covariance(co);
+  ceres::Covariance covariance(dense_svd_covariance());
   std::vector<std::pair<const double*, const double*>> pairs;
   for (auto& b : packed.nodes) pairs.emplace_back(b.data(), b.data());
   if (!covariance.Compute(pairs, &cp)) return {{"parameter_sigma", "rank-deficient Jacobian: covariance not computable"}};

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "solvers/common/ceres_support.h"
 #include "solvers/common/terminations.h"
 #include "solvers/nls/nls_scaling.h"
 
@@ -60,18 +61,6 @@ std::string NlsIpoptOptions::validate() const { return ""; }
 namespace {
 
 // --- ceres -----------------------------------------------------------------------------------------
-
-class MonitorCallback : public ceres::IterationCallback {
- public:
-  explicit MonitorCallback(SolveMonitor& monitor) : monitor_(monitor) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
-    monitor_.iteration(s.cost);
-    return ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  SolveMonitor& monitor_;
-};
 
 ceres::LinearSolverType linear_solver_type(const std::string& name) {
   if (name == "dense_normal_cholesky") return ceres::DENSE_NORMAL_CHOLESKY;
