@@ -160,6 +160,45 @@ def load_session(root):
     return t, gyro, acc, static_intervals(t, acc)
 
 
+def synthetic_check(seed=1, holds=30, noise_counts=3.0):
+    """The peer on a synthetic session with planted T K (gyro) and accelerometer parameters: holds of 3 s at
+    successive orientations, turns of 2 s about a fixed random axis with a sine-shaped rate (so each turn's
+    rotation is exactly exp(angle [axis]x), independent of the peer's integration). Returns (planted I + M,
+    estimated I + M, sigma)."""
+    rng = np.random.default_rng(seed)
+    rate, n_hold, n_turn = 100.0, 300, 200
+    p_gyro = np.r_[rng.normal(0, 3e-3, 6), (1.0 + rng.normal(0, 0.02, 3)) / GYRO_COUNTS_PER_RADPS]
+    a_gyro = _gyro_matrix(p_gyro)
+    p_acc = np.r_[rng.normal(0, 2e-3, 3), (1.0 + rng.normal(0, 0.02, 3)) * GRAVITY / 3500.0, ZERO_COUNTS + rng.normal(0, 50, 3)]
+    a_acc = np.array([[1.0, -p_acc[0], p_acc[1]], [0.0, 1.0, -p_acc[2]], [0.0, 0.0, 1.0]]) @ np.diag(p_acc[3:6])
+    b_gyro = ZERO_COUNTS + rng.normal(0, 100, 3)
+    u = np.array([0.0, 0.0, 1.0])
+    omega, gravity = [], []
+    shape = np.sin(np.pi * (np.arange(n_turn) + 0.5) / n_turn)
+    for k in range(holds):
+        omega.append(np.zeros((n_hold if k else 5000, 3)))
+        gravity.append(np.tile(u, (len(omega[-1]), 1)))
+        if k == holds - 1:
+            break
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        angle = rng.uniform(np.pi / 3, np.pi)
+        w = np.outer(shape / shape.sum() * angle * rate, axis)
+        omega.append(w)
+        gravity.append(np.tile(u, (n_turn, 1)))  # not static: excluded by the detector's window
+        kx = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+        r = np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
+        u = r.T @ u
+    omega, gravity = np.vstack(omega), np.vstack(gravity)
+    t = np.arange(len(omega)) / rate
+    gyro = np.linalg.solve(a_gyro, omega.T).T + b_gyro + rng.normal(0, noise_counts, omega.shape)
+    acc = np.linalg.solve(a_acc, GRAVITY * gravity.T).T + p_acc[6:9] + rng.normal(0, noise_counts, omega.shape)
+    moving = np.linalg.norm(omega, axis=1) > 0  # the turns also shake the accelerometer
+    acc[moving] += rng.normal(0, 200, (int(moving.sum()), 3))
+    peer = imutk_peer(t, gyro, acc, static_intervals(t, acc))
+    return np.linalg.inv(a_gyro * GYRO_COUNTS_PER_RADPS), peer["I_plus_M"], peer["sigma"]
+
+
 if __name__ == "__main__":
     import sys
     t, gyro, acc, iv = load_session(sys.argv[1] if len(sys.argv) > 1 else "/work/shared/realdata/imu_tk")
