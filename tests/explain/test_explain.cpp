@@ -159,6 +159,22 @@ TEST(LinearFit, NewDirectionsAreOrthonormalAndEmptyInsideTheSpan) {
   EXPECT_EQ(fit_whitened(dep, a.col(1)).rank, 1);
 }
 
+// The hysteresis term is the play operator of half-width width/2 from its neutral state, scaled to +-1/2:
+// along 0 -> 10 -> 0 C with width 2 C it is x/2 for the first degree, +1/2 while heating, 0 one degree
+// after the turn, -1/2 from two degrees after it.
+TEST(PhysicsTerms, HysteresisIsThePlayOperatorFromItsNeutralState) {
+  Signals s;
+  const std::vector<double> temp{0.0, 0.5, 1.0, 4.0, 10.0, 9.0, 8.0, 5.0, 0.0};
+  const auto n = static_cast<Eigen::Index>(temp.size());
+  s.t_s.resize(temp.size());
+  for (std::size_t k = 0; k < temp.size(); ++k) s.t_s[k] = 600.0 * static_cast<double>(k);
+  s.rate = Eigen::VectorXd::Zero(n);
+  s.temp_c = Eigen::Map<const Eigen::VectorXd>(temp.data(), n);
+  const Eigen::MatrixXd x = design_matrix({hysteresis_term(2.0)}, s, coil_temperature(s, 0.0), TermScaling::of(s));
+  const std::vector<double> expected{0.0, 0.25, 0.5, 0.5, 0.5, 0.0, -0.5, -0.5, -0.5};
+  for (Eigen::Index k = 0; k < n; ++k) EXPECT_NEAR(x(k, 0), expected[static_cast<std::size_t>(k)], 1e-12) << k;
+}
+
 TEST(PhysicsTerms, SurfaceBasisReproducesTheBicubicSpline) {
   const std::vector<double> temps{-20, 0, 20, 25, 40, 60}, rates{-100, -40, -10, 10, 40, 100};
   RandomStream rng(5, "surface");

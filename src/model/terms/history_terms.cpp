@@ -24,8 +24,9 @@ HysteresisTerm::HysteresisTerm(double width_c) : width_c_(width_c) {
   if (!(width_c_ >= 0)) fail("physics term hysteresis: width_c must be >= 0");
 }
 
-// The play operator P_r (a backlash of half-width r) on the coil temperature, started on the branch of
-// the first movement larger than r (before it the branch is unknown: the first one seen).
+// The play operator P_r (a backlash of half-width r) on the coil temperature, started in its neutral state
+// y = x(0) (output 0, midway between the branches): the recording does not say which branch the sensor was
+// on at switch-on, and the neutral state assumes neither (Krasnosel'skii-Pokrovskii's usual initial state).
 void HysteresisTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const {
   if (width_c_ == 0.0) {
     out.col(0) = thermal_branch(in.signals, in.coil, in.scaling);
@@ -33,9 +34,7 @@ void HysteresisTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> o
   }
   const Eigen::VectorXd& x = in.coil.temp_c;
   const double r = 0.5 * width_c_;
-  Eigen::Index first = 0;
-  while (first < x.size() && std::abs(x(first) - x(0)) <= r) ++first;
-  double y = first < x.size() ? x(0) - std::copysign(r, x(first) - x(0)) : x(0);
+  double y = x.size() ? x(0) : 0.0;
   for (Eigen::Index i = 0; i < x.size(); ++i) {
     y = std::clamp(y, x(i) - r, x(i) + r);
     out(i, 0) = (x(i) - y) / width_c_;
