@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/units.h"
 #include "explain/judge.h"
 #include "explain/refit.h"
@@ -71,7 +72,10 @@ Accepted accept(const std::vector<Judged>& judged, const ModelSpec& base, const 
     if (!j.accepted(min_stability)) {
       const auto z = j.heldout_testable ? std::optional<double>(j.heldout_z) : std::nullopt;
       a.demoted.push_back({j.effect.score.id, j.effect.score.delta_bic, j.stability, j.heldout_gain, z,
-                           j.stability < min_stability ? "unstable across training blocks" : "not confirmed on the held-out blocks"});
+                           j.stability < min_stability ? "unstable across training blocks"
+                           : j.explained_by_others()   ? str_cat("explained by the other effects once their nonlinear parameters are refitted "
+                                                                 "without it (profile dBIC ", format_significant(*j.profiled_delta_bic, 3), ")")
+                                                       : "not confirmed on the held-out blocks"});
       continue;
     }
     if (j.term) a.model.terms.push_back(*j.term);
@@ -102,10 +106,18 @@ std::unique_ptr<ExplainedModel> refitted_model(const RefitResult& fit, const Ter
                                           std::move(prior), prior_gain);
 }
 
+// The held-out rms without a judged effect and the share of the held-out excess over the noise floor it removes.
+void heldout_excess(const Judged& j, double floor_dph, FoundEffect& f) {
+  if (j.heldout_samples == 0) return;
+  const double n = static_cast<double>(j.heldout_samples), without = j.heldout_rss_without / n, floor2 = floor_dph * floor_dph;
+  f.heldout_rms_without_dph = std::sqrt(without);
+  if (without - floor2 > 0.05 * floor2) f.heldout_excess_removed = j.heldout_gain / n / (without - floor2);
+}
+
 // The physical parameters of each accepted effect from the refit, its alternatives and evidence; effects
 // that are not physics (a channel) become unexplained structure localised to that channel.
 void report_effects(const Accepted& accepted, std::size_t base_terms, const RefitResult& fit, const TermScaling& scaling,
-                    const ExplainInput& in, ExplainSummary& out) {
+                    const ExplainInput& in, double floor_dph, ExplainSummary& out) {
   std::vector<Eigen::Index> term_start;
   Eigen::Index at = 0;
   for (const auto& t : fit.model.terms) term_start.push_back(at), at += t.size();
@@ -145,8 +157,51 @@ void report_effects(const Accepted& accepted, std::size_t base_terms, const Refi
       for (const auto& a : *group) f.separating.push_back({a, separating_experiment(effect, find_effect(a))});
     }
     if (j.heldout_testable) f.heldout_z = j.heldout_z;
+    heldout_excess(j, floor_dph, f);
     out.effects.push_back(f);
   }
+}
+
+// The model with every scale-factor surface replaced by the smooth polynomial omega dT^i u^j, i, j <= 3 (the
+// baseline family's polynomial form); false when it has no surface.
+bool smooth_core(const ModelSpec& model, ModelSpec& core) {
+  core = model;
+  bool replaced = false;
+  for (Term& t : core.terms) {
+    if (!t.as<ScaleFactorSurface>()) continue;
+    ScaleFactorPolynomial::Orders sf;
+    for (int i = 0; i <= 3; ++i)
+      for (int j = 0; j <= 3; ++j) sf.push_back({i, j});
+    t = scale_factor_polynomial(sf), replaced = true;
+  }
+  return replaced;
+}
+
+// Physics the accepted model's surface absorbs: every candidate not found, tested against the model with a
+// smooth polynomial in the surface's place. Strong there (dBIC > ambiguity_bic) and weak against the model
+// itself (dBIC < ambiguity_bic): an alternative explanation of part of the surface.
+std::vector<AbsorbedAlternative> absorbed_alternatives(const std::vector<Candidate>& candidates, const Accepted& accepted,
+                                                       const ExplainInput& in, const Eigen::VectorXd& y, const TermScaling& scaling,
+                                                       const Whitener& w, double ambiguity_bic) {
+  std::vector<AbsorbedAlternative> out;
+  ModelSpec core;
+  if (!smooth_core(accepted.model, core)) return out;
+  std::vector<Candidate> open;
+  for (const Candidate& c : candidates) {
+    const bool found = std::any_of(accepted.effects.begin(), accepted.effects.end(), [&](const Judged& j) { return j.effect.candidate.id() == c.id(); });
+    if (!found && c.effect->is_physics()) open.push_back(c);
+  }
+  const std::vector<AbsorptionTest> tests = absorption_tests(open, accepted.model, core, in, y, scaling, w);
+  for (std::size_t k = 0; k < open.size(); ++k) {
+    const AbsorptionTest& t = tests[k];
+    if (!(t.delta_bic_core > ambiguity_bic && t.delta_bic_full < ambiguity_bic)) continue;
+    out.push_back({std::string(open[k].id()), "scale_factor_surface", t.unique_fraction, t.delta_bic_core, t.delta_bic_full,
+                   str_cat("the scale-factor surface absorbs it: ", format_significant(100.0 * (1.0 - t.unique_fraction), 3),
+                           " % of its signal lies inside the simulation's span, so against the simulation its dBIC is ",
+                           format_significant(t.delta_bic_full, 3), " (against a smooth polynomial scale factor ",
+                           format_significant(t.delta_bic_core, 3), ")")});
+  }
+  return out;
 }
 
 // Significant structure left after the refit: channel correlations, time windows, (T, omega) cells.
@@ -210,6 +265,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
   // 3. Stability and held-out confirmation of every selected effect; 4. the joint refit with intervals.
   const Accepted accepted = accept(judge_effects(in, y, base, sel, scaling, w), base, sel, o.min_stability);
   const RefitResult final_fit = refit(in, y, accepted.model, accepted.lag_selected, scaling, w);
+  summary.absorbed_alternatives = absorbed_alternatives(candidates, accepted, in, y, scaling, w, o.selection.ambiguity_bic);
   const Eigen::MatrixXd x_before = model_columns(base, in.signals, scaling);
   result.residual_before_dph = y - x_before * gls(x_before, y, w).beta;
   result.residual_after_dph = y - model_columns(final_fit.model, in.signals, scaling) * final_fit.beta;
@@ -226,7 +282,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
 
   // 5. The refitted model, the effects and what is left unexplained.
   result.model = refitted_model(final_fit, scaling, std::move(sim.prior));
-  report_effects(accepted, base.terms.size(), final_fit, scaling, in, summary);
+  report_effects(accepted, base.terms.size(), final_fit, scaling, in, final_noise.stationary_sigma(), summary);
   localise_unexplained(summary.after, in, summary.unexplained);
   summary.verdict = !summary.effects.empty()      ? Verdict::missing_physics
                     : !summary.unexplained.empty() ? Verdict::unexplained_residual

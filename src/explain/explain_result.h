@@ -62,6 +62,23 @@ struct FoundEffect {
   double stability = 1.0;                        // fraction of leave-one-block-out refits keeping it
   std::optional<double> heldout_z;               // its held-out gain over its noise; none: the blocks cannot test it
   bool heldout_confirmed() const { return heldout_z && *heldout_z > 2.0; }
+  // The held-out rms of the selected model without this effect (its other coefficients refitted), and the
+  // share of the held-out excess over the noise floor, (rms_without^2 - rms_with^2) / (rms_without^2 -
+  // floor^2), that the effect removes; none when the held-out excess is within 5 % of the floor's variance.
+  double heldout_rms_without_dph = 0.0;
+  std::optional<double> heldout_excess_removed;
+};
+
+// A named effect the simulation's own flexible structure (its scale-factor surface) absorbs: against the
+// simulation with a smooth polynomial in its place the effect is strong, against the simulation itself it is
+// not - listed as an alternative explanation of part of that structure, not named, with why.
+struct AbsorbedAlternative {
+  std::string id;
+  std::string absorbed_by;        // the term kind that absorbs it
+  double unique_fraction = 0.0;   // share of its whitened signal outside the simulation's span
+  double delta_bic_core = 0.0;    // its dBIC against the simulation with the smooth polynomial instead
+  double delta_bic_full = 0.0;    // its dBIC against the simulation itself: the evidence of its own
+  std::string reason;
 };
 
 // Structure no effect explains, and where it sits: in time, in (T, omega), or along a channel.
@@ -129,6 +146,7 @@ struct ExplainSummary {
   Verdict verdict = Verdict::no_missing_physics;
   std::vector<FoundEffect> effects;
   std::vector<DemotedEffect> demoted;
+  std::vector<AbsorbedAlternative> absorbed_alternatives;
   std::vector<Unexplained> unexplained;
   NoiseSummary noise;
   FitSummary fit;

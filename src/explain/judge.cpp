@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "explain/linear_fit.h"
+#include "explain/refit.h"
 
 namespace gyrosid::explain {
 namespace {
@@ -69,6 +70,8 @@ std::vector<Judged> judge_effects(const ExplainInput& in, const Eigen::VectorXd&
   const Whitener heldout_w = rows_whitener(in, sel.noise, [&](Eigen::Index i) { return in.heldout[static_cast<std::size_t>(i)] != 0; });
   std::vector<Judged> out;
   std::size_t term = base.terms.size();
+  const bool lag_selected = sel.model.lag_tau_s != base.lag_tau_s;
+  std::optional<ProfiledFit> profiled_full;
   for (const auto& selected : sel.effects) {
     Judged j{selected, std::nullopt};
     const bool lag = selected.candidate.nonlinear == NonlinearParameter::coil_lag;
@@ -78,12 +81,21 @@ std::vector<Judged> judge_effects(const ExplainInput& in, const Eigen::VectorXd&
     else j.term = sel.model.terms[term], minus.terms.erase(minus.terms.begin() + static_cast<std::ptrdiff_t>(term++));
     const Eigen::MatrixXd x_minus = model_columns(minus, in.signals, scaling);
     const Eigen::VectorXd residual_minus = y - x_minus * gls(x_minus, y, w).beta;
-    j.heldout_gain = heldout_rss(residual_minus, in) - heldout_rss(residual_full, in);
+    j.heldout_rss_without = heldout_rss(residual_minus, in);
+    j.heldout_gain = j.heldout_rss_without - heldout_rss(residual_full, in);
+    j.heldout_samples = static_cast<std::size_t>(std::count(in.heldout.begin(), in.heldout.end(), 1));
     const Eigen::VectorXd r = heldout_w.apply(residual_full), d = heldout_w.apply(residual_minus - residual_full);
     const double sigma_h = std::sqrt(r.squaredNorm() / std::max<double>(1.0, static_cast<double>(r.size())));
     j.heldout_testable = d.norm() / std::sqrt(static_cast<double>(std::max<Eigen::Index>(1, d.size()))) > 0.05 * sigma;
     j.heldout_z = d.norm() > 0 ? (d.squaredNorm() + 2.0 * r.dot(d)) / (2.0 * sigma_h * d.norm()) : 0.0;
     j.stability = stability(in, y, sel.noise, x_full, x_minus, lag ? 0 : selected.candidate.nonlinear_parameters());
+    const ProfiledFit without = profiled_fit(in, y, minus, lag_selected && !lag, scaling, w);
+    if (without.nonlinear > 0) {
+      if (!profiled_full) profiled_full = profiled_fit(in, y, sel.model, lag_selected, scaling, w);
+      const double n = static_cast<double>(fit_full.n);
+      const int k = (j.term ? j.term->size() : 0) + selected.candidate.nonlinear_parameters();
+      j.profiled_delta_bic = n * std::log(without.rss / std::min(profiled_full->rss, without.rss)) - k * std::log(n);
+    }
     out.push_back(j);
   }
   return out;

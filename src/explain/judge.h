@@ -16,10 +16,19 @@ struct Judged {
   std::optional<Term> term;      // the effect's term in the selected model; none for the coil lag
   double stability = 1.0;        // fraction of leave-one-training-block-out refits with dBIC > 0
   double heldout_gain = 0.0;     // held-out sum of squares without the effect minus with it, (deg/h)^2
+  double heldout_rss_without = 0.0;  // held-out sum of squares of the selected model without it, (deg/h)^2
+  std::size_t heldout_samples = 0;
   double heldout_z = 0.0;        // that gain in the whitened held-out samples over its standard error
   bool heldout_testable = false; // the held-out blocks see the effect (the two predictions differ there)
+  // Its dBIC against the selected model without it when the others' nonlinear parameters (a lag, a
+  // warm-up's tau) are re-optimised without it (a profile likelihood): a lag refitted may explain what a
+  // Shupe term took at the lag's old value. None when no other nonlinear parameter is left to refit.
+  std::optional<double> profiled_delta_bic;
 
-  bool accepted(double min_stability) const { return stability >= min_stability && (!heldout_testable || heldout_z > 2.0); }
+  bool explained_by_others() const { return profiled_delta_bic && *profiled_delta_bic <= 0; }
+  bool accepted(double min_stability) const {
+    return stability >= min_stability && (!heldout_testable || heldout_z > 2.0) && !explained_by_others();
+  }
 };
 
 // `y` in deg/h on every sample; `w` the training whitener of the selection's noise model.

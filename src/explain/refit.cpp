@@ -80,9 +80,10 @@ class RefitCost : public ceres::CostFunction {
 };
 
 // Variable projection: the time constants by BOBYQA, every linear coefficient solved exactly inside.
-void optimise_parameters(const ExplainInput& in, const Eigen::VectorXd& yw, const ModelSpec& model, const std::vector<NonlinearFit>& taus,
-                             const TermScaling& sc, const Whitener& w, std::vector<double>& log_tau) {
-  if (taus.empty()) return;
+// Returns the whitened RSS at the optimum.
+double optimise_parameters(const ExplainInput& in, const Eigen::VectorXd& yw, const ModelSpec& model, const std::vector<NonlinearFit>& taus,
+                           const TermScaling& sc, const Whitener& w, std::vector<double>& log_tau, int max_evaluations_each = 100) {
+  if (taus.empty()) return whitened_rss(w.apply(model_columns(model, in.signals, sc)), yw);
   const double duration = in.signals.t_s.back() - in.signals.t_s.front();
   std::vector<double> lo, hi;
   for (double v : log_tau) {
@@ -91,11 +92,23 @@ void optimise_parameters(const ExplainInput& in, const Eigen::VectorXd& yw, cons
   }
   BoundedSearchOptions bobyqa;
   bobyqa.xtol_abs = 1e-4;
-  bobyqa.max_evaluations = 100 * static_cast<int>(log_tau.size());
-  log_tau = minimize_bounded([&](const std::vector<double>& x) {
-              const ModelSpec m = at_parameters(model, taus, x);
-              return whitened_rss(w.apply(model_columns(m, in.signals, sc)), yw);
-            }, log_tau, lo, hi, bobyqa).x;
+  bobyqa.max_evaluations = max_evaluations_each * static_cast<int>(log_tau.size());
+  const BoundedSearchResult r = minimize_bounded([&](const std::vector<double>& x) {
+    const ModelSpec m = at_parameters(model, taus, x);
+    return whitened_rss(w.apply(model_columns(m, in.signals, sc)), yw);
+  }, log_tau, lo, hi, bobyqa);
+  log_tau = r.x;
+  return r.value;
+}
+
+std::vector<NonlinearFit> nonlinear_parameters(const ModelSpec& model, bool refine_lag) {
+  std::vector<NonlinearFit> out;
+  for (std::size_t t = 0; t < model.terms.size(); ++t) {
+    const auto p = model.terms[t].parameter();
+    if (p && p->scale) out.push_back({static_cast<int>(t), p->name, p->value});
+  }
+  if (refine_lag && model.lag_tau_s > 0) out.push_back({-1, "tau_s", model.lag_tau_s});
+  return out;
 }
 
 // The joint problem in Ceres: a Levenberg-Marquardt polish of (beta, log tau) from the projected optimum.
@@ -137,15 +150,20 @@ void intervals(ceres::Problem& problem, const std::vector<double*>& blocks, cons
 
 }  // namespace
 
+ProfiledFit profiled_fit(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& model, bool refine_lag, const TermScaling& sc,
+                         const Whitener& w) {
+  const Eigen::VectorXd yw = w.apply(y);
+  const std::vector<NonlinearFit> taus = nonlinear_parameters(model, refine_lag);
+  std::vector<double> log_tau;
+  for (const auto& t : taus) log_tau.push_back(std::log(t.value));
+  return {optimise_parameters(in, yw, model, taus, sc, w, log_tau, 30), static_cast<int>(taus.size())};
+}
+
 RefitResult refit(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& model, bool refine_lag, const TermScaling& sc,
                   const Whitener& w) {
   RefitResult out;
   const Eigen::VectorXd yw = w.apply(y);
-  for (std::size_t t = 0; t < model.terms.size(); ++t) {
-    const auto p = model.terms[t].parameter();
-    if (p && p->scale) out.nonlinear.push_back({static_cast<int>(t), p->name, p->value});
-  }
-  if (refine_lag && model.lag_tau_s > 0) out.nonlinear.push_back({-1, "tau_s", model.lag_tau_s});
+  out.nonlinear = nonlinear_parameters(model, refine_lag);
   std::vector<double> log_tau;
   for (const auto& t : out.nonlinear) log_tau.push_back(std::log(t.value));
   optimise_parameters(in, yw, model, out.nonlinear, sc, w, log_tau);

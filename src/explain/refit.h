@@ -36,6 +36,15 @@ struct RefitResult {
   bool covariance_ok = false;
 };
 
+// The whitened RSS of a model with its nonlinear scale parameters (and the lag, if refine_lag) re-optimised
+// by variable projection from their current values (at most 30 evaluations each): a profile likelihood.
+struct ProfiledFit {
+  double rss = 0.0;
+  int nonlinear = 0;  // parameters re-optimised
+};
+ProfiledFit profiled_fit(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& model, bool refine_lag,
+                         const TermScaling& scaling, const Whitener& whitener);
+
 // `refine_lag`: the lag is a parameter (it was selected); otherwise it stays at the model's value.
 RefitResult refit(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& model, bool refine_lag,
                   const TermScaling& scaling, const Whitener& whitener);

@@ -267,6 +267,28 @@ NoiseModel current_model_noise(const ExplainInput& in, const Eigen::VectorXd& y,
 
 }  // namespace
 
+std::vector<AbsorptionTest> absorption_tests(const std::vector<Candidate>& candidates, const ModelSpec& full, const ModelSpec& core,
+                                             const ExplainInput& in, const Eigen::VectorXd& y, const TermScaling& scaling, const Whitener& w) {
+  const Eigen::VectorXd yw = w.apply(y);
+  const WhitenedFit fit_full = fit_model(full, in, yw, scaling, w), fit_core = fit_model(core, in, yw, scaling, w);
+  std::vector<AbsorptionTest> out;
+  for (const Candidate& c : candidates) {
+    const Evaluated on_core = evaluate(c, core, in, scaling, w, fit_core);
+    Candidate at = c;
+    if (at.nonlinear != NonlinearParameter::none) at.tau_grid_s = {on_core.score.tau_s};
+    AbsorptionTest t;
+    t.delta_bic_core = on_core.score.delta_bic;
+    t.delta_bic_full = evaluate(at, full, in, scaling, w, fit_full).score.delta_bic;
+    if (!std::isfinite(t.delta_bic_full)) t.delta_bic_full = 0.0;  // no direction outside the full model: no evidence
+    t.tau_s = on_core.score.tau_s;
+    const Eigen::MatrixXd cw = w.apply(candidate_columns(at, on_core.score.tau_s, full, fit_full.beta, in.signals, scaling));
+    const Eigen::MatrixXd outside = cw - fit_full.basis * (fit_full.basis.transpose() * cw);
+    t.unique_fraction = cw.norm() > 0 ? outside.norm() / cw.norm() : 0.0;
+    out.push_back(t);
+  }
+  return out;
+}
+
 SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const TermScaling& sc,
                                const std::vector<Candidate>& candidates, const SelectionOptions& o) {
   if (auto p = o.validate(); !p.empty()) fail("explain: ", p);

@@ -97,4 +97,16 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
                                const TermScaling& scaling, const std::vector<Candidate>& candidates,
                                const SelectionOptions& options);
 
+// A candidate tested against two models: the full one, and a core whose flexible structure (a
+// scale-factor surface) is replaced by a smooth polynomial. An effect the full model absorbs but the core
+// does not is an alternative explanation of part of that structure, with weak evidence of its own.
+struct AbsorptionTest {
+  double delta_bic_full = 0.0, delta_bic_core = 0.0;
+  double unique_fraction = 0.0;  // share of its whitened columns' norm outside the full model's span
+  double tau_s = 0.0;            // its nonlinear parameter at the core's best
+};
+// One test per candidate (the two models fitted once).
+std::vector<AbsorptionTest> absorption_tests(const std::vector<Candidate>& candidates, const ModelSpec& full, const ModelSpec& core,
+                                             const ExplainInput& in, const Eigen::VectorXd& y, const TermScaling& scaling, const Whitener& w);
+
 }  // namespace gyrosid::explain

@@ -47,7 +47,9 @@ json effect_json(const FoundEffect& e) {
             {"separating_experiments", separating},
             {"stability", e.stability},
             {"heldout_z", e.heldout_z ? json(*e.heldout_z) : json()},
-            {"heldout_confirmed", e.heldout_z ? json(e.heldout_confirmed()) : json()}};
+            {"heldout_confirmed", e.heldout_z ? json(e.heldout_confirmed()) : json()},
+            {"heldout_rms_without_dph", e.heldout_rms_without_dph},
+            {"heldout_excess_removed", e.heldout_excess_removed ? json(*e.heldout_excess_removed) : json()}};
   put_parameters(e.parameters, j);
   return j;
 }
@@ -62,6 +64,8 @@ FoundEffect effect_of(const json& j) {
   for (const auto& s : j.at("separating_experiments")) e.separating.push_back({s.at("alternative"), s.at("experiment")});
   e.stability = j.at("stability").get<double>();
   if (!j.at("heldout_z").is_null()) e.heldout_z = j["heldout_z"].get<double>();
+  e.heldout_rms_without_dph = j.at("heldout_rms_without_dph").get<double>();
+  if (!j.at("heldout_excess_removed").is_null()) e.heldout_excess_removed = j["heldout_excess_removed"].get<double>();
   return e;
 }
 
@@ -185,6 +189,15 @@ SelectionRecord selection_of(const json& j) {
   return s;
 }
 
+json absorbed_json(const AbsorbedAlternative& a) {
+  return {{"id", a.id}, {"absorbed_by", a.absorbed_by}, {"unique_fraction", a.unique_fraction}, {"delta_bic_core", a.delta_bic_core},
+          {"delta_bic_full", a.delta_bic_full}, {"reason", a.reason}};
+}
+
+AbsorbedAlternative absorbed_of(const json& j) {
+  return {j.at("id"), j.at("absorbed_by"), j.at("unique_fraction"), j.at("delta_bic_core"), j.at("delta_bic_full"), j.at("reason")};
+}
+
 json demoted_json(const DemotedEffect& d) {
   return {{"id", d.id}, {"delta_bic", d.delta_bic}, {"stability", d.stability}, {"heldout_gain_dph2", d.heldout_gain_dph2},
           {"heldout_z", d.heldout_z ? json(*d.heldout_z) : json()}, {"reason", d.reason}};
@@ -236,10 +249,13 @@ json to_json(const ExplainSummary& s) {
   json effects = json::array(), demoted = json::array(), unexplained = json::array();
   for (const auto& e : s.effects) effects.push_back(effect_json(e));
   for (const auto& d : s.demoted) demoted.push_back(demoted_json(d));
+  json absorbed = json::array();
+  for (const auto& a : s.absorbed_alternatives) absorbed.push_back(absorbed_json(a));
   for (const auto& u : s.unexplained) unexplained.push_back(unexplained_json(u));
   return {{"verdict", to_string(s.verdict)},
           {"effects", effects},
           {"demoted", demoted},
+          {"absorbed_alternatives", absorbed},
           {"noise", {{"terms", noise_terms_json(s.noise.terms)}, {"whitening_model", s.noise.whitening.to_json()}, {"noise_floor_dph", s.noise.floor_dph}}},
           {"unexplained", unexplained},
           {"fit", fit_json(s.fit)},
@@ -255,6 +271,7 @@ ExplainSummary explain_summary_from_json(const json& j) {
   s.verdict = parse_enum<Verdict>(j.at("verdict").get<std::string>(), "explain.json verdict");
   for (const auto& e : j.at("effects")) s.effects.push_back(effect_of(e));
   for (const auto& d : j.at("demoted")) s.demoted.push_back(demoted_of(d));
+  for (const auto& a : j.at("absorbed_alternatives")) s.absorbed_alternatives.push_back(absorbed_of(a));
   for (const auto& u : j.at("unexplained")) s.unexplained.push_back(unexplained_of(u));
   const json& noise = j.at("noise");
   for (const auto& t : noise.at("terms")) {

@@ -125,7 +125,9 @@ void effects_markdown(const explain::ExplainSummary& j, std::ostringstream& md) 
        << "- parameters (95 % intervals): " << parameters_text(e.parameters) << "\n"
        << "- dBIC " << format_significant(e.delta_bic, 4) << ", bootstrap p " << format_significant(e.p_value, 3) << ", stability "
        << format_significant(e.stability, 2) << ", held-out: "
-       << (!e.heldout_z ? "not testable there" : e.heldout_confirmed() ? "confirmed" : "not confirmed") << "\n";
+       << (!e.heldout_z ? "not testable there" : e.heldout_confirmed() ? "confirmed" : "not confirmed");
+    if (e.heldout_excess_removed) md << ", " << format_significant(100.0 * *e.heldout_excess_removed, 3) << " % of the held-out excess over the noise floor removed";
+    md << "\n";
     for (const auto& s : e.separating) {
       const bool weaker = std::find(e.weaker_alternatives.begin(), e.weaker_alternatives.end(), s.alternative) != e.weaker_alternatives.end();
       md << (weaker ? "- a weaker alternative explanation is " + s.alternative + " (clearly less likely here); to rule it out: "
@@ -134,6 +136,13 @@ void effects_markdown(const explain::ExplainSummary& j, std::ostringstream& md) 
     }
     md << "\n";
   }
+}
+
+void absorbed_markdown(const explain::ExplainSummary& j, std::ostringstream& md) {
+  if (j.absorbed_alternatives.empty()) return;
+  md << "## Alternative explanations of part of the simulation's structure\n\n";
+  for (const auto& a : j.absorbed_alternatives) md << "- " << a.id << ": " << a.reason << "\n";
+  md << "\n";
 }
 
 void unexplained_markdown(const explain::ExplainSummary& j, std::ostringstream& md) {
@@ -184,6 +193,7 @@ std::string report_markdown(const ExplainResult& r) {
      << " |\n"
      << "| noise floor (the noise model alone) | " << format_significant(j.noise.floor_dph, 4) << " | |\n\n";
   effects_markdown(j, md);
+  absorbed_markdown(j, md);
   unexplained_markdown(j, md);
   md << "\n## Noise terms of the residual\n\n";
   const nlohmann::json noise = to_json(j)["noise"];

@@ -16,6 +16,8 @@
 #include "explain/baseline.h"
 #include "explain/effect.h"
 #include "explain/linear_fit.h"
+#include "explain/selection.h"
+#include "model/terms/term_kinds.h"
 #include "model/explained_model.h"
 #include "report/explain_json.h"
 
@@ -256,6 +258,34 @@ TEST_P(EffectProperties, ItsExportAgreesWithTheCppEvaluation) {
 
 INSTANTIATE_TEST_SUITE_P(EveryEffect, EffectProperties, ::testing::ValuesIn(effect_registry().names()),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+// The kink of a scale-factor asymmetry (|omega|) is what a spline surface over omega bends to follow and a
+// smooth polynomial cannot: planted on the standard recording, it is far stronger against the polynomial core
+// than against the surface, and its share outside the surface's span is the projection computed directly.
+TEST(Absorption, ASurfaceAbsorbsAnAsymmetryThatAPolynomialCoreDoesNot) {
+  const ModelSpec full{baseline_family(BaselineForm::surface, input().signals), 0.0};
+  const ModelSpec core{baseline_family(BaselineForm::polynomial, input().signals), 0.0};
+  ASSERT_TRUE(full.terms.back().as<ScaleFactorSurface>());
+  const std::vector<Candidate> asym = find_effect("scale_factor_asymmetry").propose(CandidateContext(full.terms, 0.0, input())).candidates;
+  ASSERT_EQ(asym.size(), 1u);
+  const Eigen::VectorXd none = Eigen::VectorXd::Zero(total_columns(full.terms));
+  const Eigen::MatrixXd c = candidate_columns(asym[0], NAN, full, none, input().signals, scaling());
+  RandomStream rng(5, "absorption");
+  Eigen::VectorXd y = c.col(0) * (36.0 / c.col(0).cwiseAbs().maxCoeff());  // 36 deg/h at the largest rate
+  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += 10.0 * rng.normal();
+  NoiseModel white;
+  white.white_var = 100.0;
+  const Whitener w = training_whitener(input(), white);
+  const AbsorptionTest t = absorption_tests(asym, full, core, input(), y, scaling(), w).at(0);
+  EXPECT_GT(t.delta_bic_core, t.delta_bic_full + 10.0);
+  EXPECT_GT(t.delta_bic_core, 10.0);
+  // Independently: the whitened column's residual after a Householder least-squares fit on the full model.
+  const Eigen::MatrixXd xw = w.apply(model_columns(full, input().signals, scaling()));
+  const Eigen::VectorXd cw = w.apply(c).col(0);
+  const Eigen::VectorXd outside = cw - xw * xw.colPivHouseholderQr().solve(cw);
+  EXPECT_NEAR(t.unique_fraction, outside.norm() / cw.norm(), 1e-6);
+  EXPECT_LT(t.unique_fraction, 0.5);
+}
 
 }  // namespace
 }  // namespace gyrosid::explain

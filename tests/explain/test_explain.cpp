@@ -255,6 +255,10 @@ TEST(Explain, PlantedShupeIsFoundWithItsCoefficient) {
   // Held out, the refitted model is at the noise floor again.
   EXPECT_LT(r.summary.fit.heldout_rms_after_dph, 10.5);
   EXPECT_GT(r.summary.fit.heldout_rms_before_dph, 11.0);
+  // Shupe is all of the held-out excess over the white noise: it removes it, to the noise's own scatter.
+  ASSERT_TRUE(e->heldout_excess_removed.has_value());
+  EXPECT_NEAR(*e->heldout_excess_removed, 1.0, 0.15);
+  EXPECT_GT(e->heldout_rms_without_dph, 11.0);
   // explain.json reads back to the same result: written again, the same file (its noise models to round-off).
   const nlohmann::json written = to_json(r.summary);
   const nlohmann::json again = to_json(explain_summary_from_json(nlohmann::json::parse(written.dump())));
