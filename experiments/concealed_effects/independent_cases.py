@@ -96,6 +96,7 @@ def score(job, truth, ex, d):
            "unexplained": " ".join(sorted({u["kind"] + (":" + u["channel"] if u["channel"] else "") for u in ex["unexplained"]}))}
     if planted:
         row["detected"] = all(p in covered or p in absorbed for p in planted)
+        row["named_or_absorbed"] = row["detected"]
         row["correct"] = all(p in covered for p in planted)
         row["ambiguous"] = any(p not in named and p in covered for p in planted)
         row["wrong_extra"] = sum(1 for n, alts in named.items() if n not in planted and not (alts & set(planted)))
@@ -111,7 +112,7 @@ def score(job, truth, ex, d):
         row["heldout_excess_removed"] = held
     for o in truth["outside"]:
         if "t_step_s" in o:
-            row["localised"] = any(u["kind"] in ("time_window", "change_point") and
+            row["localised"] = ex["verdict"] == "unexplained_residual" and any(u["kind"] in ("time_window", "change_point", "trend_change") and
                                    min(abs(u["t_start_s"] - o["t_step_s"]), abs(u["t_end_s"] - o["t_step_s"])) <= 600.0
                                    for u in ex["unexplained"])
     return row
