@@ -61,6 +61,7 @@ Observations observe(const TableProfile& profile, const std::vector<double>& tim
 }
 
 Quadrature programme_quadrature(const TableProfile& profile, double max_spacing_s, int points_per_cycle) {
+  constexpr double kGoldenFraction = 0.6180339887498949;  // (sqrt 5 - 1) / 2: phases that never repeat
   if (!(max_spacing_s > 0) || points_per_cycle < 1) fail("programme quadrature: spacing and points per cycle must be positive");
   Quadrature q;
   double start = 0.0;
@@ -70,7 +71,8 @@ Quadrature programme_quadrature(const TableProfile& profile, double max_spacing_
     const auto n = static_cast<std::size_t>(std::max(1.0, count));
     const double h = s.duration_s / static_cast<double>(n);
     for (std::size_t k = 0; k < n; ++k) {
-      q.times.push_back(start + (static_cast<double>(k) + 0.5) * h);
+      const double offset = std::fmod(0.5 + kGoldenFraction * static_cast<double>(k), 1.0);
+      q.times.push_back(start + (static_cast<double>(k) + offset) * h);
       q.weights_s.push_back(h);
     }
     start += s.duration_s;

@@ -37,8 +37,12 @@ struct RateRelaxation {
 Observations observe(const TableProfile& profile, const std::vector<double>& times, const std::vector<double>& weights_s,
                      const GyroSensor& gyro, const ThermalPath& thermal, const RateRelaxation* relaxation = nullptr);
 
-// Quadrature of a programme: midpoints of equal sub-intervals of every segment, at most `max_spacing_s`
-// apart and at least `points_per_cycle` per rate cycle; weights are the sub-interval lengths.
+// Quadrature of a programme: one point in each of equal sub-intervals of every segment, at most
+// `max_spacing_s` long and at least `points_per_cycle` per rate cycle; weights are the sub-interval lengths.
+// The point sits at the golden-ratio sequence's fraction of its sub-interval, not its midpoint: with a whole
+// number of points per cycle, midpoints hit the same phases - the same few rates - in every cycle (the
+// aliasing the thesis fixed by sampling its scans at 1111 instead of 1000 points, s5.2), and the
+// information of the rates between them would be lost.
 struct Quadrature {
   std::vector<double> times, weights_s;
 };
