@@ -442,7 +442,7 @@ TEST(DesignSolvers, BothImproveOnTheirStartDeterministicallyAndNameBadOptions) {
   const SmallProblem small;
   const double start = small.problem.objective(small.space.initial());
   for (const auto& [name, options] : std::vector<std::pair<std::string, OptionMap>>{
-           {"nlopt", {{"global_evaluations", "150"}, {"local_evaluations", "100"}}}, {"ipopt", {{"max_iterations", "6"}}}}) {
+           {"nlopt", {{"global_evaluations", "150"}, {"local_evaluations", "100"}}}, {"ipopt", {{"max_iterations", "20"}}}}) {
     std::string first;
     for (int repeat = 0; repeat < 2; ++repeat) {
       auto solver = make_design_solver(name, options, 3);
