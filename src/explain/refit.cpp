@@ -8,6 +8,7 @@
 #include "core/bounded_search.h"
 #include "core/error.h"
 #include "explain/linear_fit.h"
+#include "solvers/common/ceres_support.h"
 
 namespace gyrosid::explain {
 namespace {
@@ -127,11 +128,7 @@ ceres::Solver::Summary polish(ceres::Problem& problem) {
 // ceres::Covariance scaled by the residual variance.
 void intervals(ceres::Problem& problem, const std::vector<double*>& blocks, const std::vector<Eigen::Index>& kept, double sigma2,
                RefitResult& out) {
-  ceres::Covariance::Options co;
-  co.algorithm_type = ceres::DENSE_SVD;
-  co.null_space_rank = -1;
-  co.min_reciprocal_condition_number = 1e-14;
-  ceres::Covariance covariance(co);
+  ceres::Covariance covariance(dense_svd_covariance());
   std::vector<std::pair<const double*, const double*>> pairs;
   for (double* b : blocks) pairs.emplace_back(b, b);
   out.covariance_ok = covariance.Compute(pairs, &problem);
