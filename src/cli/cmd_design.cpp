@@ -57,16 +57,38 @@ std::string describe(const design::Prediction& p) {
   return out;
 }
 
-void run_design(DesignCommand c) {
-  if (!c.options_of.empty()) {
-    if (c.options_of == "design") {
-      design::DesignSettings s;
-      std::cout << "design options (--set key=value):\n" << s.table().help();
-    } else {
-      std::cout << design::design_solvers().at(c.options_of).help();
-    }
-    return;
+// --options-of: the options of a design solver or of the design itself.
+void print_options_of(const std::string& name) {
+  if (name == "design") {
+    design::DesignSettings s;
+    std::cout << "design options (--set key=value):\n" << s.table().help();
+  } else {
+    std::cout << design::design_solvers().at(name).help();
   }
+}
+
+// --evaluate: the predicted accuracy of each trajectory, printed and (with --out) written.
+void write_evaluation(const DesignCommand& c, const design::DesignContext& context, const DesignReportInput& report,
+                      const nlohmann::json& provenance) {
+  const std::filesystem::path dir = c.out;
+  nlohmann::json j = {{"format", "gyrosid-design-evaluation/1"}, {"provenance", provenance}, {"trajectories", nlohmann::json::object()}};
+  for (std::size_t i = 0; i < report.compared.size(); ++i) {
+    const auto& [name, p] = report.compared[i];
+    std::cout << name << " (" << format_significant(p.duration_min, 4) << " min): predicted " << describe(p) << "\n";
+    j["trajectories"][c.evaluate[i]] = prediction_json(p);
+  }
+  if (!c.out.empty()) {
+    write_file_atomic(dir / "evaluation.json", j.dump(2) + "\n");
+    write_file_atomic(dir / "report.md", design_report_markdown(report));
+    const TrajectorySpec first = load_trajectory_file(c.evaluate.front());
+    plot_design_coverage(dir / "coverage.png", design::observe_trajectory(context, first), context.envelope(),
+                         first.profile.name + ": samples over the envelope");
+    std::cout << "wrote " << c.out << "/evaluation.json, report.md, coverage.png\n";
+  }
+}
+
+void run_design(DesignCommand c) {
+  if (!c.options_of.empty()) return print_options_of(c.options_of);
   design::DesignSettings settings;
   OptionMap solver_options, design_options;
   for (const auto& kv : c.set) {
@@ -124,23 +146,7 @@ void run_design(DesignCommand c) {
     const TrajectorySpec spec = load_trajectory_file(path);
     report.compared.emplace_back(spec.profile.name, design::evaluate_trajectory(context, spec));
   }
-  if (evaluating) {
-    nlohmann::json j = {{"format", "gyrosid-design-evaluation/1"}, {"provenance", provenance}, {"trajectories", nlohmann::json::object()}};
-    for (std::size_t i = 0; i < report.compared.size(); ++i) {
-      const auto& [name, p] = report.compared[i];
-      std::cout << name << " (" << format_significant(p.duration_min, 4) << " min): predicted " << describe(p) << "\n";
-      j["trajectories"][c.evaluate[i]] = prediction_json(p);
-    }
-    if (!c.out.empty()) {
-      write_file_atomic(dir / "evaluation.json", j.dump(2) + "\n");
-      write_file_atomic(dir / "report.md", design_report_markdown(report));
-      const TrajectorySpec first = load_trajectory_file(c.evaluate.front());
-      plot_design_coverage(dir / "coverage.png", design::observe_trajectory(context, first), context.envelope(),
-                           first.profile.name + ": samples over the envelope");
-      std::cout << "wrote " << c.out << "/evaluation.json, report.md, coverage.png\n";
-    }
-    return;
-  }
+  if (evaluating) return write_evaluation(c, context, report, provenance);
   design::DesignRequest request;
   request.space = settings.space;
   request.quadrature = settings.quadrature;
