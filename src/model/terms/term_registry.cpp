@@ -18,10 +18,9 @@ std::vector<T> list(const nlohmann::json& j, const char* key) {
 // 1.8e86 to int with undefined behaviour, and pow(dT, 1e9) is no model).
 constexpr int kMaxOrder = 12;
 int order(const nlohmann::json& j, const char* key) {
-  if (!j.is_number() || !(j.get<double>() >= 0 && j.get<double>() <= kMaxOrder) || j.get<double>() != std::floor(j.get<double>())) {
-    fail("physics term: '", key, "' holds ", j.dump(), "; expected whole orders from 0 to ", kMaxOrder);
-  }
-  return static_cast<int>(j.get<double>());
+  const double v = j.is_number() ? j.get<double>() : -1.0;
+  if (!(v >= 0 && v <= kMaxOrder) || v != std::floor(v)) fail("physics term: '", key, "' holds ", j.dump(), "; expected whole orders from 0 to ", kMaxOrder);
+  return static_cast<int>(v);
 }
 
 std::vector<int> orders(const nlohmann::json& j, const char* key) {
