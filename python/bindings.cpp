@@ -162,10 +162,8 @@ py::object run_main_job_py(const std::filesystem::path& out, const std::vector<s
 py::tuple design_py(double budget_min, const std::string& model, const std::vector<std::string>& envelope, const std::string& sensor_path,
                     const std::string& solver, const std::string& criterion, std::uint64_t seed, const py::dict& options) {
   design::DesignSettings settings;
-  OptionMap design_options;
   design::DesignRequest request;
-  for (const auto& [key, value] : option_map(options)) (design::DesignSettings::owns(key) ? design_options : request.solver_options)[key] = value;
-  settings.table().apply(design_options);
+  request.solver_options = settings.apply(option_map(options));
   settings.envelope.flights = envelope;
   settings.space.budget_min = budget_min;
   const auto crit = parse_enum<design::Criterion>(criterion, "criterion");

@@ -90,12 +90,12 @@ void write_evaluation(const DesignCommand& c, const design::DesignContext& conte
 void run_design(DesignCommand c) {
   if (!c.options_of.empty()) return print_options_of(c.options_of);
   design::DesignSettings settings;
-  OptionMap solver_options, design_options;
+  OptionMap options;
   for (const auto& kv : c.set) {
     const auto [key, value] = split_option(kv);
-    (design::DesignSettings::owns(key) ? design_options : solver_options)[key] = value;
+    options[key] = value;
   }
-  settings.table().apply(design_options);
+  const OptionMap solver_options = settings.apply(options);
   const auto envelope_names = split(c.envelope);
   if (envelope_names.size() == 1 && envelope_names.front() == "uniform") {
     settings.envelope.uniform = true;

@@ -20,6 +20,13 @@ bool DesignSettings::owns(const std::string& key) {
   return false;
 }
 
+OptionMap DesignSettings::apply(const OptionMap& options) {
+  OptionMap own, others;
+  for (const auto& [key, value] : options) (owns(key) ? own : others)[key] = value;
+  table().apply(own);
+  return others;
+}
+
 Observations observe_trajectory(const DesignContext& context, const TrajectorySpec& t) {
   const std::vector<double> times = t.times();
   const Quadrature q = sample_quadrature(times, t.profile.duration_s());

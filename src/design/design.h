@@ -29,6 +29,8 @@ struct DesignSettings {
   QuadratureOptions quadrature;
   OptionTable table();  // binds this object's fields: keep it in place while the table is used
   static bool owns(const std::string& key);  // a key of this table (else: a solver option)
+  // Applies the options that are this table's (space.*, model.*, ...); returns the others, the solver's.
+  OptionMap apply(const OptionMap& options);
 };
 
 struct DesignRequest {
