@@ -273,10 +273,15 @@ void finish(const BayesProblem& p, const FixedPart& fixed, const SearchOutcome& 
   // from the noise; jointly (flat prior on v) the covariance below.
   const Eigen::Index m = fit.rbf_weights.size(), q = fixed.columns();
   const auto r = fixed.r().triangularView<Eigen::Upper>();
-  fit.fixed_weights = r.solve(fixed.qy() - c * fit.rbf_weights);
-  const Eigen::MatrixXd k = r.solve(c);  // P x M
   const Eigen::MatrixXd rinv = r.solve(Eigen::MatrixXd::Identity(q, q));
   fit.covariance.resize(m + q, m + q);
+  if (m == 0) {  // no RBF part: generalised least squares (Eigen's solvers are not for zero-column blocks)
+    fit.fixed_weights = r.solve(fixed.qy());
+    fit.covariance = rinv * rinv.transpose() / beta;
+    return;
+  }
+  fit.fixed_weights = r.solve(fixed.qy() - c * fit.rbf_weights);
+  const Eigen::MatrixXd k = r.solve(c);  // P x M
   fit.covariance.topLeftCorner(m, m) = cov_w;
   fit.covariance.bottomLeftCorner(q, m) = -k * cov_w;
   fit.covariance.topRightCorner(m, q) = fit.covariance.bottomLeftCorner(q, m).transpose();

@@ -7,6 +7,7 @@
 
 #include "cli/app.h"
 #include "cli/common.h"
+#include "cli/resume.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/format.h"
@@ -25,6 +26,8 @@ struct DesignCommand {
   std::string sensor = kDefaultSensor, solver = "nlopt", out, options_of, reference, reference_model;
   std::vector<std::string> set, evaluate, compare{"builtin:trajectories/dual_scan.yaml"};
   std::uint64_t seed = 1;
+  bool resume = false;
+  const CLI::App* command = nullptr;  // the parsed subcommand, for the checkpoint's fingerprint
 
   std::string command_line() const {
     std::string out = evaluate.empty() ? str_cat("gyrosid design --budget-min ", format_number(budget_min)) : "gyrosid design --evaluate";
@@ -147,7 +150,13 @@ void run_design(DesignCommand c) {
     report.compared.emplace_back(spec.profile.name, design::evaluate_trajectory(context, spec));
   }
   if (evaluating) return write_evaluation(c, context, report, provenance);
+  // The solver's finished stages are saved as it goes; --resume continues a killed design to the same result.
+  std::vector<std::string> inputs = split(c.envelope);
+  inputs.insert(inputs.end(), {c.sensor, c.reference});
+  inputs.insert(inputs.end(), c.compare.begin(), c.compare.end());
+  Checkpoint checkpoint = run_checkpoint(c.out, "design", run_fingerprint(*c.command, inputs), c.resume);
   design::DesignRequest request;
+  request.checkpoint = &checkpoint;
   request.space = settings.space;
   request.quadrature = settings.quadrature;
   request.solver = c.solver;
@@ -162,6 +171,7 @@ void run_design(DesignCommand c) {
                        str_cat("design for ", c.envelope, " (", format_significant(r.trajectory.profile.duration_min(), 4), " min, ",
                                c.model, " model)"));
   write_file_atomic(dir / "report.md", design_report_markdown(report));
+  checkpoint.finish();
   std::cout << "wrote " << c.out << "/trajectory.yaml (" << format_significant(r.trajectory.profile.duration_min(), 4) << " min, "
             << r.trajectory.profile.segments.size() << " segments), design.json, coverage.png, report.md, calibration.yaml\n"
             << "predicted: " << describe(r.predicted) << "\n";
@@ -191,6 +201,8 @@ void register_design(CLI::App& app, Action& action) {
   cmd->add_option("--compare", c->compare, "Trajectories predicted beside the design in report.md")->capture_default_str();
   cmd->add_option("--evaluate", c->evaluate, "Predict the accuracy of these trajectory configs instead of designing");
   cmd->add_option("--out", c->out, "Output directory: trajectory.yaml, design.json, coverage.png, report.md, calibration.yaml");
+  cmd->add_flag("--resume", c->resume, "Continue a killed design from its checkpoint in --out (the finished global search or "
+                                       "Ipopt starts; same inputs and seed: the result equals an uninterrupted run's)");
   cmd->footer(
       "The design is a programme of table-plus-chamber segments (chamber ramps and plateaus within the chamber's\n"
       "range and rate limit, triangle rate cycles or dwells on the table) that fits the budget. Its objective is\n"
@@ -201,6 +213,7 @@ void register_design(CLI::App& app, Action& action) {
       "  gyrosid design --budget-min 30 --model greybox --criterion effects --solver ipopt --out gb/\n"
       "  gyrosid design --evaluate builtin:trajectories/dual_scan.yaml builtin:trajectories/classical_soak.yaml --model classical\n"
       "  gyrosid simulate --trajectory d60/trajectory.yaml --out rec.csv");
+  c->command = cmd;
   cmd->callback([c, &action] {
     action = [c] { run_design(*c); };
   });

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "cli/app.h"
+#include "cli/resume.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/recording.h"
@@ -16,14 +17,20 @@ namespace {
 struct ExplainCommand {
   std::string recording, out, baseline_form = "surface", noise_model = "full";
   explain::ExplainOptions options;
+  bool resume = false;
+  const CLI::App* command = nullptr;  // the parsed subcommand, for the checkpoint's fingerprint
 };
 
 void run_explain(ExplainCommand c) {
   c.options.baseline_form = parse_enum<explain::BaselineForm>(c.baseline_form, "--baseline-form");
   c.options.selection.noise_model = parse_enum<explain::NoiseModelSource>(c.noise_model, "--noise-model");
   const Recording rec = read_recording(c.recording);
-  const explain::ExplainResult r = explain::explain_recording(rec, c.options);
+  // Every finished selection step's bootstrap is saved; --resume continues a killed run to the same result.
+  Checkpoint checkpoint = run_checkpoint(c.out, "explain", run_fingerprint(*c.command, {c.recording, c.options.model_path, c.options.baseline_path}),
+                                         c.resume);
+  const explain::ExplainResult r = explain::explain_recording(rec, c.options, &checkpoint);
   write_explain_outputs(r, c.out);
+  checkpoint.finish();
   const explain::ExplainSummary& j = r.summary;
   std::cout << "verdict: " << to_string(j.verdict);
   for (const auto& e : j.effects) {
@@ -68,6 +75,9 @@ void register_explain(CLI::App& app, Action& action) {
                   "Hold out every n-th block (from the third when n > 2): it only confirms, never fits")
       ->capture_default_str();
   cmd->add_option("--out", c->out, "Output directory: explain.json, residuals.csv, model.json, report.md, plots")->required();
+  cmd->add_flag("--resume", c->resume, "Continue a killed run from its checkpoint in --out (the finished selection steps' "
+                                       "bootstraps; same inputs and seed: the result equals an uninterrupted run's)");
+  c->command = cmd;
   cmd->footer(str_cat(
       "The simulation: with --model a saved model predicts the recording; with --baseline the baseline family (bias\n"
       "cubic in T, scale factor a polynomial of order 3 in T and omega) is fitted on that calibration recording; with\n"

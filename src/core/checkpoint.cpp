@@ -30,6 +30,9 @@ Checkpoint::Checkpoint(std::filesystem::path file, std::string fingerprint, bool
            "run without --resume to start afresh");
     }
     for (const auto& [name, values] : j.at("series").items()) series_[name] = values.get<std::vector<double>>();
+    if (j.contains("records")) {
+      for (const auto& [name, value] : j.at("records").items()) records_[name] = value;
+    }
   } catch (const nlohmann::json::exception& e) {
     fail(file_.string(), ": unreadable checkpoint (", e.what(), "); run without --resume to start afresh");
   }
@@ -47,8 +50,20 @@ void Checkpoint::save(const std::string& name, std::vector<double> values) {
   write();
 }
 
+const nlohmann::json& Checkpoint::record(const std::string& name) const {
+  static const nlohmann::json none;
+  const auto it = records_.find(name);
+  return it == records_.end() ? none : it->second;
+}
+
+void Checkpoint::save_record(const std::string& name, nlohmann::json value) {
+  if (!enabled()) return;
+  records_[name] = std::move(value);
+  write();
+}
+
 void Checkpoint::write() const {
-  nlohmann::json j = {{"format", "gyrosid-checkpoint/1"}, {"fingerprint", fingerprint_}, {"series", series_}};
+  nlohmann::json j = {{"format", "gyrosid-checkpoint/1"}, {"fingerprint", fingerprint_}, {"series", series_}, {"records", records_}};
   write_file_atomic(file_, j.dump() + "\n");
 }
 

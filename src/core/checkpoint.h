@@ -4,9 +4,12 @@
 // gives what the uninterrupted run would have.
 //
 // The file is JSON, rewritten atomically at every save (a kill leaves the previous save intact). It holds a
-// fingerprint of what is being computed - a resume with other inputs or options is refused - and named series
-// of doubles, stored exactly (shortest round-trip decimal).
+// fingerprint of what is being computed - a resume with other inputs or options is refused - named series
+// of doubles, stored exactly (shortest round-trip decimal), and named records (JSON objects, doubles exact too)
+// for pieces with more structure, such as a finished stage of a search.
 #pragma once
+
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <map>
@@ -24,6 +27,8 @@ class Checkpoint {
   bool enabled() const { return !file_.empty(); }
   const std::vector<double>& series(const std::string& name) const;  // empty when never saved
   void save(const std::string& name, std::vector<double> values);
+  const nlohmann::json& record(const std::string& name) const;  // null when never saved
+  void save_record(const std::string& name, nlohmann::json value);
   // The computation completed and its results are written: the checkpoint is removed.
   void finish();
 
@@ -32,6 +37,7 @@ class Checkpoint {
   std::filesystem::path file_;
   std::string fingerprint_;
   std::map<std::string, std::vector<double>> series_;
+  std::map<std::string, nlohmann::json> records_;
 };
 
 // A short hex digest of text (FNV-1a 64), for fingerprints.

@@ -58,6 +58,7 @@ Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpe
 
 DesignResult design_trajectory(const DesignContext& context, const DesignRequest& request) {
   auto solver = make_design_solver(request.solver, request.solver_options, request.seed);
+  solver->use_checkpoint(request.checkpoint);
   const DesignSpace space = design_space(context.envelope(), request.space);
   const DesignProblem problem(context, space, request.quadrature);
   DesignResult r;

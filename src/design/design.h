@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <string>
 
+#include "core/checkpoint.h"
 #include "core/solve_summary.h"
 #include "design/assessment.h"
 #include "design/design_problem.h"
@@ -39,6 +40,7 @@ struct DesignRequest {
   std::string solver = "nlopt";
   OptionMap solver_options;
   std::uint64_t seed = 1;
+  Checkpoint* checkpoint = nullptr;  // the solver's finished stages (design_solver.h); not owned, may be null
 };
 
 struct DesignResult {

@@ -19,10 +19,15 @@
 #include <string_view>
 #include <vector>
 
+#include "core/checkpoint.h"
 #include "core/registry.h"
 #include "core/solve_summary.h"
 #include "design/design_problem.h"
 #include "solvers/common/options.h"
+
+namespace gyrosid {
+class Progress;
+}
 
 namespace gyrosid::design {
 
@@ -32,6 +37,13 @@ class DesignSolver {
   virtual std::string_view name() const = 0;
   // Finds a programme in the problem's space; `best` arrives holding the space's initial programme.
   virtual SolveOutcome solve(const DesignProblem& problem, TableProfile& best, SolveMonitor& monitor) = 0;
+  // Finished stages (nlopt: the global search; ipopt: each start) are saved to, and on resume taken from,
+  // this checkpoint (not owned; may be null). Every stage is deterministic given the seed, so a resumed
+  // solve returns what an uninterrupted one would.
+  void use_checkpoint(Checkpoint* checkpoint) { checkpoint_ = checkpoint; }
+
+ protected:
+  Checkpoint* checkpoint_ = nullptr;
 };
 
 SolveSummary run_design_solver(DesignSolver& solver, const DesignProblem& problem, TableProfile& best);
@@ -87,6 +99,16 @@ class IpoptDesigner : public DesignSolverWithOptions<IpoptDesignOptions> {
   using DesignSolverWithOptions::DesignSolverWithOptions;
   std::string_view name() const override { return "ipopt"; }
   SolveOutcome solve(const DesignProblem& problem, TableProfile& best, SolveMonitor& monitor) override;
+
+ private:
+  struct StartResult {
+    int status = 0;            // Ipopt's SolverReturn
+    int iterations = 0;
+    SmoothProgramme solution;  // empty when Ipopt returned no point
+  };
+  // One interior-point solve from the scaled point z, or its saved result under `key`.
+  StartResult run_start(const DesignProblem& problem, SolveMonitor& monitor, Progress& progress, std::vector<double> z,
+                        const std::string& key) const;
 };
 
 }  // namespace gyrosid::design

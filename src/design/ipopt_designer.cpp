@@ -183,6 +183,46 @@ class RelaxedNlp : public Ipopt::TNLP {
 
 }  // namespace
 
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SmoothProgramme, start_c, duration_s, end_c, low_radps, high_radps)
+
+IpoptDesigner::StartResult IpoptDesigner::run_start(const DesignProblem& problem, SolveMonitor& monitor, Progress& progress,
+                                                    std::vector<double> z, const std::string& key) const {
+  StartResult r;
+  // A finished start is a checkpoint: on resume its history, evaluations and solution are taken as saved.
+  if (const nlohmann::json& saved = checkpoint_ ? checkpoint_->record(key) : nlohmann::json(); !saved.is_null()) {
+    for (const double value : saved.at("history")) monitor.iteration(value);
+    monitor.evaluation(saved.at("evaluations").get<int>());
+    r.status = saved.at("status").get<int>();
+    r.iterations = saved.at("iterations").get<int>();
+    if (saved.contains("solution")) from_json(saved.at("solution"), r.solution);
+    progress.update(static_cast<std::size_t>(monitor.history().size()));
+    return r;
+  }
+  const std::size_t first_iteration = monitor.history().size();
+  const int first_evaluation = monitor.evaluations();
+  Ipopt::SmartPtr<RelaxedNlp> nlp = new RelaxedNlp(problem, o_, monitor, progress, std::move(z));
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+  app->Options()->SetIntegerValue("print_level", o_.print_level);
+  app->Options()->SetStringValue("sb", "yes");
+  app->Options()->SetStringValue("hessian_approximation", "limited-memory");
+  app->Options()->SetIntegerValue("max_iter", o_.max_iterations);
+  app->Options()->SetNumericValue("tol", o_.tolerance);
+  app->Options()->SetNumericValue("acceptable_tol", 10.0 * o_.tolerance);
+  app->Options()->SetStringValue("jac_c_constant", "yes");
+  app->Options()->SetStringValue("jac_d_constant", "yes");
+  if (app->Initialize() != Ipopt::Solve_Succeeded) fail("ipopt design: Ipopt initialisation failed");
+  app->OptimizeTNLP(nlp);
+  r.status = static_cast<int>(nlp->status), r.iterations = nlp->iterations;
+  if (!nlp->solution.empty()) r.solution = nlp->unscale(nlp->solution.data());
+  if (checkpoint_) {
+    nlohmann::json j = {{"history", std::vector<double>(monitor.history().begin() + static_cast<std::ptrdiff_t>(first_iteration), monitor.history().end())},
+                        {"evaluations", monitor.evaluations() - first_evaluation}, {"status", static_cast<int>(r.status)}, {"iterations", r.iterations}};
+    if (!r.solution.duration_s.empty()) to_json(j["solution"], r.solution);
+    checkpoint_->save_record(key, std::move(j));
+  }
+  return r;
+}
+
 SolveOutcome IpoptDesigner::solve(const DesignProblem& problem, TableProfile& best, SolveMonitor& monitor) {
   const DesignSpace& space = problem.space();
   const std::vector<double> base = RelaxedNlp::scale(space.smooth_of(best), space);
@@ -198,25 +238,14 @@ SolveOutcome IpoptDesigner::solve(const DesignProblem& problem, TableProfile& be
     if (start > 0) {
       for (double& v : z) v += 0.15 * (2.0 * random.uniform() - 1.0);
     }
-    Ipopt::SmartPtr<RelaxedNlp> nlp = new RelaxedNlp(problem, o_, monitor, progress, z);
-    Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-    app->Options()->SetIntegerValue("print_level", o_.print_level);
-    app->Options()->SetStringValue("sb", "yes");
-    app->Options()->SetStringValue("hessian_approximation", "limited-memory");
-    app->Options()->SetIntegerValue("max_iter", o_.max_iterations);
-    app->Options()->SetNumericValue("tol", o_.tolerance);
-    app->Options()->SetNumericValue("acceptable_tol", 10.0 * o_.tolerance);
-    app->Options()->SetStringValue("jac_c_constant", "yes");
-    app->Options()->SetStringValue("jac_d_constant", "yes");
-    if (app->Initialize() != Ipopt::Solve_Succeeded) fail("ipopt design: Ipopt initialisation failed");
-    app->OptimizeTNLP(nlp);
-    if (nlp->solution.empty()) continue;
-    const TableProfile rounded = space.decode_smooth(nlp->unscale(nlp->solution.data()));
+    const StartResult r = run_start(problem, monitor, progress, std::move(z), str_cat("ipopt/start/", start));
+    if (r.solution.duration_s.empty()) continue;
+    const TableProfile rounded = space.decode_smooth(r.solution);
     const double exact = problem.objective(rounded);
-    runs.push_back({{"start", start}, {"status", static_cast<int>(nlp->status)}, {"iterations", nlp->iterations}, {"exact_objective", exact}});
+    runs.push_back({{"start", start}, {"status", r.status}, {"iterations", r.iterations}, {"exact_objective", exact}});
     if (start == 0 || exact < best_value) {
-      termination = termination_of(nlp->status);
-      message = str_cat("Ipopt status ", static_cast<int>(nlp->status), " (start ", start, ")");
+      termination = termination_of(static_cast<Ipopt::SolverReturn>(r.status));
+      message = str_cat("Ipopt status ", r.status, " (start ", start, ")");
     }
     if (exact < best_value) best = rounded, best_value = exact;
   }

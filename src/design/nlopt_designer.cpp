@@ -101,7 +101,28 @@ SolveOutcome NloptDesigner::solve(const DesignProblem& problem, TableProfile& be
   Eigen::VectorXd start = space.encode_box(best);
   nlohmann::json global_report, local_report;
   SolveOutcome outcome;
-  if (o_.global != "none") outcome = run(o_.global, o_.global_evaluations, start, global_report);
+  // A finished global search is a checkpoint: a resumed design goes straight to the local refinement with the
+  // same point, history and report (every evaluation is deterministic given the seed).
+  const nlohmann::json& saved = checkpoint_ ? checkpoint_->record("nlopt/global") : nlohmann::json();
+  if (o_.global != "none" && !saved.is_null()) {
+    for (const double value : saved.at("history")) monitor.iteration(value), monitor.evaluation();
+    evaluations = saved.at("evaluations").get<int>();
+    const std::vector<double> v = saved.at("best_point");
+    record = {saved.at("best_value").get<double>(), Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()))};
+    global_report = saved.at("report");
+    outcome = {parse_enum<Termination>(saved.at("termination").get<std::string>()), saved.at("message").get<std::string>(), {}};
+    progress.update(static_cast<std::size_t>(evaluations));
+  } else if (o_.global != "none") {
+    const std::size_t first = monitor.history().size();
+    outcome = run(o_.global, o_.global_evaluations, start, global_report);
+    if (checkpoint_ && record.v.size() == n) {
+      checkpoint_->save_record("nlopt/global", {{"history", std::vector<double>(monitor.history().begin() + static_cast<std::ptrdiff_t>(first), monitor.history().end())},
+                                                {"evaluations", evaluations}, {"best_value", record.value},
+                                                {"best_point", std::vector<double>(record.v.data(), record.v.data() + n)},
+                                                {"report", global_report}, {"termination", to_string(outcome.termination)},
+                                                {"message", outcome.message}});
+    }
+  }
   if (o_.local != "none") {
     if (record.v.size() == n) start = record.v;
     outcome = run(o_.local, o_.local_evaluations, start, local_report);

@@ -241,7 +241,7 @@ RecordingSummary recording_summary(const ExplainInput& in, const ExplainOptions&
 
 }  // namespace
 
-ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
+ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, Checkpoint* checkpoint) {
   if (auto p = o.validate(); !p.empty()) fail("explain: ", p);
   const auto start = std::chrono::steady_clock::now();
   ExplainResult result;
@@ -259,7 +259,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o) {
   // 2. Candidates and forward selection.
   std::vector<std::string> untestable;
   const std::vector<Candidate> candidates = propose_candidates(base, in, o.effects, &untestable);
-  const SelectionResult sel = select_effects(in, y, base, scaling, candidates, o.selection);
+  const SelectionResult sel = select_effects(in, y, base, scaling, candidates, o.selection, checkpoint);
   const Whitener w = training_whitener(in, sel.noise);
 
   // 3. Stability and held-out confirmation of every selected effect; 4. the joint refit with intervals.

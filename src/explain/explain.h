@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "core/checkpoint.h"
 #include "core/recording.h"
 #include "explain/baseline.h"
 #include "explain/explain_input.h"
@@ -48,6 +49,8 @@ struct ExplainResult {
   Eigen::VectorXd residual_after_dph;       // with the effects added
 };
 
-ExplainResult explain_recording(const Recording& recording, const ExplainOptions& options);
+// With a checkpoint (not owned), every finished selection step's bootstrap is saved there and, on resume,
+// taken from it: the result equals an uninterrupted run's.
+ExplainResult explain_recording(const Recording& recording, const ExplainOptions& options, Checkpoint* checkpoint = nullptr);
 
 }  // namespace gyrosid::explain

@@ -147,7 +147,14 @@ struct Step {
 };
 
 // Bootstrap p-values: the same maximisation over each candidate's grid on every resample of the residual.
-void bootstrap_p_values(std::vector<Evaluated>& ev, const WhitenedFit& fit, const SelectionOptions& o, int step) {
+// A step's p-values are the checkpoint of a selection (the bootstrap is most of its cost): saved once computed,
+// taken as saved on resume (everything else in a step is deterministic and recomputed).
+void bootstrap_p_values(std::vector<Evaluated>& ev, const WhitenedFit& fit, const SelectionOptions& o, int step, Checkpoint* checkpoint) {
+  const std::string key = "explain/p_values/" + std::to_string(step);
+  if (checkpoint && checkpoint->series(key).size() == ev.size()) {
+    for (std::size_t i = 0; i < ev.size(); ++i) ev[i].score.p_value = checkpoint->series(key)[i];
+    return;
+  }
   const Eigen::MatrixXd resamples = block_bootstrap(fit.residual, o.bootstrap, o.seed, step);
   parallel_for(static_cast<std::ptrdiff_t>(ev.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
     for (std::ptrdiff_t i = begin; i < end; ++i) {
@@ -162,6 +169,11 @@ void bootstrap_p_values(std::vector<Evaluated>& ev, const WhitenedFit& fit, cons
       e.score.p_value = (1.0 + static_cast<double>(exceed)) / (1.0 + o.bootstrap);
     }
   }, 1);
+  if (checkpoint) {
+    std::vector<double> p;
+    for (const auto& e : ev) p.push_back(e.score.p_value);
+    checkpoint->save(key, std::move(p));
+  }
 }
 
 // Holm's step-down over the testable candidates: the family-wise error at alpha.
@@ -178,12 +190,13 @@ void holm(std::vector<Evaluated>& ev, double alpha) {
 }
 
 // Every open candidate scored against the step's model: statistic, dBIC, bootstrap p-value, Holm.
-std::vector<Evaluated> score_candidates(const std::vector<Candidate>& open, const Step& c, const SelectionOptions& o, int step) {
+std::vector<Evaluated> score_candidates(const std::vector<Candidate>& open, const Step& c, const SelectionOptions& o, int step,
+                                        Checkpoint* checkpoint) {
   std::vector<Evaluated> ev(open.size());
   parallel_for(static_cast<std::ptrdiff_t>(open.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
     for (std::ptrdiff_t i = begin; i < end; ++i) ev[static_cast<std::size_t>(i)] = evaluate(open[static_cast<std::size_t>(i)], c.model, c.in, c.sc, c.w, c.fit);
   }, 1);
-  bootstrap_p_values(ev, c.fit, o, step);
+  bootstrap_p_values(ev, c.fit, o, step, checkpoint);
   holm(ev, o.alpha);
   return ev;
 }
@@ -290,7 +303,7 @@ std::vector<AbsorptionTest> absorption_tests(const std::vector<Candidate>& candi
 }
 
 SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const TermScaling& sc,
-                               const std::vector<Candidate>& candidates, const SelectionOptions& o) {
+                               const std::vector<Candidate>& candidates, const SelectionOptions& o, Checkpoint* checkpoint) {
   if (auto p = o.validate(); !p.empty()) fail("explain: ", p);
   SelectionResult result;
   result.model = base;
@@ -315,7 +328,7 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
     result.whitened_samples = static_cast<std::size_t>(yw.size());
     const WhitenedFit fit = fit_model(result.model, in, yw, sc, w);
     const Step c{in, y, sc, w, yw, result.model, fit};
-    std::vector<Evaluated> ev = score_candidates(open, c, options, step);
+    std::vector<Evaluated> ev = score_candidates(open, c, options, step, checkpoint);
     const std::ptrdiff_t best = gate_by_likelihood(ev, open, c, rows, result.noise);
     std::vector<CandidateScore> scores;
     for (const auto& e : ev) scores.push_back(e.score);

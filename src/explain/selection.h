@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "core/checkpoint.h"
 #include "explain/effect.h"
 #include "sensor/noise_model.h"
 
@@ -95,7 +96,7 @@ Eigen::MatrixXd candidate_columns(const Candidate& c, double tau_s, const ModelS
 // `y` is the target in deg/h on every sample (the error, minus any fixed offset).
 SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base,
                                const TermScaling& scaling, const std::vector<Candidate>& candidates,
-                               const SelectionOptions& options);
+                               const SelectionOptions& options, Checkpoint* checkpoint = nullptr);
 
 // A candidate tested against two models: the full one, and a core whose flexible structure (a
 // scale-factor surface) is replaced by a smooth polynomial. An effect the full model absorbs but the core

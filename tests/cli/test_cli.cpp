@@ -270,20 +270,22 @@ bool run_and_kill(const std::string& args, double seconds) {
   return true;
 }
 
-// A Monte Carlo killed (SIGKILL) at random points and resumed ends with the same cof.json, byte for byte, as an
-// uninterrupted run; a kill never leaves a half-written result or checkpoint.
-TEST_F(Cli, KilledMonteCarloResumesToTheSameResult) {
-  const std::string args = "--quiet cof --model none --trajectory medium --monte-carlo 800 --seed 9 --out ";
+// Runs `args --out whole` uninterrupted, then the same command into `killed`, killed with SIGKILL at random
+// points (resuming from the second attempt on) and finished with --resume. After every kill no JSON result is
+// half-written; at the end no checkpoint or temporary is left. Returns how many runs were actually killed.
+int kill_and_resume(const std::string& args, const fs::path& whole, const fs::path& killed, const std::string& checkpoint,
+                    std::uint64_t seed) {
   const auto start = std::chrono::steady_clock::now();
-  ASSERT_EQ(run(args + path("whole")).status, 0);
+  const Result first = run(args + " --out " + whole.string());
+  EXPECT_EQ(first.status, 0) << first.output;
   const double duration = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const std::string whole = read_text(dir_ / "whole" / "cof.json");
-  RandomStream random(2026, "kill-points");
+  RandomStream random(seed, "kill-points");
   int kills = 0;
   for (int attempt = 0; attempt < 2; ++attempt) {
     const double at = (0.15 + 0.6 * random.uniform()) * duration;
-    kills += run_and_kill(args + path("killed") + (attempt > 0 ? " --resume" : ""), at) ? 1 : 0;
-    for (const auto& entry : fs::directory_iterator(dir_ / "killed")) {
+    kills += run_and_kill(args + " --out " + killed.string() + (attempt > 0 ? " --resume" : ""), at) ? 1 : 0;
+    if (!fs::exists(killed)) continue;
+    for (const auto& entry : fs::directory_iterator(killed)) {
       const std::string name = entry.path().filename().string();
       if (name.find(".tmp.") != std::string::npos) continue;  // a temporary of the killed write, never a result
       if (entry.path().extension() == ".json") {
@@ -291,21 +293,60 @@ TEST_F(Cli, KilledMonteCarloResumesToTheSameResult) {
       }
     }
   }
-  EXPECT_GE(kills, 1) << "the run finished before every kill point; the test did not test resumption";
-  const Result resumed = run(args + path("killed") + " --resume");
-  ASSERT_EQ(resumed.status, 0) << resumed.output;
-  EXPECT_EQ(read_text(dir_ / "killed" / "cof.json"), whole);
-  EXPECT_FALSE(fs::exists(dir_ / "killed" / ".cof_checkpoint.json"));
-  for (const auto& entry : fs::directory_iterator(dir_ / "killed")) {
+  const Result resumed = run(args + " --out " + killed.string() + " --resume");
+  EXPECT_EQ(resumed.status, 0) << resumed.output;
+  EXPECT_FALSE(fs::exists(killed / checkpoint));
+  for (const auto& entry : fs::directory_iterator(killed)) {
     EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "stale temporary " << entry.path();
   }
+  return kills;
+}
+
+// A Monte Carlo killed (SIGKILL) at random points and resumed ends with the same cof.json, byte for byte, as an
+// uninterrupted run; a kill never leaves a half-written result or checkpoint.
+TEST_F(Cli, KilledMonteCarloResumesToTheSameResult) {
+  const std::string args = "--quiet cof --model none --trajectory medium --monte-carlo 800 --seed 9";
+  const int kills = kill_and_resume(args, dir_ / "whole", dir_ / "killed", ".cof_checkpoint.json", 2026);
+  EXPECT_GE(kills, 1) << "the run finished before every kill point; the test did not test resumption";
+  EXPECT_EQ(read_text(dir_ / "killed" / "cof.json"), read_text(dir_ / "whole" / "cof.json"));
   // A resume with another seed is refused, naming the checkpoint (when the kill left one behind).
-  run_and_kill(args + path("other"), 0.4 * duration);
+  run_and_kill(args + " --out " + path("other"), 2.0);
   if (fs::exists(dir_ / "other" / ".cof_checkpoint.json")) {
     const Result other = run("--quiet cof --model none --trajectory medium --monte-carlo 800 --seed 10 --resume --out " + path("other"));
     EXPECT_EQ(other.status, 2);
     EXPECT_THAT(other.output, HasSubstr("belongs to another computation"));
   }
+}
+
+// The same for a design (its finished global search and Ipopt starts are the checkpoint): the trajectory is
+// identical byte for byte, and so is design.json but for the solve's measured time and memory.
+TEST_F(Cli, KilledDesignResumesToTheSameResult) {
+  for (const std::string solver : {"nlopt --set global_evaluations=400 --set local_evaluations=300", "ipopt --set starts=4 --set max_iterations=15"}) {
+    const std::string name = solver.substr(0, solver.find(' '));
+    const std::string args = "--quiet design --budget-min 20 --envelope short --seed 3 --solver " + solver;
+    const int kills = kill_and_resume(args, dir_ / (name + "_whole"), dir_ / (name + "_killed"), ".design_checkpoint.json", 7);
+    EXPECT_GE(kills, 1) << name << ": the run finished before every kill point";
+    EXPECT_EQ(read_text(dir_ / (name + "_killed") / "trajectory.yaml"), read_text(dir_ / (name + "_whole") / "trajectory.yaml")) << name;
+    auto whole = read_json(dir_ / (name + "_whole") / "design.json"), resumed = read_json(dir_ / (name + "_killed") / "design.json");
+    for (auto* j : {&whole, &resumed}) (*j)["solver_summary"].erase("time_s"), (*j)["solver_summary"].erase("peak_rss_mb");
+    EXPECT_EQ(resumed, whole) << name;
+  }
+}
+
+// The same for explain (each finished selection step's bootstrap is the checkpoint): explain.json identical but
+// for its run time, the refitted model and the residuals identical byte for byte.
+TEST_F(Cli, KilledExplainResumesToTheSameResult) {
+  std::ofstream(path("shupe.yaml")) << read_text(fs::path(GYROSID_SOURCE_DIR) / "configs/sensors/open_loop_fog.yaml")
+                                    << "\nshupe_dph_per_c_per_min: 4\n";
+  ASSERT_EQ(run("simulate --sensor " + path("shupe.yaml") + " --trajectory builtin:trajectories/test_4x16.yaml --seed 2 --out " + path("rec.csv")).status, 0);
+  const std::string args = "--quiet explain --recording " + path("rec.csv") + " --baseline-form polynomial --bootstrap 1999 --seed 3";
+  const int kills = kill_and_resume(args, dir_ / "whole", dir_ / "killed", ".explain_checkpoint.json", 11);
+  EXPECT_GE(kills, 1) << "the run finished before every kill point";
+  auto whole = read_json(dir_ / "whole" / "explain.json"), resumed = read_json(dir_ / "killed" / "explain.json");
+  EXPECT_EQ(whole["verdict"], "missing_physics");
+  whole.erase("run_time_s"), resumed.erase("run_time_s");
+  EXPECT_EQ(resumed, whole);
+  for (const char* f : {"model.json", "residuals.csv"}) EXPECT_EQ(read_text(dir_ / "killed" / f), read_text(dir_ / "whole" / f)) << f;
 }
 
 // --threads changes how work is split, never the result: the same model, bit for bit, on 1 and 2 threads.

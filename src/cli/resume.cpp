@@ -1,0 +1,34 @@
+#include "cli/resume.h"
+
+#include <filesystem>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/config.h"
+#include "core/error.h"
+
+namespace gyrosid::cli {
+
+std::string run_fingerprint(const CLI::App& command, const std::vector<std::string>& files) {
+  std::istringstream options(command.config_to_str(true, false));
+  std::string text, line;
+  while (std::getline(options, line)) {
+    if (line.rfind("resume=", 0) == 0 || line.rfind("out=", 0) == 0) continue;
+    text += line + "\n";
+  }
+  for (const auto& f : files) {
+    try {
+      text += "|" + digest(config_text(f));
+    } catch (const Error&) {
+      text += "|" + f;
+    }
+  }
+  return digest(text);
+}
+
+Checkpoint run_checkpoint(const std::string& out, const std::string& name, const std::string& fingerprint, bool resume) {
+  if (resume) remove_stale_temporaries(out);
+  return Checkpoint(std::filesystem::path(out) / ("." + name + "_checkpoint.json"), fingerprint, resume);
+}
+
+}  // namespace gyrosid::cli
