@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <limits>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -60,6 +61,12 @@ void Checkpoint::save_record(const std::string& name, nlohmann::json value) {
   if (!enabled()) return;
   records_[name] = std::move(value);
   write();
+}
+
+std::vector<double> saved_numbers(const nlohmann::json& array) {
+  std::vector<double> out;
+  for (const auto& v : array) out.push_back(v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN());
+  return out;
 }
 
 void Checkpoint::write() const {

@@ -40,6 +40,10 @@ class Checkpoint {
   std::map<std::string, nlohmann::json> records_;
 };
 
+// The numbers of a saved JSON array: JSON has no infinity or NaN, so a non-finite value is saved as null and
+// read back as NaN (the summaries write both as null too).
+std::vector<double> saved_numbers(const nlohmann::json& array);
+
 // A short hex digest of text (FNV-1a 64), for fingerprints.
 std::string digest(std::string_view text);
 

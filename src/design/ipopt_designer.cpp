@@ -190,7 +190,7 @@ IpoptDesigner::StartResult IpoptDesigner::run_start(const DesignProblem& problem
   StartResult r;
   // A finished start is a checkpoint: on resume its history, evaluations and solution are taken as saved.
   if (const nlohmann::json& saved = checkpoint_ ? checkpoint_->record(key) : nlohmann::json(); !saved.is_null()) {
-    for (const double value : saved.at("history")) monitor.iteration(value);
+    for (const double value : saved_numbers(saved.at("history"))) monitor.iteration(value);
     monitor.evaluation(saved.at("evaluations").get<int>());
     r.status = saved.at("status").get<int>();
     r.iterations = saved.at("iterations").get<int>();

@@ -105,7 +105,7 @@ SolveOutcome NloptDesigner::solve(const DesignProblem& problem, TableProfile& be
   // same point, history and report (every evaluation is deterministic given the seed).
   const nlohmann::json& saved = checkpoint_ ? checkpoint_->record("nlopt/global") : nlohmann::json();
   if (o_.global != "none" && !saved.is_null()) {
-    for (const double value : saved.at("history")) monitor.iteration(value), monitor.evaluation();
+    for (const double value : saved_numbers(saved.at("history"))) monitor.iteration(value), monitor.evaluation();
     evaluations = saved.at("evaluations").get<int>();
     const std::vector<double> v = saved.at("best_point");
     record = {saved.at("best_value").get<double>(), Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()))};
