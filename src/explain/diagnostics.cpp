@@ -42,14 +42,17 @@ double lagged_correlation(const Eigen::VectorXd& a, const Eigen::VectorXd& b, co
   return count ? sum / static_cast<double>(n) : 0.0;
 }
 
-// The residual whitened by the noise model over every sample, and standardised.
+// The residual whitened by the noise model over every diagnosed sample (all but held-out samples outside
+// the training support, where the simulation extrapolates), and standardised.
 struct Whitened {
   Whitened(const ExplainInput& in, const Eigen::VectorXd& residual, const NoiseModel& noise)
-      : w(noise, all_rows(in.size()), in.signals.t_s), e(standardized(w.apply(residual))), n(static_cast<double>(e.size())) {}
-  static std::vector<Eigen::Index> all_rows(Eigen::Index count) {
-    std::vector<Eigen::Index> all(static_cast<std::size_t>(count));
-    for (Eigen::Index i = 0; i < count; ++i) all[static_cast<std::size_t>(i)] = i;
-    return all;
+      : w(noise, diagnosed_rows(in), in.signals.t_s), e(standardized(w.apply(residual))), n(static_cast<double>(e.size())) {}
+  static std::vector<Eigen::Index> diagnosed_rows(const ExplainInput& in) {
+    std::vector<Eigen::Index> rows;
+    for (Eigen::Index i = 0; i < in.size(); ++i) {
+      if (in.diagnosed(i)) rows.push_back(i);
+    }
+    return rows;
   }
   Whitener w;
   Eigen::VectorXd e;
@@ -180,6 +183,7 @@ void grid_cells(const ExplainInput& in, const Eigen::VectorXd& residual, const W
   std::vector<int> count_white(static_cast<std::size_t>(cells), 0);
   std::vector<int> cell_of(static_cast<std::size_t>(residual.size()), 0);
   for (Eigen::Index i = 0; i < residual.size(); ++i) {
+    if (!in.diagnosed(i)) continue;
     const int ti = std::min(t_bins - 1, static_cast<int>(t_bins * (s.temp_c(i) - t_lo) / std::max(t_hi - t_lo, 1e-9)));
     const int wi = std::min(w_bins - 1, static_cast<int>(w_bins * (rate_dps(i) - w_lo) / std::max(w_hi - w_lo, 1e-9)));
     const int bi = branch(i) >= 0 ? 0 : 1;

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/units.h"
+#include "explain/heldout_support.h"
 #include "explain/judge.h"
 #include "explain/refit.h"
 #include "explain/simulation.h"
@@ -18,6 +19,7 @@ namespace gyrosid::explain {
 std::string ExplainOptions::validate() const {
   if (!model_path.empty() && !baseline_path.empty()) return "give --model or --baseline, not both";
   if (!(min_stability >= 0 && min_stability <= 1)) return "min_stability must be in [0, 1]";
+  if (!(heldout_leverage >= 1)) return str_cat("heldout_leverage = ", heldout_leverage, " must be at least 1 (a multiple of the mean training leverage)");
   if (auto p = input.validate(); !p.empty()) return p;
   return selection.validate();
 }
@@ -26,11 +28,12 @@ namespace {
 
 const double kDph = units::radps_to_dph(1.0);  // deg/h per rad/s
 
+// Over the training samples, or over the held-out samples that confirm (inside the training support).
 double rms(const Eigen::VectorXd& r, const ExplainInput& in, bool heldout) {
   double s = 0.0;
   int n = 0;
   for (Eigen::Index i = 0; i < in.size(); ++i) {
-    if ((in.heldout[static_cast<std::size_t>(i)] != 0) == heldout) s += r(i) * r(i), ++n;
+    if (heldout ? in.confirms(i) : in.heldout[static_cast<std::size_t>(i)] == 0) s += r(i) * r(i), ++n;
   }
   return n ? std::sqrt(s / n) : 0.0;
 }
@@ -66,16 +69,26 @@ struct Accepted {
   std::vector<DemotedEffect> demoted;
 };
 
-Accepted accept(const std::vector<Judged>& judged, const ModelSpec& base, const SelectionResult& sel, double min_stability) {
+// Why a judged effect is not accepted.
+std::string demotion_reason(const Judged& j, double min_stability, double untested_bic) {
+  if (j.stability < min_stability) return "unstable across training blocks";
+  if (j.explained_by_others()) {
+    return str_cat("explained by the other effects once their nonlinear parameters are refitted without it (profile dBIC ",
+                   format_significant(*j.profiled_delta_bic, 3), ")");
+  }
+  if (j.weak_and_untested(untested_bic)) {
+    return str_cat("the held-out blocks cannot test it and its evidence against the coloured noise re-estimated with it is weak (dBIC ",
+                   format_significant(j.effect.score.ml_delta_bic, 3), " < ", format_significant(untested_bic, 3), ")");
+  }
+  return "not confirmed on the held-out blocks";
+}
+
+Accepted accept(const std::vector<Judged>& judged, const ModelSpec& base, const SelectionResult& sel, double min_stability, double untested_bic) {
   Accepted a{base, false, {}, {}};
   for (const auto& j : judged) {
-    if (!j.accepted(min_stability)) {
+    if (!j.accepted(min_stability, untested_bic)) {
       const auto z = j.heldout_testable ? std::optional<double>(j.heldout_z) : std::nullopt;
-      a.demoted.push_back({j.effect.score.id, j.effect.score.delta_bic, j.stability, j.heldout_gain, z,
-                           j.stability < min_stability ? "unstable across training blocks"
-                           : j.explained_by_others()   ? str_cat("explained by the other effects once their nonlinear parameters are refitted "
-                                                                 "without it (profile dBIC ", format_significant(*j.profiled_delta_bic, 3), ")")
-                                                       : "not confirmed on the held-out blocks"});
+      a.demoted.push_back({j.effect.score.id, j.effect.score.delta_bic, j.stability, j.heldout_gain, z, demotion_reason(j, min_stability, untested_bic)});
       continue;
     }
     if (j.term) a.model.terms.push_back(*j.term);
@@ -235,6 +248,7 @@ RecordingSummary recording_summary(const ExplainInput& in, const ExplainOptions&
   r.samples = static_cast<long>(in.size()), r.training_samples = static_cast<long>(in.training_size());
   r.duration_s = in.signals.t_s.back() - in.signals.t_s.front();
   r.blocks = in.blocks, r.thermal_cycles = in.thermal_cycles, r.heldout_every = o.input.heldout_every;
+  r.heldout_outside_support = static_cast<long>(std::count(in.outside_support.begin(), in.outside_support.end(), 1));
   r.skipped_channels = in.skipped;
   return r;
 }
@@ -254,6 +268,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   // 1. The simulation and the structure whose coefficients are re-estimated.
   Simulation sim = make_simulation(in, o.model_path, o.baseline_path, o.baseline_form, o.input);
   const ModelSpec& base = sim.base;
+  in.outside_support = outside_training_support(model_columns(base, in.signals, scaling), in.heldout, o.heldout_leverage);
   result.simulation_residual_dph = sim.prior ? Eigen::VectorXd(y - in.signals.channel(kPriorChannel) * kDph) : y;
 
   // 2. Candidates and forward selection.
@@ -263,7 +278,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   const Whitener w = training_whitener(in, sel.noise);
 
   // 3. Stability and held-out confirmation of every selected effect; 4. the joint refit with intervals.
-  const Accepted accepted = accept(judge_effects(in, y, base, sel, scaling, w), base, sel, o.min_stability);
+  const Accepted accepted = accept(judge_effects(in, y, base, sel, scaling, w), base, sel, o.min_stability, o.selection.ambiguity_bic);
   const RefitResult final_fit = refit(in, y, accepted.model, accepted.lag_selected, scaling, w);
   summary.absorbed_alternatives = absorbed_alternatives(candidates, accepted, in, y, scaling, w, o.selection.ambiguity_bic);
   const Eigen::MatrixXd x_before = model_columns(base, in.signals, scaling);

@@ -29,6 +29,9 @@ struct ExplainInput {
   std::vector<std::string> skipped;                            // channels left out (nan), with the reason
   std::vector<int> block;      // block index per sample
   std::vector<char> heldout;   // 1 for held-out samples
+  // Held-out samples outside the training blocks' support (heldout_support.h): they confirm nothing.
+  // Empty until the simulation is known (explain_recording sets it).
+  std::vector<char> outside_support;
   std::vector<int> segment;    // runs of uniform sampling (a gap over 1.5 sample intervals starts a new one)
   int blocks = 0;
   bool thermal_cycles = false; // blocks are whole thermal cycles (else equal time blocks)
@@ -36,6 +39,13 @@ struct ExplainInput {
 
   Eigen::Index size() const { return error.size(); }
   Eigen::Index training_size() const;
+  // A held-out sample that confirms: held out and inside the training blocks' support.
+  bool confirms(Eigen::Index i) const {
+    const auto k = static_cast<std::size_t>(i);
+    return heldout[k] != 0 && (outside_support.empty() || outside_support[k] == 0);
+  }
+  // A sample the residual diagnostics see: any but those outside the support.
+  bool diagnosed(Eigen::Index i) const { return outside_support.empty() || outside_support[static_cast<std::size_t>(i)] == 0; }
 };
 
 // Reads one gyro of a recording. Errors name the recording and the column.

@@ -130,6 +130,7 @@ struct RecordingSummary {
   int blocks = 0;
   bool thermal_cycles = false;
   int heldout_every = 4;  // every heldout_every-th block from the third is held out
+  long heldout_outside_support = 0;  // held-out samples where the simulation extrapolates (heldout_support.h)
   std::vector<std::string> skipped_channels;
 };
 

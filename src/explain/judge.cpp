@@ -18,11 +18,11 @@ Whitener rows_whitener(const ExplainInput& in, const NoiseModel& noise, const st
   return Whitener(noise, rows, in.signals.t_s);
 }
 
-// Sum of squared residuals on the held-out rows (unwhitened: a user's view of the fit).
+// Sum of squared residuals on the confirming held-out rows (unwhitened: a user's view of the fit).
 double heldout_rss(const Eigen::VectorXd& residual, const ExplainInput& in) {
   double s = 0.0;
   for (Eigen::Index i = 0; i < in.size(); ++i) {
-    if (in.heldout[static_cast<std::size_t>(i)]) s += residual(i) * residual(i);
+    if (in.confirms(i)) s += residual(i) * residual(i);
   }
   return s;
 }
@@ -67,7 +67,10 @@ std::vector<Judged> judge_effects(const ExplainInput& in, const Eigen::VectorXd&
   const RowFit fit_full = gls(x_full, y, w);
   const Eigen::VectorXd residual_full = y - x_full * fit_full.beta;
   const double sigma = std::sqrt(fit_full.rss / std::max<double>(1.0, static_cast<double>(fit_full.n) - fit_full.rank));
-  const Whitener heldout_w = rows_whitener(in, sel.noise, [&](Eigen::Index i) { return in.heldout[static_cast<std::size_t>(i)] != 0; });
+  std::size_t confirming = 0;
+  for (Eigen::Index i = 0; i < in.size(); ++i) confirming += in.confirms(i);
+  const std::optional<Whitener> heldout_w =
+      confirming ? std::optional<Whitener>(rows_whitener(in, sel.noise, [&](Eigen::Index i) { return in.confirms(i); })) : std::nullopt;
   std::vector<Judged> out;
   std::size_t term = base.terms.size();
   const bool lag_selected = sel.model.lag_tau_s != base.lag_tau_s;
@@ -83,11 +86,13 @@ std::vector<Judged> judge_effects(const ExplainInput& in, const Eigen::VectorXd&
     const Eigen::VectorXd residual_minus = y - x_minus * gls(x_minus, y, w).beta;
     j.heldout_rss_without = heldout_rss(residual_minus, in);
     j.heldout_gain = j.heldout_rss_without - heldout_rss(residual_full, in);
-    j.heldout_samples = static_cast<std::size_t>(std::count(in.heldout.begin(), in.heldout.end(), 1));
-    const Eigen::VectorXd r = heldout_w.apply(residual_full), d = heldout_w.apply(residual_minus - residual_full);
-    const double sigma_h = std::sqrt(r.squaredNorm() / std::max<double>(1.0, static_cast<double>(r.size())));
-    j.heldout_testable = d.norm() / std::sqrt(static_cast<double>(std::max<Eigen::Index>(1, d.size()))) > 0.05 * sigma;
-    j.heldout_z = d.norm() > 0 ? (d.squaredNorm() + 2.0 * r.dot(d)) / (2.0 * sigma_h * d.norm()) : 0.0;
+    j.heldout_samples = confirming;
+    if (heldout_w) {
+      const Eigen::VectorXd r = heldout_w->apply(residual_full), d = heldout_w->apply(residual_minus - residual_full);
+      const double sigma_h = std::sqrt(r.squaredNorm() / std::max<double>(1.0, static_cast<double>(r.size())));
+      j.heldout_testable = d.norm() / std::sqrt(static_cast<double>(std::max<Eigen::Index>(1, d.size()))) > 0.05 * sigma;
+      j.heldout_z = d.norm() > 0 ? (d.squaredNorm() + 2.0 * r.dot(d)) / (2.0 * sigma_h * d.norm()) : 0.0;
+    }
     j.stability = stability(in, y, sel.noise, x_full, x_minus, lag ? 0 : selected.candidate.nonlinear_parameters());
     const ProfiledFit without = profiled_fit(in, y, minus, lag_selected && !lag, scaling, w);
     if (without.nonlinear > 0) {

@@ -26,8 +26,12 @@ struct Judged {
   std::optional<double> profiled_delta_bic;
 
   bool explained_by_others() const { return profiled_delta_bic && *profiled_delta_bic <= 0; }
-  bool accepted(double min_stability) const {
-    return stability >= min_stability && (!heldout_testable || heldout_z > 2.0) && !explained_by_others();
+  // The held-out blocks cannot test it and its evidence against the coloured noise re-estimated by maximum
+  // likelihood (the selection's gate) is below `untested_bic`: with no confirmation out of sample, in-sample
+  // evidence must be very strong - a slow wander the noise model misplaced passes a weak gate.
+  bool weak_and_untested(double untested_bic) const { return !heldout_testable && !(effect.score.ml_delta_bic >= untested_bic); }
+  bool accepted(double min_stability, double untested_bic) const {
+    return stability >= min_stability && (!heldout_testable || heldout_z > 2.0) && !explained_by_others() && !weak_and_untested(untested_bic);
   }
 };
 

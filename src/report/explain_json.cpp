@@ -232,13 +232,14 @@ FitSummary fit_of(const json& j) {
 json recording_json(const RecordingSummary& r) {
   return {{"source", r.source}, {"samples", r.samples}, {"training_samples", r.training_samples}, {"duration_s", r.duration_s},
           {"blocks", r.blocks}, {"blocks_are_thermal_cycles", r.thermal_cycles}, {"heldout_every", r.heldout_every},
-          {"axis", r.axis}, {"skipped_channels", r.skipped_channels}};
+          {"heldout_outside_support", r.heldout_outside_support}, {"axis", r.axis}, {"skipped_channels", r.skipped_channels}};
 }
 
 RecordingSummary recording_of(const json& j) {
   RecordingSummary r;
   r.source = j.at("source"), r.samples = j.at("samples"), r.training_samples = j.at("training_samples"), r.duration_s = j.at("duration_s");
   r.blocks = j.at("blocks"), r.thermal_cycles = j.at("blocks_are_thermal_cycles"), r.heldout_every = j.value("heldout_every", 4);
+  r.heldout_outside_support = j.value("heldout_outside_support", 0L);
   r.axis = j.at("axis"), r.skipped_channels = j.at("skipped_channels").get<std::vector<std::string>>();
   return r;
 }

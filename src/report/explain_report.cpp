@@ -183,6 +183,10 @@ std::string report_markdown(const ExplainResult& r) {
      << "**Verdict: " << to_string(j.verdict) << "**. Simulation: " << j.simulation << ". " << j.recording.samples << " samples over "
      << format_significant(j.recording.duration_s / 3600.0, 3) << " h; " << j.recording.blocks << " blocks ("
      << (j.recording.thermal_cycles ? "whole thermal cycles" : "equal spans of time") << "), " << heldout_text(j.recording.heldout_every)
+     << (j.recording.heldout_outside_support
+             ? str_cat(" (", j.recording.heldout_outside_support, " held-out samples lie outside the training blocks' support - the "
+                       "simulation extrapolates there - and confirm nothing)")
+             : std::string())
      << ". Run time " << format_significant(j.run_time_s, 3) << " s.\n\n";
   const auto& fit = j.fit;
   md << "## Fit (residual rms, deg/h)\n\n| | training | held-out |\n|---|---|---|\n"
@@ -207,6 +211,12 @@ std::string report_markdown(const ExplainResult& r) {
   return md.str();
 }
 
+// residuals.csv's heldout column: 0 training, 1 held out (confirms), 2 held out outside the training support.
+int heldout_code(const explain::ExplainInput& in, Eigen::Index i) {
+  if (!in.heldout[static_cast<std::size_t>(i)]) return 0;
+  return in.confirms(i) ? 1 : 2;
+}
+
 }  // namespace
 
 void write_explain_outputs(const ExplainResult& r, const std::filesystem::path& dir) {
@@ -215,7 +225,7 @@ void write_explain_outputs(const ExplainResult& r, const std::filesystem::path& 
     out << "t_s,residual_before_dph,residual_after_dph,heldout\n";
     for (Eigen::Index i = 0; i < r.input.size(); ++i) {
       out << format_number(r.input.signals.t_s[static_cast<std::size_t>(i)]) << ',' << format_number(r.residual_before_dph(i)) << ','
-          << format_number(r.residual_after_dph(i)) << ',' << (r.input.heldout[static_cast<std::size_t>(i)] ? 1 : 0) << '\n';
+          << format_number(r.residual_after_dph(i)) << ',' << heldout_code(r.input, i) << '\n';
     }
   });
   save_model(dir / "model.json", *r.model, {{"training", {{"recording", r.input.source}, {"explain", r.summary.simulation}}}});
