@@ -9,15 +9,19 @@
 namespace gyrosid::explain {
 
 NoiseLikelihood::NoiseLikelihood(std::vector<Eigen::Index> rows, const std::vector<double>& t_s, const NoiseModel& start)
-    : rows_(std::move(rows)), t_s_(t_s), start_(start), gm_tau_s_(start.gm_var > 0 ? start.gm_tau_s : 100.0 * start.dt_s) {}
+    : rows_(std::move(rows)), t_s_(t_s), start_(start), gm_tau_s_(start.gm_var > 0 ? start.gm_tau_s : 100.0 * start.dt_s) {
+  const double span = rows_.empty() ? 0.0 : t_s_[static_cast<std::size_t>(rows_.back())] - t_s_[static_cast<std::size_t>(rows_.front())];
+  max_log_tau_ = std::log(std::max(100.0 * start_.dt_s, span / 3.0));
+  gm_tau_s_ = std::clamp(gm_tau_s_, 2.0 * start_.dt_s, std::exp(max_log_tau_));
+}
 
-double NoiseLikelihood::negative(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::array<double, 2>& v) const {
+double NoiseLikelihood::negative(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::array<double, 3>& v) const {
   NoiseModel m;
   m.dt_s = start_.dt_s;
   m.white_var = 1.0;
   m.rw_q = std::exp(v[0]);
   m.gm_var = std::exp(v[1]);
-  m.gm_tau_s = gm_tau_s_;
+  m.gm_tau_s = std::exp(v[2]);
   const Whitener w(m, rows_, t_s_);
   const double n = static_cast<double>(rows_.size());
   return 0.5 * n * std::log(whitened_rss(w.apply(x), w.apply(y)) / n) + 0.5 * w.log_determinant();
@@ -26,17 +30,19 @@ double NoiseLikelihood::negative(const Eigen::MatrixXd& x, const Eigen::VectorXd
 NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) const {
   Optimum from;
   from.log_ratios = {std::clamp(std::log(std::max(start_.rw_q / start_.white_var, 1e-9)), -24.0, 2.0),
-                     std::clamp(std::log(std::max(start_.gm_var / start_.white_var, 1e-6)), -24.0, 2.0)};
+                     std::clamp(std::log(std::max(start_.gm_var / start_.white_var, 1e-6)), -24.0, 2.0), std::log(gm_tau_s_)};
   return maximise(x, y, from);
 }
 
 NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Optimum& from) const {
   BoundedSearchOptions bobyqa;
   bobyqa.xtol_abs = 1e-3;
-  bobyqa.max_evaluations = 80;
-  const BoundedSearchResult r = minimize_bounded([&](const std::vector<double>& v) { return negative(x, y, {v[0], v[1]}); },
-                                                 {from.log_ratios[0], from.log_ratios[1]}, {-25.0, -25.0}, {3.0, 3.0}, bobyqa);
-  return {-r.value, {r.x[0], r.x[1]}};
+  bobyqa.max_evaluations = 120;
+  const double min_log_tau = std::log(2.0 * start_.dt_s);
+  const BoundedSearchResult r = minimize_bounded([&](const std::vector<double>& v) { return negative(x, y, {v[0], v[1], v[2]}); },
+                                                 {from.log_ratios[0], from.log_ratios[1], std::clamp(from.log_ratios[2], min_log_tau, max_log_tau_)},
+                                                 {-25.0, -25.0, min_log_tau}, {3.0, 3.0, max_log_tau_}, bobyqa);
+  return {-r.value, {r.x[0], r.x[1], r.x[2]}};
 }
 
 }  // namespace gyrosid::explain

@@ -1,6 +1,8 @@
 // The Gaussian log-likelihood of a regression under the coloured-noise model (sensor/noise_model.h),
-// maximised over the noise: the random-walk and Gauss-Markov variances relative to the white one (BOBYQA
-// over their logarithms; the Gauss-Markov time constant held at the Allan fit's), the linear coefficients
+// maximised over the noise: the random-walk and Gauss-Markov variances relative to the white one and the
+// Gauss-Markov time constant (BOBYQA over their logarithms, from the Allan fit's; the Allan fit places a
+// weak slow wander poorly under strong white noise, and a wander with the wrong time constant is what a
+// slow deterministic term then absorbs), the linear coefficients
 // and the white variance concentrated out (Kalman-whitened least squares; the whitener's log-determinant
 // is the determinant term). Comparing it with and without a deterministic term tells an effect from
 // coloured noise that mimics it: a true trend or step takes the random walk's place, a wander is not
@@ -23,7 +25,8 @@ class NoiseLikelihood {
 
   struct Optimum {
     double log_likelihood = 0.0;
-    std::array<double, 2> log_ratios{};  // log(random-walk q / white), log(Gauss-Markov variance / white)
+    // log(random-walk q / white), log(Gauss-Markov variance / white), log(Gauss-Markov tau / s)
+    std::array<double, 3> log_ratios{};
   };
   // Maximised from the start model's ratios, or from `from` (a nested model's optimum: the larger model's
   // maximum is then never below the smaller's).
@@ -32,12 +35,13 @@ class NoiseLikelihood {
   std::size_t samples() const { return rows_.size(); }
 
  private:
-  double negative(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::array<double, 2>& v) const;
+  double negative(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::array<double, 3>& v) const;
 
   std::vector<Eigen::Index> rows_;
   const std::vector<double>& t_s_;
   NoiseModel start_;
   double gm_tau_s_;
+  double max_log_tau_;  // the Gauss-Markov time constant at most a third of the span
 };
 
 }  // namespace gyrosid::explain
