@@ -92,6 +92,8 @@ def score(job, truth, ex, d):
     covered = set(named) | {a for alts in named.values() for a in alts}
     row = {"generator": "independent", "group": job["group"], "case": job["case"], "seed": job["seed"], "verdict": ex["verdict"],
            "named": " ".join(named), "run_time_s": ex["run_time_s"], "samples": ex["recording"]["samples"],
+           "heldout_outside_support": ex["recording"].get("heldout_outside_support", 0),
+           "heldout_samples": ex["recording"]["samples"] - ex["recording"]["training_samples"],
            "magnitude": min([e["magnitude"] for e in truth["effects"]] or [np.nan]),
            "unexplained": " ".join(sorted({u["kind"] + (":" + u["channel"] if u["channel"] else "") for u in ex["unexplained"]}))}
     if planted:
@@ -107,9 +109,10 @@ def score(job, truth, ex, d):
                 row["param_rel_err"] = abs(hit["parameters"][p] - e["value"]) / abs(e["value"])
                 ci = hit["confidence"].get(p)
                 row["param_covered"] = bool(ci) and ci[0] <= e["value"] <= ci[1]
-    held = heldout_excess(ex, d)
-    if held is not None:
-        row["heldout_excess_removed"] = held
+    for key, confirming in (("heldout_excess_removed", True), ("heldout_excess_removed_all", False)):
+        held = heldout_excess(ex, d, confirming)
+        if held is not None:
+            row[key] = held
     for o in truth["outside"]:
         if "t_step_s" in o:
             row["localised"] = ex["verdict"] == "unexplained_residual" and any(u["kind"] in ("time_window", "change_point", "trend_change") and
@@ -118,13 +121,15 @@ def score(job, truth, ex, d):
     return row
 
 
-def heldout_excess(ex, d):
-    """Fraction of the held-out excess residual (over the generator's own noise there) the refit removed."""
+def heldout_excess(ex, d, confirming=True):
+    """Fraction of the held-out excess residual (over the generator's own noise there) the refit removed: on
+    the held-out samples explain confirms with (heldout == 1), or on every held-out sample, including those
+    where the baseline extrapolates outside its training support (heldout == 2)."""
     res_path = os.path.join(d, "explain", "residuals.csv")
     if not os.path.exists(res_path):
         return None
     res = np.genfromtxt(res_path, delimiter=",", names=True)
-    held = res["heldout"] > 0
+    held = res["heldout"] == 1 if confirming else res["heldout"] > 0
     noise = np.load(os.path.join(d, "noise.npy"))
     floor = float(np.mean(np.square(noise[held] - noise[held].mean())))
     before = float(np.mean(np.square(res["residual_before_dph"][held])))
