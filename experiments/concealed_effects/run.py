@@ -423,6 +423,7 @@ def main():
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--budget-min", type=float, default=0.0, help="stop starting new recordings after this many minutes (0: no limit)")
     ap.add_argument("--force", action="store_true")
+    ap.add_argument("--groups", default="", help="run only these case groups (comma-separated: effect, combination, confounded, outside, control)")
     ap.add_argument("--partial", action="store_true",
                     help="when the budget runs out, still write the summary from the recordings explained so far (counts show how many)")
     args = ap.parse_args()
@@ -436,6 +437,8 @@ def main():
         jobs += jobs_of(exp.cfg, out, args.seeds or exp.cfg["seeds"])
     if "independent" in generators:
         jobs += independent_cases.jobs(exp.cfg["independent"], out, args.seeds or exp.cfg["independent"]["seeds"])
+    if args.groups:
+        jobs = [j for j in jobs if j["group"] in args.groups.split(",")]
     sys.stderr.write("%d recordings\n" % len(jobs))
     # Shapes first (shared, not thread-safe to create twice).
     for j in jobs:

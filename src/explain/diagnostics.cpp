@@ -42,8 +42,7 @@ double lagged_correlation(const Eigen::VectorXd& a, const Eigen::VectorXd& b, co
   return count ? sum / static_cast<double>(n) : 0.0;
 }
 
-// The residual whitened by the noise model over every diagnosed sample (all but held-out samples outside
-// the training support, where the simulation extrapolates), and standardised.
+// The residual whitened by the noise model over the diagnosed (training) samples, and standardised.
 struct Whitened {
   Whitened(const ExplainInput& in, const Eigen::VectorXd& residual, const NoiseModel& noise)
       : w(noise, diagnosed_rows(in), in.signals.t_s), e(standardized(w.apply(residual))), n(static_cast<double>(e.size())) {}

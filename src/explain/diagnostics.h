@@ -10,8 +10,9 @@
 //   (T, omega)  mean residual per cell, heating and cooling apart, against the noise model's Allan variance at
 //               the cell's length (conservative for cells spread over the record);
 //   noise       overlapping Allan deviation of the residual and its IEEE Std 952 terms.
-// Thresholds are Bonferroni-corrected over the lags, channels, segments or cells tested. Held-out samples
-// outside the training support (heldout_support.h) are left out: the simulation extrapolates there.
+// Thresholds are Bonferroni-corrected over the lags, channels, segments or cells tested. Only training
+// samples are diagnosed (ExplainInput::diagnosed): held out, the residual carries the simulation's
+// prediction error, which a cell or window test would read as structure.
 #pragma once
 
 #include <Eigen/Core>

@@ -10,6 +10,7 @@
 #include "core/units.h"
 #include "explain/heldout_support.h"
 #include "explain/judge.h"
+#include "explain/noise_likelihood.h"
 #include "explain/refit.h"
 #include "explain/simulation.h"
 #include "model/terms/term_kinds.h"
@@ -285,14 +286,17 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   result.residual_before_dph = y - x_before * gls(x_before, y, w).beta;
   result.residual_after_dph = y - model_columns(final_fit.model, in.signals, scaling) * final_fit.beta;
 
-  // The final noise model, from the final residual, and the diagnostics.
+  // The final noise model, from the final residual's training samples (Allan fit, then maximum likelihood), and the diagnostics.
   std::vector<Eigen::Index> training_rows;
   for (Eigen::Index i = 0; i < in.size(); ++i) {
     if (!in.heldout[static_cast<std::size_t>(i)]) training_rows.push_back(i);
   }
   const auto runs = contiguous_runs(training_rows, in.segment);
-  const NoiseModel final_noise = fit_noise_model(result.residual_after_dph, runs, in.dt_s);
-  summary.before = diagnose(in, result.residual_before_dph, fit_noise_model(result.residual_before_dph, runs, in.dt_s), o.selection.alpha);
+  const NoiseModel final_noise = likelihood_noise_model(result.residual_after_dph, training_rows, in.signals.t_s,
+                                                        fit_noise_model(result.residual_after_dph, runs, in.dt_s));
+  const NoiseModel before_noise = likelihood_noise_model(result.residual_before_dph, training_rows, in.signals.t_s,
+                                                         fit_noise_model(result.residual_before_dph, runs, in.dt_s));
+  summary.before = diagnose(in, result.residual_before_dph, before_noise, o.selection.alpha);
   summary.after = diagnose(in, result.residual_after_dph, final_noise, o.selection.alpha);
 
   // 5. The refitted model, the effects and what is left unexplained.

@@ -45,4 +45,22 @@ NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, con
   return {-r.value, {r.x[0], r.x[1], r.x[2]}};
 }
 
+NoiseModel likelihood_noise_model(const Eigen::VectorXd& residual, const std::vector<Eigen::Index>& rows, const std::vector<double>& t_s,
+                                  const NoiseModel& start) {
+  if (rows.size() < 500 || !(start.white_var > 0)) return start;
+  const NoiseLikelihood likelihood(rows, t_s, start);
+  const Eigen::MatrixXd constant = Eigen::MatrixXd::Ones(residual.size(), 1);
+  const NoiseLikelihood::Optimum best = likelihood.maximise(constant, residual);
+  NoiseModel m;
+  m.dt_s = start.dt_s;
+  m.white_var = 1.0;
+  m.rw_q = std::exp(best.log_ratios[0]) > 1e-10 ? std::exp(best.log_ratios[0]) : 0.0;
+  m.gm_var = std::exp(best.log_ratios[1]) > 1e-6 ? std::exp(best.log_ratios[1]) : 0.0;
+  m.gm_tau_s = m.gm_var > 0 ? std::exp(best.log_ratios[2]) : 0.0;
+  const Whitener w(m, rows, t_s);
+  const double white = whitened_rss(w.apply(constant), w.apply(residual)) / static_cast<double>(rows.size());
+  m.white_var = white, m.rw_q *= white, m.gm_var *= white;
+  return m;
+}
+
 }  // namespace gyrosid::explain

@@ -44,4 +44,11 @@ class NoiseLikelihood {
   double max_log_tau_;  // the Gauss-Markov time constant at most a third of the span
 };
 
+// The noise model of a residual (on `rows`, ascending) by maximum likelihood about a constant, started
+// from `start` (its Allan fit, which under strong white noise misplaces a weak slow wander - the residual
+// diagnostics would then read the wander as structure): the white variance concentrated out; slow parts
+// below 1e-6 of the white variance (Gauss-Markov) or 1e-10 of it per sample (random walk) dropped.
+NoiseModel likelihood_noise_model(const Eigen::VectorXd& residual, const std::vector<Eigen::Index>& rows, const std::vector<double>& t_s,
+                                  const NoiseModel& start);
+
 }  // namespace gyrosid::explain
