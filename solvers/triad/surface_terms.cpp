@@ -1,5 +1,7 @@
 #include "solvers/triad/surface_terms.h"
 
+#include <Eigen/QR>
+
 #include <cmath>
 
 #include "core/error.h"
@@ -11,6 +13,10 @@ void SurfaceTerm::linear_columns(double, double, double*) const {}
 std::vector<double> SurfaceTerm::node_start(int) const { return {}; }
 void SurfaceTerm::inputs(double, double, double*) const {}
 double SurfaceTerm::node_output(const double*, const double*, double*) const { return 0.0; }
+const Eigen::MatrixXd& SurfaceTerm::weight_penalty() const {
+  static const Eigen::MatrixXd none;
+  return none;
+}
 std::vector<std::string> SurfaceTerm::linear_names() const {
   std::vector<std::string> out;
   for (int k = 0; k < linear_size(); ++k) out.push_back(str_cat("c", k));
@@ -61,9 +67,12 @@ class ClassicalTerm : public SurfaceTerm {
 
 class RbfTerm : public SurfaceTerm {
  public:
-  explicit RbfTerm(const RbfNetwork& start) : start_(start) {
+  RbfTerm(const RbfNetwork& start, Eigen::MatrixXd penalty) : start_(start), penalty_(std::move(penalty)) {
     if (start.features() != default_features()) fail("triad: a joint RBF surface takes the inputs measured_rate, temperature");
     if (start.bias != 0.0) fail("triad: the RBF surface's constant must be folded into the triad's bias first");
+    if (penalty_.size() > 0 && penalty_.cols() != start.nodes()) {
+      fail("triad: the RBF weight penalty is ", penalty_.rows(), " x ", penalty_.cols(), " for ", start.nodes(), " nodes");
+    }
   }
   int nodes() const override { return static_cast<int>(start_.nodes()); }
   int node_size() const override { return static_cast<int>(NodeBlock<double>::size(start_.dimension())); }
@@ -80,6 +89,7 @@ class RbfTerm : public SurfaceTerm {
   double node_output(const double* x, const double* block, double* gradient) const override {
     return gyrosid::node_output(x, {block, start_.dimension()}, gradient);
   }
+  const Eigen::MatrixXd& weight_penalty() const override { return penalty_; }
   std::shared_ptr<CalibrationModel> model(const std::vector<double>&, const std::vector<std::vector<double>>& nodes) const override {
     auto net = std::make_shared<RbfNetwork>(start_);
     for (int j = 0; j < this->nodes(); ++j) net->unpack_node(j, nodes[static_cast<std::size_t>(j)].data());
@@ -88,6 +98,7 @@ class RbfTerm : public SurfaceTerm {
 
  private:
   RbfNetwork start_;
+  Eigen::MatrixXd penalty_;
 };
 
 }  // namespace
@@ -97,6 +108,30 @@ std::unique_ptr<SurfaceTerm> classical_term(const ClassicalOptions& options, con
   return std::make_unique<ClassicalTerm>(options, rates, temps);
 }
 
-std::unique_ptr<SurfaceTerm> rbf_term(const RbfNetwork& start) { return std::make_unique<RbfTerm>(start); }
+std::unique_ptr<SurfaceTerm> rbf_term(const RbfNetwork& start, Eigen::MatrixXd penalty) {
+  return std::make_unique<RbfTerm>(start, std::move(penalty));
+}
+
+Eigen::MatrixXd ols_ridge_penalty(const RbfNetwork& net, const Eigen::MatrixXd& x, double lambda) {
+  if (!(lambda > 0.0) || net.nodes() == 0) return {};
+  const Eigen::MatrixXd h = gaussian_columns(x, net.centres, net.widths);
+  const Eigen::MatrixXd r = h.householderQr().matrixQR().topRows(net.nodes()).triangularView<Eigen::Upper>();
+  const Eigen::VectorXd diag = r.diagonal();
+  if ((diag.array().abs() == 0.0).any()) fail("triad: the RBF surface's node columns are linearly dependent at the training inputs");
+  return std::sqrt(lambda) * diag.cwiseInverse().asDiagonal() * r;
+}
+
+Eigen::MatrixXd owned_column_rows(const RbfNetwork& net, const Eigen::MatrixXd& x, const Eigen::MatrixXd& owned, double weight) {
+  if (net.nodes() == 0 || owned.cols() == 0) return {};
+  if (owned.rows() != x.rows()) fail("triad: ", owned.rows(), " owned-column samples for ", x.rows(), " inputs");
+  const Eigen::MatrixXd h = gaussian_columns(x, net.centres, net.widths);
+  Eigen::MatrixXd rows = owned.transpose() * h;
+  for (Eigen::Index j = 0; j < owned.cols(); ++j) {
+    const double norm = owned.col(j).norm();
+    if (norm == 0.0) fail("triad: owned column ", j, " is zero at every training sample");
+    rows.row(j) *= weight / norm;
+  }
+  return rows;
+}
 
 }  // namespace gyrosid

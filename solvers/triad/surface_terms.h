@@ -32,6 +32,9 @@ class SurfaceTerm {
   virtual int input_size() const { return 0; }
   virtual void inputs(double rate, double temp_c, double* x) const;
   virtual double node_output(const double* x, const double* block, double* gradient) const;
+  // P (rows x nodes): the joint cost gains |P w|^2 for the node weights w (the last entry of each block),
+  // the regularisation the surface's own fitter applied; empty when there is none.
+  virtual const Eigen::MatrixXd& weight_penalty() const;
 
   // The fitted surface as a single-gyro model (features measured_rate, temperature; target error).
   virtual std::shared_ptr<CalibrationModel> model(const std::vector<double>& linear,
@@ -43,7 +46,22 @@ class SurfaceTerm {
 // scale factor; rate and temperature scaling from the training samples.
 std::unique_ptr<SurfaceTerm> classical_term(const ClassicalOptions& options, const Eigen::VectorXd& rates,
                                             const Eigen::VectorXd& temps);
-// An RBF network's nodes, started from `start` (its constant must be zero: the triad's bias holds it).
-std::unique_ptr<SurfaceTerm> rbf_term(const RbfNetwork& start);
+// An RBF network's nodes, started from `start` (its constant must be zero: the triad's bias holds it), with
+// the weight penalty |P w|^2 (empty: none).
+std::unique_ptr<SurfaceTerm> rbf_term(const RbfNetwork& start, Eigen::MatrixXd penalty = {});
+
+// Orr's global ridge as the OLS fitter applied it (solvers/ols/forward_selection.h): lambda |g|^2 on the
+// weights g of the selected columns orthogonalised in selection order, H = W U with U unit upper triangular,
+// so g = U w. From the Householder QR H = Q R at the training inputs x (normalised), U = diag(R)^-1 R and
+// P = sqrt(lambda) U; lambda in the units of the fitter's cost. Empty for lambda <= 0 or no nodes.
+Eigen::MatrixXd ols_ridge_penalty(const RbfNetwork& net, const Eigen::MatrixXd& x, double lambda);
+
+// Rows that keep an RBF surface out of the span of columns the triad owns (gyro i's own rate, its bias
+// polynomial): weight * a_j' H / |a_j| for each column a_j of `owned` (N x p, at the training samples), H the
+// node columns at the normalised inputs x. An RBF of the rate can mimic M_ii g and one of temperature b(T):
+// left free, M_ii and b trade against combinations of weights the noise chooses (the surface then
+// interpolates and extrapolates badly); with these rows weighted far above the data the surface carries only
+// what M_ii and b cannot, as the classical term leaves out its constant scale factor and bias.
+Eigen::MatrixXd owned_column_rows(const RbfNetwork& net, const Eigen::MatrixXd& x, const Eigen::MatrixXd& owned, double weight);
 
 }  // namespace gyrosid

@@ -25,6 +25,7 @@ OptionTable TriadFitOptions::table() {
       .real("max_sigma", &max_sigma, 0.0, 1.0, "M and G entries with a larger sigma are reported as not determined", true)
       .real("collinearity", &collinearity, 1e-12, 0.5, "a surface coefficient this close (sine) to the span of M, b, G is held at nominal")
       .text("surface_solver", &surface_solver, "RBF solver of the RBF surfaces (sequential fit, joint start)")
+      .choice("rbf_joint", &rbf_joint, {"weights", "nodes"}, "joint rbf surfaces: weights moves the weights of the sequential fit's nodes (its centres and widths held: its cost can only fall); nodes moves centres and widths too")
       .passthrough("nls.", &solver_options, "an option of the least-squares back-end (listed by --options-of triad)")
       .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver");
   return t;
@@ -76,9 +77,20 @@ struct Stage {
   std::vector<std::string> undetermined;  // entry names held at nominal
 };
 
+// rbf_joint=weights: every node's centre and log-width entries held (the packed block [c, rho, w] of
+// model/gaussian_node.h), so only its weight moves.
+void hold_node_shapes(NlsProblem& p, const TriadLayout& layout) {
+  for (const auto& nodes : layout.nodes) {
+    for (int b : nodes) {
+      for (int e = 0; e + 1 < p.block(b).size(); ++e) p.fix(b, e);
+    }
+  }
+}
+
 Stage run_stage(const TriadData& d, const TriadRows& rows, const TriadProblemSpec& spec, const TriadFitOptions& o) {
   Stage s;
   s.problem = build_triad_problem(d, rows, spec, s.layout);
+  if (o.rbf_joint == "weights") hold_node_shapes(s.problem, s.layout);
   const auto free = s.problem.free_entries();  // copy: fixing changes the free set
   // M, b and G are the anchors: a linear surface coefficient within `collinearity` of their span (a rate shape
   // seen at one rate only looks like M_ii) is held; node parameters only when exactly undetermined.
@@ -189,6 +201,41 @@ std::array<std::shared_ptr<const CalibrationModel>, 3> fit_surfaces(const TriadD
   return out;
 }
 
+// Gyro a's weight rows in the joint problem (SurfaceTerm::weight_penalty): the ridge its sequential fit applied
+// (`summary`: that fit's; the ols fitter's global ridge, other fitters' regularisation not carried over, noted)
+// stacked on rows that keep the surface out of the columns of M_aa and b_a (surface_terms.h), weighted
+// kOwnedWeight times a unit-norm residual vector, so the surface's projection on them is held to about 1e-3 of
+// the residual's.
+Eigen::MatrixXd joint_weight_rows(const TriadData& d, int a, const RbfNetwork& net, const TriadBias& bias, int bias_order,
+                                  const nlohmann::json& summary, const TriadFitOptions& o, std::vector<std::string>& notes) {
+  constexpr double kOwnedWeight = 1e3;
+  Eigen::MatrixXd x(d.size(), 2);  // the inputs measured_rate, temperature (RbfTerm's), normalised
+  Eigen::MatrixXd owned(d.size(), bias_order + 2);  // omega_a | v^0..v^nb
+  for (Eigen::Index k = 0; k < d.size(); ++k) {
+    const double raw[2] = {d.gyro(k, a), d.temp_c(k, a)};
+    double out[2];
+    net.normalizer.apply(raw, out);
+    x.row(k) << out[0], out[1];
+    owned(k, 0) = d.reference(k, a);
+    const double v = bias.normalised(d.temp_c(k, a));
+    double vp = 1.0;
+    for (int p = 0; p <= bias_order; ++p, vp *= v) owned(k, 1 + p) = vp;
+  }
+  if (owned.col(0).isZero(0.0)) owned = owned.rightCols(bias_order + 1).eval();  // never turned: M_aa is not in the problem's span
+  const Eigen::MatrixXd constraint = owned_column_rows(net, x, owned, kOwnedWeight);
+  const nlohmann::json details = summary.value("details", nlohmann::json::object());
+  Eigen::MatrixXd ridge;
+  if (o.surface_solver == "ols" && details.contains("lambda") && details["lambda"].is_number()) {
+    ridge = ols_ridge_penalty(net, x, details["lambda"].get<double>());
+  } else if (a == 0) {
+    notes.push_back(str_cat("joint rbf: the ", o.surface_solver, " fitter's regularisation is not carried into the joint problem"));
+  }
+  Eigen::MatrixXd rows(ridge.rows() + constraint.rows(), net.nodes());
+  if (ridge.size() > 0) rows.topRows(ridge.rows()) = ridge;
+  rows.bottomRows(constraint.rows()) = constraint;
+  return rows;
+}
+
 TriadModel start_model(const TriadData& d, int bias_order) {
   TriadModel m;
   const double lo = d.temp_c.minCoeff(), hi = d.temp_c.maxCoeff();
@@ -271,6 +318,7 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   }
 
   std::array<std::unique_ptr<SurfaceTerm>, 3> terms;
+  const std::size_t surface_stage0 = stages.size() >= 3 ? stages.size() - 3 : 0;  // rbf: the three surface fits' summaries
   if (o.estimation == "joint" && o.surfaces != "none") {
     for (int a = 0; a < 3; ++a) {
       const auto ai = static_cast<std::size_t>(a);
@@ -280,7 +328,8 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
         RbfNetwork net = dynamic_cast<const RbfNetwork&>(*sequential_surfaces[ai]);
         spec.start.bias.coefficients[ai](0) += net.bias;
         net.bias = 0.0;
-        terms[ai] = rbf_term(net);
+        Eigen::MatrixXd penalty = joint_weight_rows(d, a, net, spec.start.bias, bias_order, stages[surface_stage0 + ai]["summary"], o, fit.notes);
+        terms[ai] = rbf_term(net, std::move(penalty));
       }
       spec.surfaces[ai] = terms[ai].get();
     }

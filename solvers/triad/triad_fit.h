@@ -3,9 +3,14 @@
 //
 //   joint       M, b(T), G and the per-gyro surfaces in one least-squares problem (triad_problem.h), solved
 //               by a named back-end (solvers/nls: ceres by default, nlopt, ipopt). Classical surfaces enter
-//               linearly; RBF surfaces start from the sequential fit and then every centre, width and weight
-//               moves together with M and b (the thesis's "misalignment angles posed with the RBF widths,
-//               centres and weights").
+//               linearly. RBF surfaces start from the sequential fit (its selected nodes, its widths, the
+//               constant folded into b) and keep its weight penalty (the ols fitter's ridge, surface_terms.h).
+//               rbf_joint=weights (default) then moves their weights with M, b and G: the same functions and
+//               the same penalised cost as the sequential fit, one linear least-squares problem started at
+//               the sequential solution, so that cost can only fall. rbf_joint=nodes moves every centre and width
+//               too (the thesis's "misalignment angles posed with the RBF widths, centres and weights"); that
+//               freedom fits the training noise where the data are thin - between temperature plateaus -
+//               and loses the long flight (experiments/triad_misalignment/README.md).
 //   sequential  M, b(T), G first without surfaces; then each gyro's surface fitted to what they leave, by
 //               the surface kind's own fitter (solvers/calibrate.h: classical, greybox, rbf with any solver).
 //
@@ -41,6 +46,7 @@ struct TriadFitOptions {
   double collinearity = 1e-2;         // a surface coefficient within this sine of the span of M, b, G is held
                                       // at nominal (it would inflate their sigmas ~1/collinearity)
   std::string surface_solver = "ols"; // rbf surfaces: the RBF solver of the sequential fit / joint start
+  std::string rbf_joint = "weights";  // joint rbf: weights (centres, widths held) | nodes (everything moves)
   OptionMap surface_options;          // surface.<key>=<value>: options of the surface kind or its solver
   OptionTable table();
   std::string validate() const;

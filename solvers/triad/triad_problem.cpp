@@ -71,6 +71,32 @@ class TriadRowsCost : public ceres::CostFunction {
   std::vector<double> weights_;
 };
 
+// The surface fitter's weight penalty: r = P w, w_j the last entry of node block j; linear in w.
+class WeightPenaltyCost : public ceres::CostFunction {
+ public:
+  WeightPenaltyCost(Eigen::MatrixXd p, int node_size) : p_(std::move(p)), node_size_(node_size) {
+    set_num_residuals(static_cast<int>(p_.rows()));
+    for (Eigen::Index j = 0; j < p_.cols(); ++j) mutable_parameter_block_sizes()->push_back(node_size);
+  }
+  bool Evaluate(double const* const* blocks, double* residuals, double** jacobians) const override {
+    const Eigen::Index k = p_.cols();
+    Eigen::VectorXd w(k);
+    for (Eigen::Index j = 0; j < k; ++j) w(j) = blocks[j][node_size_ - 1];
+    Eigen::Map<Eigen::VectorXd>(residuals, p_.rows()) = p_ * w;
+    for (Eigen::Index j = 0; jacobians && j < k; ++j) {
+      if (!jacobians[j]) continue;
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jac(jacobians[j], p_.rows(), node_size_);
+      jac.setZero();
+      jac.col(node_size_ - 1) = p_.col(j);
+    }
+    return true;
+  }
+
+ private:
+  Eigen::MatrixXd p_;
+  int node_size_;
+};
+
 std::vector<std::string> names(const std::string& prefix, const std::vector<std::string>& entries) {
   std::vector<std::string> out;
   for (const auto& e : entries) out.push_back(prefix + e);
@@ -217,6 +243,9 @@ NlsProblem build_triad_problem(const TriadData& d, const TriadRows& rows, const 
       start.push_back(e1 - e0);
       p.add_residual(std::make_unique<TriadRowsCost>(std::move(a), std::move(y), linear_sizes, term, std::move(start), std::move(x), std::move(w)),
                      blocks, i);
+    }
+    if (term && term->weight_penalty().size() > 0) {  // in gyro i's group: it regularises that gyro's rows
+      p.add_residual(std::make_unique<WeightPenaltyCost>(term->weight_penalty(), term->node_size()), layout.nodes[ai], i);
     }
   }
   return p;
