@@ -5,6 +5,7 @@ generator, and real sessions against imucal's own result.
 
     experiments/triad_misalignment/run.py [mc|compare|independent|real|summary|all] [--gyrosid build/gyrosid]
                                           [--out experiments/triad_misalignment/results] [--jobs 2] [--force]
+                                          [--kinds rbf]
 
 Each part writes results/<part>.md (+ .csv); intermediates (recordings, models) stay under results/data/
 and results/models/ and are reused on a rerun. See README.md for what each part answers.
@@ -47,6 +48,7 @@ class Experiment:
         self.run = Runner(args.gyrosid, args.out, args.force)
         self.jobs = args.jobs
         self.out = args.out
+        self.kinds = args.kinds.split(",") if getattr(args, "kinds", None) else []
 
     def sensor(self, path):
         return path if path.startswith("builtin:") else os.path.join(HERE, path)
@@ -131,7 +133,8 @@ class Experiment:
 
     def compare(self):
         c = self.cfg["compare"]
-        jobs = [(sname, kind, est, seed) for sname in c["sensors"] for kind in c["fits"] for est in ("joint", "sequential")
+        kinds = self.kinds or list(c["fits"])
+        jobs = [(sname, kind, est, seed) for sname in c["sensors"] for kind in kinds for est in ("joint", "sequential")
                 for seed in [0] + c["seeds"]]
 
         def one(job):
@@ -152,6 +155,14 @@ class Experiment:
             return row
 
         rows = self.parallel(one, jobs)
+        if self.kinds:  # the other surface kinds' rows kept from the last full run
+            import csv
+            keep = [r for r in csv.DictReader(open(os.path.join(self.out, "compare.csv"))) if r["surfaces"] not in kinds]
+            for r in keep:
+                for k in r:
+                    if k not in ("sensor", "surfaces", "estimation"):
+                        r[k] = int(r[k]) if k == "seed" else float(r[k])
+            rows = keep + rows
         cols = ["sensor", "surfaces", "estimation", "seed", "offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in c["flights"]]
         write_csv(os.path.join(self.out, "compare.csv"), rows, cols + ["time_s"])
         # Paired comparison: for each (sensor, surfaces, seed), joint / sequential per flight.
@@ -166,12 +177,14 @@ class Experiment:
                         r[key + "_joint"] = float(np.median(j))
                         r[key + "_seq"] = float(np.median(q))
                         r[key + "_wins"] = "%d/%d" % (int(np.sum(j <= q * (1 + 1e-9))), len(j))
+                        if key.endswith("_m"):
+                            r[key + "_ratio"] = float(np.median(j / q))
                     summary.append(r)
         scols = ["sensor", "surfaces", "training"]
         for key in ["offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in c["flights"]]:
-            scols += [key + "_joint", key + "_seq", key + "_wins"]
+            scols += [key + "_joint", key + "_seq", key + "_wins"] + ([key + "_ratio"] if key.endswith("_m") else [])
         text = "# Joint against sequential estimation\n\nTraining `%s`; criterion of fit (end error, long flight after 1 h, noise-free flights) on %s. " \
-               "Medians over seeds; 'wins' = runs where joint <= sequential.\n\n" % (c["trajectory"], ", ".join(c["flights"]))
+               "Medians over seeds; 'wins' = runs where joint <= sequential; 'ratio' = median of joint/sequential per seed.\n\n" % (c["trajectory"], ", ".join(c["flights"]))
         text += markdown_table(summary, scols)
         write_text(os.path.join(self.out, "compare.md"), text)
         print(text)
@@ -445,6 +458,7 @@ def main():
     p.add_argument("--out", default=os.path.join(HERE, "results"))
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--force", action="store_true")
+    p.add_argument("--kinds", default="", help="compare: refit only these surface kinds (comma-separated), keep the others' rows")
     args = p.parse_args()
     e = Experiment(args)
     parts = {"mc": e.monte_carlo, "compare": e.compare, "independent": e.independent, "real": e.real, "summary": e.summary}
