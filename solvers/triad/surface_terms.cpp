@@ -17,6 +17,10 @@ const Eigen::MatrixXd& SurfaceTerm::weight_penalty() const {
   static const Eigen::MatrixXd none;
   return none;
 }
+const Eigen::VectorXd& SurfaceTerm::weight_target() const {
+  static const Eigen::VectorXd none;
+  return none;
+}
 std::vector<std::string> SurfaceTerm::linear_names() const {
   std::vector<std::string> out;
   for (int k = 0; k < linear_size(); ++k) out.push_back(str_cat("c", k));
@@ -67,12 +71,15 @@ class ClassicalTerm : public SurfaceTerm {
 
 class RbfTerm : public SurfaceTerm {
  public:
-  RbfTerm(const RbfNetwork& start, Eigen::MatrixXd penalty) : start_(start), penalty_(std::move(penalty)) {
+  RbfTerm(const RbfNetwork& start, Eigen::MatrixXd penalty, Eigen::VectorXd target)
+      : start_(start), penalty_(std::move(penalty)), target_(std::move(target)) {
+    if (target_.size() == 0) target_ = Eigen::VectorXd::Zero(penalty_.rows());
     if (start.features() != default_features()) fail("triad: a joint RBF surface takes the inputs measured_rate, temperature");
     if (start.bias != 0.0) fail("triad: the RBF surface's constant must be folded into the triad's bias first");
     if (penalty_.size() > 0 && penalty_.cols() != start.nodes()) {
       fail("triad: the RBF weight penalty is ", penalty_.rows(), " x ", penalty_.cols(), " for ", start.nodes(), " nodes");
     }
+    if (target_.size() != penalty_.rows()) fail("triad: the RBF weight penalty has ", penalty_.rows(), " rows and ", target_.size(), " targets");
   }
   int nodes() const override { return static_cast<int>(start_.nodes()); }
   int node_size() const override { return static_cast<int>(NodeBlock<double>::size(start_.dimension())); }
@@ -90,6 +97,7 @@ class RbfTerm : public SurfaceTerm {
     return gyrosid::node_output(x, {block, start_.dimension()}, gradient);
   }
   const Eigen::MatrixXd& weight_penalty() const override { return penalty_; }
+  const Eigen::VectorXd& weight_target() const override { return target_; }
   std::shared_ptr<CalibrationModel> model(const std::vector<double>&, const std::vector<std::vector<double>>& nodes) const override {
     auto net = std::make_shared<RbfNetwork>(start_);
     for (int j = 0; j < this->nodes(); ++j) net->unpack_node(j, nodes[static_cast<std::size_t>(j)].data());
@@ -99,6 +107,7 @@ class RbfTerm : public SurfaceTerm {
  private:
   RbfNetwork start_;
   Eigen::MatrixXd penalty_;
+  Eigen::VectorXd target_;
 };
 
 }  // namespace
@@ -108,8 +117,8 @@ std::unique_ptr<SurfaceTerm> classical_term(const ClassicalOptions& options, con
   return std::make_unique<ClassicalTerm>(options, rates, temps);
 }
 
-std::unique_ptr<SurfaceTerm> rbf_term(const RbfNetwork& start, Eigen::MatrixXd penalty) {
-  return std::make_unique<RbfTerm>(start, std::move(penalty));
+std::unique_ptr<SurfaceTerm> rbf_term(const RbfNetwork& start, Eigen::MatrixXd penalty, Eigen::VectorXd target) {
+  return std::make_unique<RbfTerm>(start, std::move(penalty), std::move(target));
 }
 
 Eigen::MatrixXd ols_ridge_penalty(const RbfNetwork& net, const Eigen::MatrixXd& x, double lambda) {

@@ -32,9 +32,11 @@ class SurfaceTerm {
   virtual int input_size() const { return 0; }
   virtual void inputs(double rate, double temp_c, double* x) const;
   virtual double node_output(const double* x, const double* block, double* gradient) const;
-  // P (rows x nodes): the joint cost gains |P w|^2 for the node weights w (the last entry of each block),
-  // the regularisation the surface's own fitter applied; empty when there is none.
+  // P (rows x nodes) and t: the joint cost gains |P w - t|^2 for the node weights w (the last entry of each
+  // block) - the surface fitter's own regularisation and what holds the surface's share of the triad's
+  // columns; P empty when there is none.
   virtual const Eigen::MatrixXd& weight_penalty() const;
+  virtual const Eigen::VectorXd& weight_target() const;
 
   // The fitted surface as a single-gyro model (features measured_rate, temperature; target error).
   virtual std::shared_ptr<CalibrationModel> model(const std::vector<double>& linear,
@@ -47,8 +49,8 @@ class SurfaceTerm {
 std::unique_ptr<SurfaceTerm> classical_term(const ClassicalOptions& options, const Eigen::VectorXd& rates,
                                             const Eigen::VectorXd& temps);
 // An RBF network's nodes, started from `start` (its constant must be zero: the triad's bias holds it), with
-// the weight penalty |P w|^2 (empty: none).
-std::unique_ptr<SurfaceTerm> rbf_term(const RbfNetwork& start, Eigen::MatrixXd penalty = {});
+// the weight penalty |P w - t|^2 (P empty: none; t empty: zero).
+std::unique_ptr<SurfaceTerm> rbf_term(const RbfNetwork& start, Eigen::MatrixXd penalty = {}, Eigen::VectorXd target = {});
 
 // Orr's global ridge as the OLS fitter applied it (solvers/ols/forward_selection.h): lambda |g|^2 on the
 // weights g of the selected columns orthogonalised in selection order, H = W U with U unit upper triangular,
@@ -56,12 +58,12 @@ std::unique_ptr<SurfaceTerm> rbf_term(const RbfNetwork& start, Eigen::MatrixXd p
 // P = sqrt(lambda) U; lambda in the units of the fitter's cost. Empty for lambda <= 0 or no nodes.
 Eigen::MatrixXd ols_ridge_penalty(const RbfNetwork& net, const Eigen::MatrixXd& x, double lambda);
 
-// Rows that keep an RBF surface out of the span of columns the triad owns (gyro i's own rate, its bias
-// polynomial): weight * a_j' H / |a_j| for each column a_j of `owned` (N x p, at the training samples), H the
-// node columns at the normalised inputs x. An RBF of the rate can mimic M_ii g and one of temperature b(T):
-// left free, M_ii and b trade against combinations of weights the noise chooses (the surface then
-// interpolates and extrapolates badly); with these rows weighted far above the data the surface carries only
-// what M_ii and b cannot, as the classical term leaves out its constant scale factor and bias.
+// Rows that measure an RBF surface's share of columns the triad owns (gyro i's own rate, its bias polynomial):
+// weight * a_j' H / |a_j| for each column a_j of `owned` (N x p, at the training samples), H the node columns
+// at the normalised inputs x. An RBF of the rate can mimic M_ii g and one of temperature b(T): left free,
+// M_ii and b trade against combinations of weights the noise chooses (the surface then interpolates and
+// extrapolates badly). Held at their start values (t = rows * w0) with a weight far above the data's, the
+// surface keeps the share the sequential fit gave it and M_ii and b keep theirs.
 Eigen::MatrixXd owned_column_rows(const RbfNetwork& net, const Eigen::MatrixXd& x, const Eigen::MatrixXd& owned, double weight);
 
 }  // namespace gyrosid

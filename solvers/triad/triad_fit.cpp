@@ -201,13 +201,13 @@ std::array<std::shared_ptr<const CalibrationModel>, 3> fit_surfaces(const TriadD
   return out;
 }
 
-// Gyro a's weight rows in the joint problem (SurfaceTerm::weight_penalty): the ridge its sequential fit applied
-// (`summary`: that fit's; the ols fitter's global ridge, other fitters' regularisation not carried over, noted)
-// stacked on rows that keep the surface out of the columns of M_aa and b_a (surface_terms.h), weighted
-// kOwnedWeight times a unit-norm residual vector, so the surface's projection on them is held to about 1e-3 of
-// the residual's.
-Eigen::MatrixXd joint_weight_rows(const TriadData& d, int a, const RbfNetwork& net, const TriadBias& bias, int bias_order,
-                                  const nlohmann::json& summary, const TriadFitOptions& o, std::vector<std::string>& notes) {
+// Gyro a's weight rows in the joint problem (SurfaceTerm::weight_penalty), P w - t: the ridge its sequential fit
+// applied (`summary`: that fit's; the ols fitter's global ridge, t = 0; other fitters' regularisation is not
+// carried over, noted) stacked on the rows of the surface's share of M_aa's and b_a's columns (surface_terms.h),
+// held at the sequential fit's share with weight kOwnedWeight on a unit-norm residual vector. The sequential
+// solution meets every row, so the joint cost starts at the sequential cost and can only fall.
+std::pair<Eigen::MatrixXd, Eigen::VectorXd> joint_weight_rows(const TriadData& d, int a, const RbfNetwork& net, const TriadBias& bias, int bias_order,
+                                                              const nlohmann::json& summary, const TriadFitOptions& o, std::vector<std::string>& notes) {
   constexpr double kOwnedWeight = 1e3;
   Eigen::MatrixXd x(d.size(), 2);  // the inputs measured_rate, temperature (RbfTerm's), normalised
   Eigen::MatrixXd owned(d.size(), bias_order + 2);  // omega_a | v^0..v^nb
@@ -233,7 +233,9 @@ Eigen::MatrixXd joint_weight_rows(const TriadData& d, int a, const RbfNetwork& n
   Eigen::MatrixXd rows(ridge.rows() + constraint.rows(), net.nodes());
   if (ridge.size() > 0) rows.topRows(ridge.rows()) = ridge;
   rows.bottomRows(constraint.rows()) = constraint;
-  return rows;
+  Eigen::VectorXd target = Eigen::VectorXd::Zero(rows.rows());
+  target.tail(constraint.rows()) = constraint * net.weights;
+  return {rows, target};
 }
 
 TriadModel start_model(const TriadData& d, int bias_order) {
@@ -328,8 +330,8 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
         RbfNetwork net = dynamic_cast<const RbfNetwork&>(*sequential_surfaces[ai]);
         spec.start.bias.coefficients[ai](0) += net.bias;
         net.bias = 0.0;
-        Eigen::MatrixXd penalty = joint_weight_rows(d, a, net, spec.start.bias, bias_order, stages[surface_stage0 + ai]["summary"], o, fit.notes);
-        terms[ai] = rbf_term(net, std::move(penalty));
+        auto [penalty, target] = joint_weight_rows(d, a, net, spec.start.bias, bias_order, stages[surface_stage0 + ai]["summary"], o, fit.notes);
+        terms[ai] = rbf_term(net, std::move(penalty), std::move(target));
       }
       spec.surfaces[ai] = terms[ai].get();
     }

@@ -4,13 +4,14 @@
 //   joint       M, b(T), G and the per-gyro surfaces in one least-squares problem (triad_problem.h), solved
 //               by a named back-end (solvers/nls: ceres by default, nlopt, ipopt). Classical surfaces enter
 //               linearly. RBF surfaces start from the sequential fit (its selected nodes, its widths, the
-//               constant folded into b) and keep its weight penalty (the ols fitter's ridge, surface_terms.h).
-//               rbf_joint=weights (default) then moves their weights with M, b and G: the same functions and
-//               the same penalised cost as the sequential fit, one linear least-squares problem started at
-//               the sequential solution, so that cost can only fall. rbf_joint=nodes moves every centre and width
-//               too (the thesis's "misalignment angles posed with the RBF widths, centres and weights"); that
-//               freedom fits the training noise where the data are thin - between temperature plateaus -
-//               and loses the long flight (experiments/triad_misalignment/README.md).
+//               constant folded into b), keep its weight penalty (the ols fitter's ridge) and their share of
+//               the columns of M_ii and b_i (surface_terms.h; left free, M_ii and b trade against the surface).
+//               rbf_joint=weights (default) then moves their weights with M, b and G: the same functions, one
+//               linear least-squares problem started at the sequential solution (which meets every penalty
+//               row), so its cost can only fall. rbf_joint=nodes moves every centre and width too (the
+//               thesis's "misalignment angles posed with the RBF widths, centres and weights"); that freedom
+//               fits the training noise where the data are thin - between temperature plateaus - and loses the
+//               long flight (experiments/triad_misalignment/README.md).
 //   sequential  M, b(T), G first without surfaces; then each gyro's surface fitted to what they leave, by
 //               the surface kind's own fitter (solvers/calibrate.h: classical, greybox, rbf with any solver).
 //

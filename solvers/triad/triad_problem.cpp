@@ -71,10 +71,10 @@ class TriadRowsCost : public ceres::CostFunction {
   std::vector<double> weights_;
 };
 
-// The surface fitter's weight penalty: r = P w, w_j the last entry of node block j; linear in w.
+// The surface's weight penalty: r = P w - t, w_j the last entry of node block j; linear in w.
 class WeightPenaltyCost : public ceres::CostFunction {
  public:
-  WeightPenaltyCost(Eigen::MatrixXd p, int node_size) : p_(std::move(p)), node_size_(node_size) {
+  WeightPenaltyCost(Eigen::MatrixXd p, Eigen::VectorXd t, int node_size) : p_(std::move(p)), t_(std::move(t)), node_size_(node_size) {
     set_num_residuals(static_cast<int>(p_.rows()));
     for (Eigen::Index j = 0; j < p_.cols(); ++j) mutable_parameter_block_sizes()->push_back(node_size);
   }
@@ -82,7 +82,7 @@ class WeightPenaltyCost : public ceres::CostFunction {
     const Eigen::Index k = p_.cols();
     Eigen::VectorXd w(k);
     for (Eigen::Index j = 0; j < k; ++j) w(j) = blocks[j][node_size_ - 1];
-    Eigen::Map<Eigen::VectorXd>(residuals, p_.rows()) = p_ * w;
+    Eigen::Map<Eigen::VectorXd>(residuals, p_.rows()) = p_ * w - t_;
     for (Eigen::Index j = 0; jacobians && j < k; ++j) {
       if (!jacobians[j]) continue;
       Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jac(jacobians[j], p_.rows(), node_size_);
@@ -94,6 +94,7 @@ class WeightPenaltyCost : public ceres::CostFunction {
 
  private:
   Eigen::MatrixXd p_;
+  Eigen::VectorXd t_;
   int node_size_;
 };
 
@@ -245,7 +246,7 @@ NlsProblem build_triad_problem(const TriadData& d, const TriadRows& rows, const 
                      blocks, i);
     }
     if (term && term->weight_penalty().size() > 0) {  // in gyro i's group: it regularises that gyro's rows
-      p.add_residual(std::make_unique<WeightPenaltyCost>(term->weight_penalty(), term->node_size()), layout.nodes[ai], i);
+      p.add_residual(std::make_unique<WeightPenaltyCost>(term->weight_penalty(), term->weight_target(), term->node_size()), layout.nodes[ai], i);
     }
   }
   return p;

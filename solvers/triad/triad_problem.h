@@ -8,8 +8,8 @@
 // noise - and one row per sample of a static hold (a segment whose reference is zero throughout). Parameter blocks per gyro i, in priority order for the observability analysis:
 //   misalignment_i (row i of M) | bias_i (c_i0..c_inb) | g_sensitivity_i (row i of G) | surface_i linear
 //   coefficients | surface_i nodes.
-// A surface whose fitter regularised its weights adds the penalty rows P w (SurfaceTerm::weight_penalty) to
-// the gyro's group, so the joint problem minimises the cost that fitter minimised. Each gyro's equation involves only its own blocks, so the groups are independent least-squares problems
+// A surface with a weight penalty adds its rows P w - t (SurfaceTerm::weight_penalty: the fitter's ridge, the
+// surface's share of M_ii's and b's columns held) to the gyro's group. Each gyro's equation involves only its own blocks, so the groups are independent least-squares problems
 // posed together (their covariances do not mix noise levels).
 #pragma once
 
