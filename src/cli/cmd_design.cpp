@@ -186,7 +186,7 @@ void register_design(CLI::App& app, Action& action) {
   auto c = std::make_shared<DesignCommand>();
   CLI::App* cmd = app.add_subcommand("design", "Design a calibration trajectory by optimisation, or predict the accuracy of one");
   cmd->add_option("--budget-min", c->budget_min, "Calibration time budget, minutes");
-  cmd->add_option("--model", c->model, "Calibration model the design is for: rbf, greybox or classical")->capture_default_str();
+  cmd->add_option("--model", c->model, "Calibration model the design is for: rbf, greybox, classical or hybrid (gyrosid's best noisy calibration)")->capture_default_str();
   cmd->add_option("--envelope", c->envelope, "Where the gyro will fly: flights (short, medium, long, flight .yaml/.csv), comma-separated, or uniform")
       ->capture_default_str();
   cmd->add_option("--uniform-domain", c->uniform_domain, "The uniform envelope: T_MIN_C,T_MAX_C,RATE_DPS")->capture_default_str();

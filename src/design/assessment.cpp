@@ -1,7 +1,9 @@
 #include "design/assessment.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -15,22 +17,38 @@ namespace {
 // equals kappa times the sensor's RMS error there. For the RBF proxy (kappa = 1) the prior is the network's
 // regularisation; the physics models are fitted by plain least squares (their fits' ridge is 1e-9), so their
 // prior (kappa = 1000) only keeps the directions no sample determines finite - a design that leaves them
-// undetermined is charged what a least-squares fit would do there. The named effects get their physical
-// magnitudes (a plain fit has them too, the grey-box fit with its effect terms switched on).
+// undetermined is charged what a least-squares fit would do there. The hybrid's network (a residual group)
+// is scaled to what its physics, fitted to the sensor's error over the domain, leaves: the evidence sets the
+// network's prior on that residual. The named effects get their physical magnitudes (a plain fit has them
+// too, the grey-box fit with its effect terms switched on).
 Eigen::VectorXd prior_scales(const Regressor& r, ModelFamily family, const ModelOptions& o, const Domain& domain,
                              const GyroErrorModel& truth) {
   const SteadyGrid grid = steady_grid(domain, truth);
-  const double rms = std::sqrt(grid.true_error.squaredNorm() / static_cast<double>(grid.true_error.size()));
+  const auto rms_of = [](const Eigen::VectorXd& v) { return std::sqrt(v.squaredNorm() / static_cast<double>(std::max<Eigen::Index>(1, v.size()))); };
+  const double rms = std::max(rms_of(grid.true_error), units::dph_to_radps(1.0));
   const double kappa = family == ModelFamily::rbf ? 1.0 : 1000.0;
   const Eigen::MatrixXd a = r.columns(grid.inputs);
-  const std::vector<int> groups = r.groups();
+  const std::vector<int> groups = r.groups(), learned = r.residual_groups();
+  const auto is_learned = [&](int g) { return std::find(learned.begin(), learned.end(), g) != learned.end(); };
+  // What the groups with a flat prior leave of the sensor's error (column-pivoted QR: rank-safe).
+  double residual_rms = rms;
+  if (!learned.empty()) {
+    std::vector<Eigen::Index> flat;
+    for (std::size_t j = 0; j < groups.size(); ++j) {
+      if (!is_learned(groups[j])) flat.push_back(static_cast<Eigen::Index>(j));
+    }
+    const Eigen::MatrixXd f = a(Eigen::all, flat);
+    const Eigen::VectorXd fit = f * f.colPivHouseholderQr().solve(grid.true_error);
+    residual_rms = std::max(rms_of(grid.true_error - fit), 1e-3 * rms);
+  }
   Eigen::VectorXd s(r.size());
   for (int g = 0; g <= *std::max_element(groups.begin(), groups.end()); ++g) {
     double power = 0.0;
     for (std::size_t j = 0; j < groups.size(); ++j) {
       if (groups[j] == g) power += a.col(static_cast<Eigen::Index>(j)).squaredNorm() / static_cast<double>(a.rows());
     }
-    const double scale = kappa * std::max(rms, units::dph_to_radps(1.0)) / (power > 0 ? std::sqrt(power) : 1.0);
+    const double target = is_learned(g) ? residual_rms : kappa * rms;
+    const double scale = target / (power > 0 ? std::sqrt(power) : 1.0);
     for (std::size_t j = 0; j < groups.size(); ++j) {
       if (groups[j] == g) s(static_cast<Eigen::Index>(j)) = scale;
     }

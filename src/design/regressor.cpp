@@ -1,5 +1,6 @@
 #include "design/regressor.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -34,7 +35,9 @@ void ModelOptions::bind(OptionTable& t) {
       .real("model.thermal_lag_prior_s", &thermal_lag_prior_s, 0.0, 1e6, "greybox: prior sd of the coil lag", true)
       .integer("model.classical_bias_order", &classical_bias_order, 0, 8, "classical: bias order in temperature")
       .integer("model.classical_sf_temperature_order", &classical_sf_temperature_order, 0, 6, "classical: scale-factor order in temperature")
-      .integer("model.classical_sf_rate_order", &classical_sf_rate_order, 0, 10, "classical: scale-factor order in rate");
+      .integer("model.classical_sf_rate_order", &classical_sf_rate_order, 0, 10, "classical: scale-factor order in rate")
+      .integer("model.hybrid_sf_temperature_order", &hybrid_sf_temperature_order, 0, 6, "hybrid: physics scale factor w dT^i u^j, i up to this")
+      .integer("model.hybrid_sf_rate_order", &hybrid_sf_rate_order, 0, 8, "hybrid: ... and j up to this");
 }
 
 namespace {
@@ -181,6 +184,39 @@ class RbfDictionary : public Regressor {
   Eigen::RowVectorXd width_;
 };
 
+// The hybrid: physics columns (flat prior) then the dictionary's nodes without its constant (the physics has
+// the bias), the nodes one group with a learned prior.
+class HybridRegressor : public Regressor {
+ public:
+  HybridRegressor(std::unique_ptr<Regressor> physics, std::unique_ptr<Regressor> rbf)
+      : physics_(std::move(physics)), rbf_(std::move(rbf)), nodes_(rbf_->size() - 1) {}
+  ModelFamily family() const override { return ModelFamily::hybrid; }
+  std::vector<std::string> names() const override {
+    std::vector<std::string> out = physics_->names();
+    const std::vector<std::string> nodes = rbf_->names();
+    out.insert(out.end(), nodes.begin(), nodes.begin() + nodes_);
+    return out;
+  }
+  std::vector<int> groups() const override {
+    std::vector<int> out = physics_->groups();
+    const int g = out.empty() ? 0 : *std::max_element(out.begin(), out.end()) + 1;
+    out.insert(out.end(), static_cast<std::size_t>(nodes_), g);
+    return out;
+  }
+  std::vector<int> residual_groups() const override { return {groups().back()}; }
+  Eigen::MatrixXd columns(const Signals& s) const override {
+    const Eigen::MatrixXd p = physics_->columns(s);
+    Eigen::MatrixXd a(s.size(), p.cols() + nodes_);
+    a.leftCols(p.cols()) = p;
+    a.rightCols(nodes_) = rbf_->columns(s).leftCols(nodes_);
+    return a;
+  }
+
+ private:
+  std::unique_ptr<Regressor> physics_, rbf_;
+  Eigen::Index nodes_;
+};
+
 TermScaling domain_scaling(const Domain& d) {
   TermScaling s;
   s.t_ref_c = 0.5 * (d.temp_min_c + d.temp_max_c);
@@ -234,6 +270,11 @@ std::string calibration_yaml(ModelFamily family, const ModelOptions& o, const Do
     return s;
   };
   switch (family) {
+    case ModelFamily::hybrid:
+      out << "# (the design's objective used a fixed dictionary of Gaussian nodes as a proxy for the network)\n"
+          << "model: hybrid\noptions: {noise: auto, bias_order: " << o.bias_order << ", sf_temperature_order: "
+          << o.hybrid_sf_temperature_order << ", sf_rate_order: " << o.hybrid_sf_rate_order << "}\n";
+      break;
     case ModelFamily::rbf:
       out << "# (the design's objective used a fixed dictionary of Gaussian nodes as a proxy for this network)\n"
           << "model: rbf\nsolver: ols\noptions: {criterion: bic, width: " << format_number(o.rbf_width) << ", reestimate_lambda: true}\n";
@@ -269,6 +310,17 @@ std::unique_ptr<Regressor> make_regressor(ModelFamily family, const ModelOptions
       for (int j = 0; j <= o.classical_sf_rate_order; ++j) sf.push_back({0, j});
       terms.push_back(scale_factor_polynomial(sf));
       return std::make_unique<PhysicsRegressor>(family, terms, domain_scaling(d), 0.0, std::nullopt);
+    }
+    case ModelFamily::hybrid: {
+      // HybridOptions::terms (solvers/bayes/hybrid_fit.h): b + b(T) + w dT^i u^j.
+      std::vector<Term> terms{bias_term()};
+      if (o.bias_order > 0) terms.push_back(temperature_polynomial(orders(1, o.bias_order)));
+      ScaleFactorPolynomial::Orders sf;
+      for (int i = 0; i <= o.hybrid_sf_temperature_order; ++i)
+        for (int j = 0; j <= o.hybrid_sf_rate_order; ++j) sf.push_back({i, j});
+      terms.push_back(scale_factor_polynomial(sf));
+      return std::make_unique<HybridRegressor>(
+          std::make_unique<PhysicsRegressor>(family, terms, domain_scaling(d), 0.0, std::nullopt), std::make_unique<RbfDictionary>(o, d));
     }
     case ModelFamily::greybox: {
       // The grey-box fit's own structure (model/greybox_fit.h) with the grid over the domain, plus hysteresis.

@@ -12,6 +12,9 @@
 //              lag tau behind the probe, linearised: d error / d tau = (d error / d T) (d T_coil / d tau)
 //   rbf        sum_j w_j exp(-|x~ - c_j|^2 / r^2) + b on range-normalised (w, T): a grid of nodes over the
 //              domain with the normalised width of configs/calibration/rbf_noisy.yaml
+//   hybrid     gyrosid's best noisy calibration (model/hybrid_model.h, configs/calibration/rbf_noisy.yaml):
+//              the physics b(T) cubic + w dT^i u^j (i <= 2, j <= 3) with a flat prior, plus the rbf dictionary
+//              (no constant) with a Gaussian prior - the Bayesian network on what the physics leaves
 //
 // Columns use the scaling of the design domain, not of the data, so every trajectory is judged in the same
 // parametrisation.
@@ -35,7 +38,7 @@
 
 namespace gyrosid::design {
 
-enum class ModelFamily { rbf, greybox, classical };
+enum class ModelFamily { rbf, greybox, classical, hybrid };
 
 // The (T, w) region a calibration must cover: the application envelope's, with margins.
 struct Domain {
@@ -58,6 +61,9 @@ struct ModelOptions {
   double shupe_prior_dph_per_c_per_min = 1.0, hysteresis_prior_dph = 2.0, thermal_lag_prior_s = 300.0;
   // classical: the thesis's orders (configs/calibration/classical.yaml)
   int classical_bias_order = 3, classical_sf_temperature_order = 2, classical_sf_rate_order = 6;
+  // hybrid: its physics' scale-factor orders (solvers/bayes/hybrid_fit.h; bias: bias_order) and the network
+  // from the rbf options
+  int hybrid_sf_temperature_order = 2, hybrid_sf_rate_order = 3;
   void bind(OptionTable& table);  // keys model.<name>
   std::string validate() const;
 };
@@ -75,6 +81,9 @@ class Regressor {
   // Indices of the named physical effects (greybox: shupe, hysteresis, thermal_lag): their priors are
   // physical magnitudes (ModelOptions), not the sensor's error scale.
   virtual std::vector<std::pair<std::string, Eigen::Index>> effects() const { return {}; }
+  // Groups with a learned prior (the hybrid's network): their prior predictive RMS is what the other groups,
+  // fitted to the sensor's error, leave of it - the scale the evidence gives the network on that residual.
+  virtual std::vector<int> residual_groups() const { return {}; }
 };
 
 // The grey-box scale-factor grid over a domain: temperatures evenly spaced, rates within the domain.
@@ -100,7 +109,10 @@ namespace gyrosid {
 template <>
 struct EnumNames<design::ModelFamily> {
   static constexpr std::string_view kNoun = "design model";
-  static constexpr std::array<std::pair<design::ModelFamily, std::string_view>, 3> kTable{
-      {{design::ModelFamily::rbf, "rbf"}, {design::ModelFamily::greybox, "greybox"}, {design::ModelFamily::classical, "classical"}}};
+  static constexpr std::array<std::pair<design::ModelFamily, std::string_view>, 4> kTable{
+      {{design::ModelFamily::rbf, "rbf"},
+       {design::ModelFamily::greybox, "greybox"},
+       {design::ModelFamily::classical, "classical"},
+       {design::ModelFamily::hybrid, "hybrid"}}};
 };
 }  // namespace gyrosid

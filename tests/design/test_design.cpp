@@ -19,9 +19,11 @@
 #include "design/design_solver.h"
 #include "model/classical_model.h"
 #include "model/greybox_model.h"
+#include "model/hybrid_model.h"
 #include "nav/criterion_of_fit.h"
 #include "sensor/sensor_config.h"
 #include "sim/simulate.h"
+#include "solvers/bayes/hybrid_fit.h"
 #include "solvers/calibrate.h"
 #include "error_of.h"
 #include "trajectory/programme.h"
@@ -213,6 +215,55 @@ TEST(DesignRegressors, GreyboxColumnsAreFiniteDifferencesOfTheGreyboxModel) {
   auto with_lag = [&](double lag) { return GreyboxModel(default_features(), truth, lag).predict(data); };
   const Eigen::VectorXd lag_fd = (with_lag(tau + 1.0) - with_lag(tau - 1.0)) / 2.0;
   EXPECT_LT((lag_fd - a.col(a.cols() - 1)).norm(), 1e-2 * lag_fd.norm());
+}
+
+TEST(DesignRegressors, HybridColumnsAreTheHybridSolversPhysicsAndANetworkOnItsResidual) {
+  // gyrosid's best noisy calibration (solvers/bayes/hybrid_fit.h, default options): the physics block of the
+  // design's columns times any coefficients is the hybrid model's physics term by term; the network block has
+  // no constant (the physics has the bias) and its prior predictive RMS over the domain is what the physics,
+  // fitted by least squares to the sensor's steady error, leaves - computed here from the solver's terms.
+  const Domain d{-30.0, 40.0, dps_to_radps(100.0)};
+  const GyroErrorModel& truth = std::get<GyroSensor>(reference_sensor()).errors;
+  const ModelOptions o;
+  const auto reg = make_regressor(ModelFamily::hybrid, o, d, truth, 0.0);
+  const std::vector<Term> terms = HybridOptions{}.terms();
+  Eigen::Index physics = 0;
+  for (const auto& t : terms) physics += t.size();
+  ASSERT_EQ(physics, 4 + 3 * 4);
+  ASSERT_EQ(reg->size(), physics + o.rbf_temperature_nodes * o.rbf_rate_nodes);
+  TermScaling scaling;  // the domain's: centre 5 C, half-width 35 C, 100 deg/s
+  scaling.t_ref_c = 5.0, scaling.t_scale_c = 35.0, scaling.rate_scale_radps = d.rate_max_radps;
+  RandomStream r(5, "test/hybrid");
+  Eigen::VectorXd theta(physics);
+  for (Eigen::Index j = 0; j < physics; ++j) theta(j) = 1e-4 * r.normal();
+  const RbfNetwork no_network(default_features(), ModelTarget::error, Normalizer{Eigen::Vector2d::Zero(), Eigen::Vector2d::Ones()});
+  const HybridModel model(scaling, terms, theta, no_network, std::nullopt);
+  Signals s;
+  s.t_s = {0.0, 1e6, 2e6, 3e6};  // far apart: steady temperature
+  s.rate = Eigen::Vector4d(-1.2, -0.1, 0.4, 1.7);
+  s.temp_c = Eigen::Vector4d(-25.0, 0.0, 12.0, 38.0);
+  const Eigen::MatrixXd a = reg->columns(s);
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR((a.row(i).head(physics) * theta)(0), model.physics_at(s.rate(i), s.temp_c(i)), 1e-15) << i;
+  EXPECT_GT(a.rightCols(a.cols() - physics).minCoeff(), 0.0);  // Gaussian nodes, no constant column
+
+  EnvelopeOptions eo;
+  eo.uniform = true, eo.flights.clear(), eo.uniform_domain = d;
+  const auto uniform = std::make_shared<const Envelope>(load_envelope(eo, as_triad(reference_sensor())));
+  const DesignContext context(reference_sensor(), uniform, ModelFamily::hybrid, o, Criterion::surface, d);
+  const SteadyGrid grid = steady_grid(d, truth);
+  const Eigen::MatrixXd g = context.regressor().columns(grid.inputs);
+  const HybridModel at_grid(scaling, terms, Eigen::VectorXd::Zero(physics), no_network, std::nullopt);
+  const Eigen::MatrixXd x = at_grid.physics_columns(grid.inputs.rate, grid.inputs.temp_c);
+  const Eigen::VectorXd residual = grid.true_error - x * x.householderQr().solve(grid.true_error);
+  const Eigen::VectorXd node_sd = context.prior().root.diagonal().tail(g.cols() - physics);
+  const double prior_rms = std::sqrt((g.rightCols(node_sd.size()) * node_sd.asDiagonal()).cwiseAbs2().sum() / static_cast<double>(g.rows()));
+  const double residual_rms = std::sqrt(residual.squaredNorm() / static_cast<double>(residual.size()));
+  EXPECT_GT(residual_rms, dph_to_radps(1.0));  // the reference surface's ripple is beyond the polynomial
+  EXPECT_NEAR(prior_rms / residual_rms, 1.0, 1e-9);
+  // The physics is flat-prior: 1000 times the sensor's error scale.
+  const double error_rms = std::sqrt(grid.true_error.squaredNorm() / static_cast<double>(grid.true_error.size()));
+  const double bias_sd = context.prior().root(0, 0) * std::sqrt(g.col(0).squaredNorm() / static_cast<double>(g.rows()));
+  EXPECT_NEAR(bias_sd / error_rms, 1000.0, 1e-6);
 }
 
 TEST(DesignEnvelope, TheInsSensitivityIsLinearOverACalibrationsErrors) {
