@@ -45,11 +45,17 @@ class Study:
     def sensor_path(self, sensor):
         return sensor if sensor.startswith("builtin:") else os.path.join(HERE, sensor)
 
-    def design(self, tag, sensor, budget, solver):
-        d = self.run.path(tag, "designs", "%s_%s" % (solver, budget), "x")[:-2]
+    def design(self, tag, sensor, spec):
+        """One design: spec = {solver, budget, criterion (optional; cof_minimax beats design.reference)}."""
         c = self.cfg["design"]
-        self.gyrosid(["design", "--budget-min", budget, "--model", c["model"], "--envelope", c["envelope"], "--sensor", sensor,
-                      "--solver", solver, "--seed", c["seed"], "--out", d], os.path.join(d, "design.json"))
+        d = self.run.path(tag, "designs", design_name(spec), "x")[:-2]
+        argv = ["design", "--budget-min", spec["budget"], "--model", spec.get("model", c["model"]), "--envelope", c["envelope"], "--sensor", sensor,
+                "--solver", spec["solver"], "--seed", c["seed"], "--out", d]
+        if spec.get("criterion"):
+            argv += ["--criterion", spec["criterion"]]
+        if spec.get("criterion") == "cof_minimax":
+            argv += ["--reference", self.cfg["thesis"][c["reference"]]]
+        self.gyrosid(argv, os.path.join(d, "design.json"))
         return d
 
     def predictions(self, tag, sensor, trajectories, model):
@@ -75,21 +81,23 @@ class Study:
             out[flight] = j.get("error_after_1h_m", j["end_error_m"])
         return out
 
-    def rows(self, tag, sensor, budgets, thesis_names):
+    def rows(self, tag, sensor, designs, thesis_names):
         """One row per (trajectory, calibration): predicted and achieved criterion of fit per flight.
-        `budgets` maps each design solver to its budgets in minutes."""
+        `designs` lists the designs ({solver, budget, criterion})."""
         cfg = self.cfg
         trajectories = []  # (name, file, minutes, kind, predicted {flight: m} for the assumed calibration, solver info)
-        for solver, minutes in budgets.items():
-            for budget in minutes:
-                d = self.design(tag, sensor, budget, solver)
-                j = load_json(os.path.join(d, "design.json"))
-                s = j["solver_summary"]
-                info = {"objective": j["objective"], "design_s": s.get("time_s", s.get("seconds", "")),
-                        "evaluations": s.get("evaluations", s.get("iterations", "")), "termination": s.get("termination", "")}
-                pred = {f: j["predicted"]["flights"][f]["cof_m"] for f in FLIGHTS}
-                trajectories.append(("%s_%s" % (solver, budget), os.path.join(d, "trajectory.yaml"), j["duration_min"], "design " + solver,
-                                     pred, info, os.path.join(d, "calibration.yaml")))
+        for spec in designs:
+            d = self.design(tag, sensor, spec)
+            j = load_json(os.path.join(d, "design.json"))
+            s = j["solver_summary"]
+            info = {"objective": j["objective"], "design_s": s.get("time_s", s.get("seconds", "")), "criterion": spec.get("criterion", "cof"),
+                    "evaluations": s.get("evaluations", s.get("iterations", "")), "termination": s.get("termination", "")}
+            # A design for another model than the calibration's (design.model) predicts another calibration.
+            own = spec.get("model", cfg["design"]["model"]) == cfg["design"]["model"]
+            pred = {f: j["predicted"]["flights"][f]["cof_m"] for f in FLIGHTS} if own else None
+            info["design_model"] = spec.get("model", cfg["design"]["model"])
+            trajectories.append((design_name(spec), os.path.join(d, "trajectory.yaml"), j["duration_min"], "design " + spec["solver"],
+                                 pred, info, os.path.join(d, "calibration.yaml")))
         assumed_config = trajectories[0][6]  # the grey-box fit over the design domain (the same for every budget)
         files = [cfg["thesis"][n] for n in thesis_names]
         greybox = self.predictions(tag, sensor, files, cfg["design"]["model"])
@@ -99,8 +107,12 @@ class Study:
             ev = load_json(os.path.join(self.run.out, tag, "predicted_" + cfg["design"]["model"], "evaluation.json"))["trajectories"][f]
             trajectories.append((n, f, ev["duration_min"], "thesis", greybox[f], {}, assumed_config))
         out = []
+        # A design for gyrosid's best noisy calibration (design.model: hybrid, calibration: best) predicts that
+        # calibration: no separate fit of the design's calibration.yaml.
+        assumed_is_best = cfg["design"].get("calibration") == "best"
         for name, path, minutes, kind, pred, info, assumed in trajectories:
-            calibrations = [("best", cfg["calibrations"]["best"], None), ("assumed", ["--config", assumed], pred)]
+            calibrations = [("best", cfg["calibrations"]["best"], pred)] if assumed_is_best else \
+                [("best", cfg["calibrations"]["best"], None), ("assumed", ["--config", assumed], pred)]
             if name in cfg["classical_on"]:
                 calibrations.append(("classical", cfg["calibrations"]["classical"], classical[path]))
             for cal, args, predicted in calibrations:
@@ -119,6 +131,11 @@ class Study:
                 sys.stderr.write(" " + "  ".join("%s %.3g m" % (f, row[f + "_m"]) for f in FLIGHTS) + "\n")
                 out.append(row)
         return out
+
+
+def design_name(spec):
+    return "%s_%s%s%s" % (spec["solver"], spec["budget"], "_minimax" if spec.get("criterion") == "cof_minimax" else "",
+                          "_" + spec["model"] if spec.get("model") else "")
 
 
 def find(rows, trajectory, calibration):
@@ -195,12 +212,12 @@ def main():
     study = Study(args, cfg)
     try:
         sys.stderr.write("reference sensor\n")
-        rows = study.rows("reference", cfg["sensor"], cfg["design"]["budgets_min"], list(cfg["thesis"]))
+        rows = study.rows("reference", cfg["sensor"], cfg["design"]["designs"], list(cfg["thesis"]))
         o = cfg.get("other_sensor")
         other = []
         if o:
             sys.stderr.write("second sensor (%s)\n" % o["sensor"])
-            other = study.rows("other", study.sensor_path(o["sensor"]), o["budgets_min"], o["thesis"])
+            other = study.rows("other", study.sensor_path(o["sensor"]), o["designs"], o["thesis"])
     except OutOfTime:
         sys.stderr.write("stopped after --max-minutes %g; rerun to resume\n" % args.max_minutes)
         sys.exit(3)
@@ -209,7 +226,7 @@ def main():
         write_csv(os.path.join(args.out, "other_sensor.csv"), other, COLUMNS)
     plots(args.out, rows, "")
     table_cols = ["trajectory", "minutes", "calibration", "short_m", "medium_m", "long_m", "short_predicted_m", "medium_predicted_m", "long_predicted_m"]
-    solver_cols = ["trajectory", "minutes", "objective", "design_s", "evaluations", "short_m", "medium_m", "long_m"]
+    solver_cols = ["trajectory", "minutes", "design_model", "criterion", "objective", "design_s", "evaluations", "short_m", "medium_m", "long_m"]
     text = ["# trajectory_design results\n", "Reference sensor, %d seeds, criterion of fit in metres (mean over seeds; long after 1 h).\n" % len(cfg["seeds"]),
             markdown_table(rows, table_cols), "\n## Targets\n"] + [l + "\n" for l in targets(rows, cfg)] + [
             "\n## NLopt against Ipopt (best noisy calibration)\n", markdown_table([r for r in rows if r["kind"].startswith("design") and r["calibration"] == "best"], solver_cols),
