@@ -51,7 +51,8 @@ std::string read_text(const fs::path& p) {
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("gyrosid_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    // The process id in the name: two suites (say the Release and the sanitizer build) may run side by side.
+    dir_ = fs::temp_directory_path() / ("gyrosid_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" + std::to_string(getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

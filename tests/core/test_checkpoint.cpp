@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <limits>
 
+#include <unistd.h>
+
 #include "core/checkpoint.h"
 #include "core/error.h"
 
@@ -18,7 +20,7 @@ namespace fs = std::filesystem;
 class CheckpointTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    file_ = fs::temp_directory_path() / "gyrosid_checkpoint_test" / ".x_checkpoint.json";
+    file_ = fs::temp_directory_path() / ("gyrosid_checkpoint_test_" + std::to_string(getpid())) / ".x_checkpoint.json";
     fs::remove_all(file_.parent_path());
   }
   void TearDown() override { fs::remove_all(file_.parent_path()); }
