@@ -56,6 +56,13 @@ TriadData simulate_triad_data(const TriadSensor& sensor, const TrajectorySpec& t
 
 Eigen::Matrix3d true_m(const TriadSensor& t) { return measurement_matrix(t.alignment) - Eigen::Matrix3d::Identity(); }
 
+// The largest error of the misalignment angles (the off-diagonal entries), rad.
+double max_off_diagonal_error(const Eigen::Matrix3d& estimate, const Eigen::Matrix3d& truth) {
+  Eigen::Matrix3d e = (estimate - truth).cwiseAbs();
+  e.diagonal().setZero();
+  return e.maxCoeff();
+}
+
 TEST(TriadFit, NoiseFreeMisalignmentAndBiasPolynomialsAreRecoveredExactly) {
   const TriadSensor sensor = planted_triad(0.0);
   const TriadData d = simulate_triad_data(sensor, six_positions({0, 25, 50}, 30, 10), 1);
@@ -294,13 +301,8 @@ TEST(TriadFit, JointRecoversTheMatrixWhereARateNonlinearSurfaceBiasesTheSequenti
   const TriadFit joint = fit_triad(d, o);
   o.estimation = "sequential";
   const TriadFit sequential = fit_triad(d, o);
-  double joint_err = 0.0, sequential_err = 0.0;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (i != j) {
-        joint_err = std::max(joint_err, std::abs(joint.model.misalignment(i, j) - m.misalignment(i, j)));
-        sequential_err = std::max(sequential_err, std::abs(sequential.model.misalignment(i, j) - m.misalignment(i, j)));
-      }
+  const double joint_err = max_off_diagonal_error(joint.model.misalignment, m.misalignment);
+  const double sequential_err = max_off_diagonal_error(sequential.model.misalignment, m.misalignment);
   EXPECT_LT(joint_err, 1e-9);
   EXPECT_GT(sequential_err, 1e-4);  // a tenth of a milliradian and more: the nonlinearity, not noise (there is none)
   for (int a = 0; a < 3; ++a) {
@@ -362,13 +364,8 @@ TEST(TriadFit, JointRbfWeightsRefineTheSequentialFitAndRecoverThePlantedTriad) {
   o.estimation = "sequential";
   const TriadFit sequential = fit_triad(train, o);
 
-  double joint_err = 0.0, sequential_err = 0.0;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (i != j) {
-        joint_err = std::max(joint_err, std::abs(joint.model.misalignment(i, j) - m.misalignment(i, j)));
-        sequential_err = std::max(sequential_err, std::abs(sequential.model.misalignment(i, j) - m.misalignment(i, j)));
-      }
+  const double joint_err = max_off_diagonal_error(joint.model.misalignment, m.misalignment);
+  const double sequential_err = max_off_diagonal_error(sequential.model.misalignment, m.misalignment);
   EXPECT_LT(joint_err, 2e-5);
   EXPECT_GT(sequential_err, 1e-4);  // the nonlinearity's projection on the other axes' rates
   for (int a = 0; a < 3; ++a) {
