@@ -54,7 +54,10 @@ class Study:
         if spec.get("criterion"):
             argv += ["--criterion", spec["criterion"]]
         if spec.get("criterion") == "cof_minimax":
-            argv += ["--reference", self.cfg["thesis"][c["reference"]]]
+            # the trajectory to beat on every flight (a thesis trajectory), calibrated with its own model
+            argv += ["--reference", self.cfg["thesis"][spec.get("reference", c["reference"])]]
+            if spec.get("reference_model"):
+                argv += ["--reference-model", spec["reference_model"]]
         self.gyrosid(argv, os.path.join(d, "design.json"))
         return d
 
@@ -134,8 +137,10 @@ class Study:
 
 
 def design_name(spec):
-    return "%s_%s%s%s" % (spec["solver"], spec["budget"], "_minimax" if spec.get("criterion") == "cof_minimax" else "",
-                          "_" + spec["model"] if spec.get("model") else "")
+    """solver_budget[_minimax][_vs_REFERENCE][_model]: the reference only when it is not design.reference."""
+    return "%s_%s%s%s%s" % (spec["solver"], spec["budget"], "_minimax" if spec.get("criterion") == "cof_minimax" else "",
+                            "_vs_" + spec["reference"].replace("classical_", "") if spec.get("reference") else "",
+                            "_" + spec["model"] if spec.get("model") else "")
 
 
 def find(rows, trajectory, calibration):
@@ -151,7 +156,7 @@ def targets(rows, cfg):
     winners = [r for r in le60 if all(r[f + "_m"] < soak[f + "_m"] for f in FLIGHTS)]
     best60 = min(le60, key=lambda r: max(r[f + "_m"] / soak[f + "_m"] for f in FLIGHTS))
     lines.append("1. A design of at most 60 min (best noisy calibration) beats the 8-h soak + classical model on every flight: %s. "
-                 "%d of %d such designs do; closest call %s (%g min): %s." % (
+                 "%d of %d such designs do; the best (largest worst-flight factor) %s (%g min): %s." % (
                      "MET" if winners else "MISSED", len(winners), len(le60), best60["trajectory"], best60["minutes"],
                      ", ".join("%s %.3g m vs %.3g m (%.1fx)" % (f, best60[f + "_m"], soak[f + "_m"], soak[f + "_m"] / best60[f + "_m"]) for f in FLIGHTS)))
     dual = find(rows, "dual_scan", "best")
@@ -165,8 +170,8 @@ def targets(rows, cfg):
     inside = sum(1 for r in assumed for f in FLIGHTS if 1 / 1.5 <= r[f + "_pred_over_achieved"] <= 1.5)
     lines.append("3. Predicted criterion of fit within 1.5x of the achieved mean (the calibration the prediction is for): %d of %d "
                  "(trajectory, flight) pairs; worst factor %.2f." % (inside, 3 * len(assumed), worst))
-    t60 = [r for r in designs if r["minutes"] in (56, 62)]
-    lines.append("4. Design time at 56-62 min budgets: %s (target < 120 s)." % ", ".join("%s %.1f s" % (r["trajectory"], float(r["design_s"])) for r in t60))
+    t60 = [r for r in designs if 56 <= r["minutes"] <= 62]
+    lines.append("4. Design time (wall clock, shared machine) at 56-62 min budgets: %s (target < 120 s)." % ", ".join("%s %.1f s" % (r["trajectory"], float(r["design_s"])) for r in t60))
     return lines
 
 
