@@ -24,6 +24,7 @@ struct DesignCommand {
   double budget_min = 0.0;
   std::string model = "rbf", envelope = "short,medium,long", uniform_domain = "-20,60,100", criterion;
   std::string sensor = kDefaultSensor, solver = "nlopt", out, options_of, reference, reference_model;
+  std::string reference_statistic = "auto";
   std::vector<std::string> set, evaluate, compare{"builtin:trajectories/dual_scan.yaml"};
   std::uint64_t seed = 1;
   bool resume = false;
@@ -35,6 +36,8 @@ struct DesignCommand {
     out += str_cat(" --model ", model, " --envelope ", envelope, " --sensor ", sensor);
     if (evaluate.empty()) out += str_cat(" --solver ", solver, " --seed ", seed);
     if (!criterion.empty()) out += " --criterion " + criterion;
+    if (!reference.empty()) out += str_cat(" --reference ", reference, reference_model.empty() ? "" : " --reference-model " + reference_model,
+                                           " --reference-statistic ", reference_statistic);
     for (const auto& kv : set) out += " --set " + kv;
     return out;
   }
@@ -141,7 +144,11 @@ void run_design(DesignCommand c) {
     const auto ref_context = std::make_unique<design::DesignContext>(sensor, envelope, parse_enum<design::ModelFamily>(model, "--reference-model"),
                                                                      settings.model, design::Criterion::cof, design::model_domain(space));
     const design::Prediction ref = design::evaluate_trajectory(*ref_context, spec);
-    context.set_reference(ref);
+    const bool same_model = parse_enum<design::ModelFamily>(model, "--reference-model") == family;
+    if (c.reference_statistic != "auto" && c.reference_statistic != "posterior" && c.reference_statistic != "cof") {
+      fail("--reference-statistic: expected auto, posterior or cof, got '", c.reference_statistic, "'");
+    }
+    context.set_reference(ref, c.reference_statistic == "posterior" || (c.reference_statistic == "auto" && same_model));
     report.compared.emplace_back(str_cat(spec.profile.name, " (reference, ", model, ")"), ref);
     provenance["reference"] = {{"trajectory", path}, {"model", model}, {"predicted", prediction_json(ref)}};
   }
@@ -198,6 +205,10 @@ void register_design(CLI::App& app, Action& action) {
   cmd->add_option("--seed", c->seed, "Seed of the solver's random streams (same seed, same design)")->capture_default_str();
   cmd->add_option("--reference", c->reference, "cof_minimax: the trajectory to beat on every flight (default: the first --compare)");
   cmd->add_option("--reference-model", c->reference_model, "The reference's calibration model (default: --model)");
+  cmd->add_option("--reference-statistic", c->reference_statistic,
+                  "cof_minimax: the reference's value per flight - posterior (sqrt tr S P S', the statistic the objective takes "
+                  "of the design), cof (its predicted criterion of fit) or auto (posterior when the reference's model is --model)")
+      ->capture_default_str();
   cmd->add_option("--compare", c->compare, "Trajectories predicted beside the design in report.md")->capture_default_str();
   cmd->add_option("--evaluate", c->evaluate, "Predict the accuracy of these trajectory configs instead of designing");
   cmd->add_option("--out", c->out, "Output directory: trajectory.yaml, design.json, coverage.png, report.md, calibration.yaml");

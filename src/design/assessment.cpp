@@ -126,10 +126,12 @@ std::unique_ptr<DesignContext> DesignContext::with_domain(const Domain& d) const
   return c;
 }
 
-void DesignContext::set_reference(const Prediction& reference) {
+void DesignContext::set_reference(const Prediction& reference, bool like_for_like) {
   if (reference.flights.size() != envelope_->flights.size()) fail("design: the reference was predicted for other flights");
   log_reference_.clear();
-  for (const auto& f : reference.flights) log_reference_.push_back(2.0 * std::log(std::max(f.cof_m, 1e-300)));
+  for (const auto& f : reference.flights) {
+    log_reference_.push_back(2.0 * std::log(std::max(like_for_like ? f.cof_posterior_m : f.cof_m, 1e-300)));
+  }
 }
 
 LinearEstimate DesignContext::estimate(const Observations& o, bool with_target) const {
@@ -202,6 +204,7 @@ Prediction DesignContext::predict(const Observations& o) const {
     fp.cof_m = expected_norm(m, c);
     fp.cof_noise_m = std::sqrt(c.trace());
     fp.cof_bias_m = m.norm();
+    fp.cof_posterior_m = std::sqrt((scaled_sensitivity_[i] * e.posterior * scaled_sensitivity_[i].transpose()).trace());
     fp.surface_rms_dph = surface(lin.surface_columns, lin.surface_true_error, &fp.surface_bias_dph, &fp.surface_noise_dph);
     p.flights.push_back(fp);
   }

@@ -46,6 +46,7 @@ struct FlightPrediction {
   double cof_m = 0.0;            // expected criterion of fit: E|m + S d|
   double cof_noise_m = 0.0;      // sqrt(tr S Sigma S'): the noise's part alone
   double cof_bias_m = 0.0;       // |m|: the model class's part (a noise-free calibration's error)
+  double cof_posterior_m = 0.0;  // sqrt(tr S P S'), P the posterior covariance: what the cof criteria minimise
   double surface_rms_dph = 0.0;  // sqrt(mean(bias^2 + variance)) over the flight's (T, w) samples
   double surface_bias_dph = 0.0, surface_noise_dph = 0.0;
 };
@@ -88,8 +89,12 @@ class DesignContext {
   const Prior& prior() const { return prior_; }
   const Linearisation& linearisation() const { return lin_; }
 
-  // The reference criterion of fit per flight (envelope order) for cof_minimax: a prediction's cof_m.
-  void set_reference(const Prediction& reference);
+  // The reference per flight (envelope order) for cof_minimax. `like_for_like` (the reference was predicted
+  // for this model): its cof_posterior_m, the statistic the objective takes of the design itself, so that the
+  // proxy's model-class term (its point prediction |m|, over-predicted where the proxy's network leaves the
+  // sensor's ripple) does not weigh the flights differently for reference and design. Otherwise (another
+  // model, e.g. the classical one, whose posterior carries no model-class error): its cof_m.
+  void set_reference(const Prediction& reference, bool like_for_like);
 
   LinearEstimate estimate(const Observations& observations, bool with_target) const;
   double objective(const LinearEstimate& estimate) const;

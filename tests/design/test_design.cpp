@@ -518,6 +518,30 @@ TEST(DesignSolvers, BothImproveOnTheirStartDeterministicallyAndNameBadOptions) {
   EXPECT_THAT(error_of([] { make_design_solver("ipopt", {{"max_iter", "3"}}, 1); }), ::testing::HasSubstr("unknown option 'max_iter'"));
 }
 
+TEST(DesignCriteria, CofMinimaxAgainstItsOwnPredictionIsTheSmoothMaximumsOffset) {
+  // cof_minimax scores sqrt(tr S P S') of a design against the reference's value per flight. Like for like (the
+  // reference's posterior statistic, the same model), a trajectory against its own prediction has every
+  // flight's log ratio 0: the objective is the log-sum-exp's offset log(F) / k (F = 2 flights, k = 8). Against
+  // its predicted criterion of fit instead, each flight's log ratio is 2 log(posterior / cof).
+  const SmallProblem cof(ModelFamily::hybrid, Criterion::cof);
+  SmallProblem minimax(ModelFamily::hybrid, Criterion::cof_minimax);
+  const Observations o = observe_trajectory(cof.context, small_programme());
+  const Prediction own = cof.context.predict(o);
+  for (const FlightPrediction& f : own.flights) {
+    // P = Sigma + the prior's share (every direction the data leaves to the prior): never below the noise's part.
+    EXPECT_GE(f.cof_posterior_m, f.cof_noise_m) << f.flight;
+    EXPECT_GT(f.cof_posterior_m, 0.0) << f.flight;
+  }
+  const LinearEstimate e = minimax.context.estimate(o, false);
+  minimax.context.set_reference(own, true);
+  EXPECT_NEAR(minimax.context.objective(e), std::log(2.0) / 8.0, 1e-9);
+  minimax.context.set_reference(own, false);
+  const double x0 = 2.0 * std::log(own.flights[0].cof_posterior_m / own.flights[0].cof_m);
+  const double x1 = 2.0 * std::log(own.flights[1].cof_posterior_m / own.flights[1].cof_m);
+  const double top = std::max(x0, x1);
+  EXPECT_NEAR(minimax.context.objective(e), top + std::log(std::exp(8.0 * (x0 - top)) + std::exp(8.0 * (x1 - top))) / 8.0, 1e-9);
+}
+
 TEST(DesignCriteria, ADesignSeparatesShupeFromHysteresisWhereASingleScanCannot) {
   // One monotone scan heats throughout: its hysteresis branch never changes and is the bias, and its one
   // ramp rate ties Shupe to the plateaus. Plateaus and ramps both ways at several rates separate them.
