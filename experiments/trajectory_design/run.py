@@ -58,12 +58,17 @@ class Study:
             argv += ["--reference", self.cfg["thesis"][spec.get("reference", c["reference"])]]
             if spec.get("reference_model"):
                 argv += ["--reference-model", spec["reference_model"]]
+            if spec.get("reference_statistic"):
+                argv += ["--reference-statistic", spec["reference_statistic"]]
         self.gyrosid(argv, os.path.join(d, "design.json"))
         return d
 
     def predictions(self, tag, sensor, trajectories, model):
         """Predicted criterion of fit of existing trajectories: {trajectory file: {flight: cof_m}}."""
         d = self.run.path(tag, "predicted_" + model, "x")[:-2]
+        product = os.path.join(d, "evaluation.json")
+        if os.path.exists(product) and any(t not in load_json(product)["trajectories"] for t in trajectories):
+            os.remove(product)  # cached for fewer trajectories: evaluate them all again
         self.gyrosid(["design", "--evaluate"] + trajectories + ["--model", model, "--envelope", self.cfg["design"]["envelope"],
                                                                  "--sensor", sensor, "--out", d], os.path.join(d, "evaluation.json"))
         j = load_json(os.path.join(d, "evaluation.json"))["trajectories"]
@@ -137,10 +142,12 @@ class Study:
 
 
 def design_name(spec):
-    """solver_budget[_minimax][_vs_REFERENCE][_model]: the reference only when it is not design.reference."""
-    return "%s_%s%s%s%s" % (spec["solver"], spec["budget"], "_minimax" if spec.get("criterion") == "cof_minimax" else "",
-                            "_vs_" + spec["reference"].replace("classical_", "") if spec.get("reference") else "",
-                            "_" + spec["model"] if spec.get("model") else "")
+    """solver_budget[_minimax][_vs_REFERENCE][_post][_model]: the reference only when it is not design.reference;
+    _post: the reference's posterior statistic (--reference-statistic posterior)."""
+    return "%s_%s%s%s%s%s" % (spec["solver"], spec["budget"], "_minimax" if spec.get("criterion") == "cof_minimax" else "",
+                              "_vs_" + spec["reference"].replace("classical_", "") if spec.get("reference") else "",
+                              "_post" if spec.get("reference_statistic") == "posterior" else "",
+                              "_" + spec["model"] if spec.get("model") else "")
 
 
 def find(rows, trajectory, calibration):
@@ -238,6 +245,12 @@ def main():
             ]
     if other:
         text += ["\n## Second sensor (%s)\n" % cfg["other_sensor"]["sensor"], markdown_table(other, table_cols)]
+        if any(r["trajectory"] == "classical_soak" and r["calibration"] == "classical" for r in other):
+            soak = find(other, "classical_soak", "classical")
+            text += ["\nEach design (best noisy calibration) against this sensor's 8-h soak + classical model (factor = soak / design):\n\n"]
+            text += ["- %s (%g min): %s%s\n" % (r["trajectory"], r["minutes"], ", ".join("%s %.2fx" % (f, soak[f + "_m"] / r[f + "_m"]) for f in FLIGHTS),
+                                                 "" if all(r[f + "_m"] < soak[f + "_m"] for f in FLIGHTS) else " (loses a flight)")
+                     for r in other if r["kind"].startswith("design") and r["calibration"] == "best"]
     write_text(os.path.join(args.out, "summary.md"), "".join(text))
     sys.stdout.write("".join(text))
 
