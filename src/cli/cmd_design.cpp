@@ -124,6 +124,9 @@ void run_design(DesignCommand c) {
   if (!evaluating && !(c.budget_min > 0)) fail("--budget-min is required (a positive number of minutes) unless --evaluate is given");
   if (!evaluating && c.out.empty()) fail("--out DIR is required for a design");
   if (!evaluating) design::make_design_solver(c.solver, solver_options, c.seed);  // bad options fail before any work
+  if (c.reference_statistic != "auto" && c.reference_statistic != "posterior" && c.reference_statistic != "cof") {
+    fail("--reference-statistic: expected auto, posterior or cof, got '", c.reference_statistic, "'");
+  }
 
   const SensorSpec sensor = load_sensor_file(c.sensor);
   auto envelope = std::make_shared<const design::Envelope>(design::load_envelope(settings.envelope, as_triad(sensor)));
@@ -145,9 +148,6 @@ void run_design(DesignCommand c) {
                                                                      settings.model, design::Criterion::cof, design::model_domain(space));
     const design::Prediction ref = design::evaluate_trajectory(*ref_context, spec);
     const bool same_model = parse_enum<design::ModelFamily>(model, "--reference-model") == family;
-    if (c.reference_statistic != "auto" && c.reference_statistic != "posterior" && c.reference_statistic != "cof") {
-      fail("--reference-statistic: expected auto, posterior or cof, got '", c.reference_statistic, "'");
-    }
     context.set_reference(ref, c.reference_statistic == "posterior" || (c.reference_statistic == "auto" && same_model));
     report.compared.emplace_back(str_cat(spec.profile.name, " (reference, ", model, ")"), ref);
     provenance["reference"] = {{"trajectory", path}, {"model", model}, {"predicted", prediction_json(ref)}};

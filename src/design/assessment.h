@@ -91,9 +91,9 @@ class DesignContext {
 
   // The reference per flight (envelope order) for cof_minimax. `like_for_like` (the reference was predicted
   // for this model): its cof_posterior_m, the statistic the objective takes of the design itself, so that the
-  // proxy's model-class term (its point prediction |m|, over-predicted where the proxy's network leaves the
-  // sensor's ripple) does not weigh the flights differently for reference and design. Otherwise (another
-  // model, e.g. the classical one, whose posterior carries no model-class error): its cof_m.
+  // proxy's model-class term (its point prediction |m|, found 2-3x over on the dual scan in
+  // experiments/trajectory_design) does not weigh the flights differently for reference and design.
+  // Otherwise (another model, e.g. the classical one, whose posterior carries no model-class error): its cof_m.
   void set_reference(const Prediction& reference, bool like_for_like);
 
   LinearEstimate estimate(const Observations& observations, bool with_target) const;
