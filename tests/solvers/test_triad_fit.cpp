@@ -174,7 +174,10 @@ TEST(TriadFit, EveryBackEndReachesTheSameJointClassicalSolution) {
   const Eigen::Matrix3d truth = true_m(sensor);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      if (i != j) EXPECT_LT(std::abs(fits[0].model.misalignment(i, j) - truth(i, j)), 4 * fits[0].uncertainty.misalignment_sigma(i, j)) << i << j;
+      if (i != j) {
+        EXPECT_LT(std::abs(fits[0].model.misalignment(i, j) - truth(i, j)), 4 * fits[0].uncertainty.misalignment_sigma(i, j))
+            << i << j;
+      }
 }
 
 TEST(TriadFit, KnownAnglesAloneDetermineTheSameMatrixAsRates) {
