@@ -41,7 +41,9 @@ void run_explain(ExplainCommand c) {
   const auto& f = j.fit;
   std::cout << "\nresidual rms " << format_significant(f.rms_before_dph, 4) << " -> " << format_significant(f.rms_after_dph, 4)
             << " deg/h (held out " << format_significant(f.heldout_rms_before_dph, 4) << " -> " << format_significant(f.heldout_rms_after_dph, 4)
-            << "), noise floor " << format_significant(j.noise.floor_dph, 4) << " deg/h\nwrote " << c.out
+            << "), noise floor " << format_significant(j.noise.floor_dph, 4) << " deg/h\nrun time " << format_significant(j.run_time_s, 3) << " s:";
+  for (const auto& [stage, s] : j.stage_times.seconds) std::cout << " " << stage << " " << format_significant(s, 2) << ";";
+  std::cout << "\nwrote " << c.out
             << "/explain.json, residuals.csv, model.json, report.md\n";
 }
 

@@ -260,6 +260,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   if (auto p = o.validate(); !p.empty()) fail("explain: ", p);
   const auto start = std::chrono::steady_clock::now();
   ExplainResult result;
+  StageClock clock(result.summary.stage_times);
   result.input = load_input(rec, o.input);
   ExplainInput& in = result.input;
   const TermScaling scaling = TermScaling::of(in.signals);
@@ -271,17 +272,22 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   const ModelSpec& base = sim.base;
   in.outside_support = outside_training_support(model_columns(base, in.signals, scaling), in.heldout, o.heldout_leverage);
   result.simulation_residual_dph = sim.prior ? Eigen::VectorXd(y - in.signals.channel(kPriorChannel) * kDph) : y;
+  clock.lap("input and simulation");
 
   // 2. Candidates and forward selection.
   std::vector<std::string> untestable;
   const std::vector<Candidate> candidates = propose_candidates(base, in, o.effects, &untestable);
   const SelectionResult sel = select_effects(in, y, base, scaling, candidates, o.selection, checkpoint);
   const Whitener w = training_whitener(in, sel.noise);
+  clock.lap("candidates and selection");
 
   // 3. Stability and held-out confirmation of every selected effect; 4. the joint refit with intervals.
   const Accepted accepted = accept(judge_effects(in, y, base, sel, scaling, w), base, sel, o.min_stability, o.selection.ambiguity_bic);
+  clock.lap("judging (stability, held-out, profiles)");
   const RefitResult final_fit = refit(in, y, accepted.model, accepted.lag_selected, scaling, w);
+  clock.lap("refit");
   summary.absorbed_alternatives = absorbed_alternatives(candidates, accepted, in, y, scaling, w, o.selection.ambiguity_bic);
+  clock.lap("absorbed alternatives");
   const Eigen::MatrixXd x_before = model_columns(base, in.signals, scaling);
   result.residual_before_dph = y - x_before * gls(x_before, y, w).beta;
   result.residual_after_dph = y - model_columns(final_fit.model, in.signals, scaling) * final_fit.beta;
@@ -298,6 +304,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
                                                          fit_noise_model(result.residual_before_dph, runs, in.dt_s));
   summary.before = diagnose(in, result.residual_before_dph, before_noise, o.selection.alpha);
   summary.after = diagnose(in, result.residual_after_dph, final_noise, o.selection.alpha);
+  clock.lap("noise models and diagnostics");
 
   // 5. The refitted model, the effects and what is left unexplained.
   result.model = refitted_model(final_fit, scaling, std::move(sim.prior));
@@ -314,6 +321,8 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   summary.simulation = sim.description;
   summary.selection = {o.selection.alpha, sel.bootstrap, o.selection.seed, sel.steps, untestable, sel.noise};
   summary.demoted = accepted.demoted;
+  clock.lap("report");
+  for (const auto& [stage, s] : sel.times.seconds) summary.stage_times.add(str_cat("selection: ", stage), s);
   summary.run_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

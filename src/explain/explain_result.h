@@ -156,6 +156,7 @@ struct ExplainSummary {
   SelectionRecord selection;
   Diagnostics before, after;
   double run_time_s = 0.0;
+  StageTimes stage_times;  // wall time per stage (selection's parts prefixed "selection: ")
 };
 
 }  // namespace gyrosid::explain

@@ -2,6 +2,7 @@
 
 #include <Eigen/QR>
 
+#include <algorithm>
 #include <cmath>
 
 namespace gyrosid::explain {
@@ -54,19 +55,47 @@ WhitenedFit fit_whitened(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, dou
   return f;
 }
 
+namespace {
+
+// The triangular factor of the Householder QR of a (n x m, n > m): row chunks that fit in cache, each
+// stacked under the triangle of the chunks before it and reduced by Householder QR again (a sequential
+// tall-skinny QR). Orthogonal transformations only, so as stable as one QR of a - the same R up to the
+// signs of its rows - but every reflection runs over a chunk in cache instead of over all n rows in memory.
+Eigen::MatrixXd triangular_factor(const Eigen::MatrixXd& a, Eigen::Index chunk = 512) {
+  const Eigen::Index n = a.rows(), m = a.cols();
+  Eigen::MatrixXd work(m + chunk, m);
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr;
+  Eigen::Index have = 0;  // rows of the running triangle at the top of work
+  for (Eigen::Index start = 0; start < n; start += chunk) {
+    const Eigen::Index b = std::min(chunk, n - start);
+    work.middleRows(have, b) = a.middleRows(start, b);
+    qr.compute(work.topRows(have + b));
+    have = std::min(have + b, m);
+    work.topRows(have) = qr.matrixQR().topRows(have).triangularView<Eigen::Upper>();
+  }
+  return work.topRows(m);
+}
+
+}  // namespace
+
 double whitened_rss(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, double tolerance) {
   const Eigen::Index n = x.rows(), p = x.cols();
   if (p == 0) return y.squaredNorm();
-  if (n <= p) return fit_whitened(x, y, tolerance).rss;
+  if (n <= p + 1) return fit_whitened(x, y, tolerance).rss;
+  // The triangle of [X y] (X equilibrated): its last column holds Q1' y - the first p entries in the span of
+  // X's columns, the last one the norm of the rest.
   Eigen::VectorXd norms = x.colwise().norm().transpose();
   for (Eigen::Index j = 0; j < norms.size(); ++j) norms(j) = norms(j) > 0 ? norms(j) : 1.0;
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr1(x * norms.cwiseInverse().asDiagonal());
-  const Eigen::VectorXd z = qr1.householderQ().adjoint() * y;  // Q1' y: the first p entries in the span of Q1
+  Eigen::MatrixXd xy(n, p + 1);
+  xy.leftCols(p) = x * norms.cwiseInverse().asDiagonal();
+  xy.col(p) = y;
+  const Eigen::MatrixXd r = triangular_factor(xy);
+  // The rank decision as in fit_whitened: a column-pivoted QR of X's triangle.
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(p, p);
   qr.setThreshold(tolerance);
-  qr.compute(qr1.matrixQR().topRows(p).triangularView<Eigen::Upper>());
-  const Eigen::VectorXd z2 = qr.householderQ().adjoint() * z.head(p);
-  return z.tail(n - p).squaredNorm() + z2.tail(p - qr.rank()).squaredNorm();
+  qr.compute(r.topLeftCorner(p, p));
+  const Eigen::VectorXd z2 = qr.householderQ().adjoint() * r.col(p).head(p);
+  return r(p, p) * r(p, p) + z2.tail(p - qr.rank()).squaredNorm();
 }
 
 Eigen::MatrixXd new_directions(const Eigen::MatrixXd& c, const Eigen::MatrixXd& basis, double tolerance) {

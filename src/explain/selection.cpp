@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 #include "core/error.h"
 #include "core/parallel.h"
@@ -201,51 +202,11 @@ std::vector<Evaluated> score_candidates(const std::vector<Candidate>& open, cons
   return ev;
 }
 
-// The strongest significant candidate (by dBIC) that also wins when the noise is re-estimated by maximum
-// likelihood with and without it; -1 if none.
-std::ptrdiff_t gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate>& open, const Step& c,
-                                  const std::vector<Eigen::Index>& rows, const NoiseModel& noise) {
-  std::vector<std::size_t> order;
-  for (std::size_t i = 0; i < ev.size(); ++i) {
-    if (ev[i].score.significant && ev[i].score.delta_bic > 0) order.push_back(i);
-  }
-  if (order.empty()) return -1;
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ev[a].score.delta_bic > ev[b].score.delta_bic; });
-  const NoiseLikelihood likelihood(rows, c.in.signals.t_s, noise);
-  const NoiseLikelihood::Optimum l0 = likelihood.maximise(model_columns(c.model, c.in.signals, c.sc), c.y);
-  const double n = static_cast<double>(c.yw.size());
-  for (std::size_t i : order) {
-    const ModelSpec with = with_effect(c.model, open[i], ev[i].score.tau_s);
-    const double l1 = likelihood.maximise(model_columns(with, c.in.signals, c.sc), c.y, l0).log_likelihood;
-    ev[i].score.ml_delta_bic = 2.0 * (l1 - l0.log_likelihood) - (ev[i].score.columns + open[i].nonlinear_parameters()) * std::log(n);
-    if (ev[i].score.ml_delta_bic > 0) return static_cast<std::ptrdiff_t>(i);
-  }
-  return -1;
-}
-
-// Alternatives: close in dBIC, and each makes the other redundant. Weaker alternatives: explain at least
-// half as much on their own and nothing once the chosen effect is in - the data prefer the chosen one, but
-// this recording alone does not make them impossible.
-void find_alternatives(SelectedEffect& chosen, std::size_t b, const std::vector<Evaluated>& ev, const std::vector<Candidate>& open,
-                       const Step& c, const ModelSpec& next, const WhitenedFit& next_fit, double ambiguity_bic) {
-  for (std::size_t i = 0; i < ev.size(); ++i) {
-    if (i == b || !(ev[i].score.delta_bic > ambiguity_bic) || ev[i].score.delta_bic < 0.5 * ev[b].score.delta_bic) continue;
-    const double other_given_best = evaluate(open[i], next, c.in, c.sc, c.w, next_fit).score.delta_bic;
-    if (ev[i].score.delta_bic < ev[b].score.delta_bic - ambiguity_bic) {
-      if (other_given_best < ambiguity_bic) chosen.weaker_alternatives.push_back(std::string(open[i].id()));
-      continue;
-    }
-    const ModelSpec swapped = with_effect(c.model, open[i], ev[i].score.tau_s);
-    Candidate fixed = open[b];
-    if (fixed.nonlinear != NonlinearParameter::none) fixed.tau_grid_s = {ev[b].score.tau_s};
-    const double best_given_other = evaluate(fixed, swapped, c.in, c.sc, c.w, fit_model(swapped, c.in, c.yw, c.sc, c.w)).score.delta_bic;
-    if (other_given_best < ambiguity_bic && best_given_other < ambiguity_bic) chosen.alternatives.push_back(std::string(open[i].id()));
-  }
-}
-
-// The chosen candidate's nonlinear parameter refined between its grid neighbours by two finer scans of the
-// same statistic (log-spaced for a scale, linear for a time): later candidates are tested against the model
-// at its best parameter, not at a grid point - a lag off by a grid step would leave a Shupe-like residual.
+// A candidate's nonlinear parameter refined between its grid neighbours by two finer scans of the same
+// statistic (log-spaced for a scale, linear for a time) before the likelihood gate judges it, so that the
+// gate and every later candidate see the effect at its best parameter, not at a grid point: a lag off by a
+// grid step would leave a Shupe-like residual, and a step placed a grid step (D/48) off its time leaves a
+// window of the full step that a slow wander of the noise model fits better.
 double refine_parameter(const Candidate& c, double best, const Step& s) {
   const std::vector<double>& g = c.tau_grid_s;
   if (g.size() < 2) return best;
@@ -266,6 +227,55 @@ double refine_parameter(const Candidate& c, double best, const Step& s) {
     hi = scale ? std::min(hi, best * step) : std::min(hi, best + step);
   }
   return best;
+}
+
+// The strongest significant candidate (by dBIC) that also wins when the noise is re-estimated by maximum
+// likelihood with and without it (index -1 if none), and the likelihood's optimum with it. `current`: the
+// optimum for the step's model when an earlier step computed it (the winner of the step before), else empty.
+struct Gated {
+  std::ptrdiff_t index = -1;
+  std::optional<NoiseLikelihood::Optimum> with;
+};
+
+Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate>& open, const Step& c, const std::vector<Eigen::Index>& rows,
+                         const NoiseModel& noise, const std::optional<NoiseLikelihood::Optimum>& current) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < ev.size(); ++i) {
+    if (ev[i].score.significant && ev[i].score.delta_bic > 0) order.push_back(i);
+  }
+  if (order.empty()) return {};
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ev[a].score.delta_bic > ev[b].score.delta_bic; });
+  const NoiseLikelihood likelihood(rows, c.in.signals.t_s, noise);
+  const NoiseLikelihood::Optimum l0 = current ? *current : likelihood.maximise(model_columns(c.model, c.in.signals, c.sc), c.y);
+  const double n = static_cast<double>(c.yw.size());
+  for (std::size_t i : order) {
+    if (open[i].nonlinear != NonlinearParameter::none) ev[i].score.tau_s = refine_parameter(open[i], ev[i].score.tau_s, c);
+    const ModelSpec with = with_effect(c.model, open[i], ev[i].score.tau_s);
+    const NoiseLikelihood::Optimum l1 = likelihood.maximise(model_columns(with, c.in.signals, c.sc), c.y, l0);
+    ev[i].score.ml_delta_bic = 2.0 * (l1.log_likelihood - l0.log_likelihood) - (ev[i].score.columns + open[i].nonlinear_parameters()) * std::log(n);
+    if (ev[i].score.ml_delta_bic > 0) return {static_cast<std::ptrdiff_t>(i), l1};
+  }
+  return {};
+}
+
+// Alternatives: close in dBIC, and each makes the other redundant. Weaker alternatives: explain at least
+// half as much on their own and nothing once the chosen effect is in - the data prefer the chosen one, but
+// this recording alone does not make them impossible.
+void find_alternatives(SelectedEffect& chosen, std::size_t b, const std::vector<Evaluated>& ev, const std::vector<Candidate>& open,
+                       const Step& c, const ModelSpec& next, const WhitenedFit& next_fit, double ambiguity_bic) {
+  for (std::size_t i = 0; i < ev.size(); ++i) {
+    if (i == b || !(ev[i].score.delta_bic > ambiguity_bic) || ev[i].score.delta_bic < 0.5 * ev[b].score.delta_bic) continue;
+    const double other_given_best = evaluate(open[i], next, c.in, c.sc, c.w, next_fit).score.delta_bic;
+    if (ev[i].score.delta_bic < ev[b].score.delta_bic - ambiguity_bic) {
+      if (other_given_best < ambiguity_bic) chosen.weaker_alternatives.push_back(std::string(open[i].id()));
+      continue;
+    }
+    const ModelSpec swapped = with_effect(c.model, open[i], ev[i].score.tau_s);
+    Candidate fixed = open[b];
+    if (fixed.nonlinear != NonlinearParameter::none) fixed.tau_grid_s = {ev[b].score.tau_s};
+    const double best_given_other = evaluate(fixed, swapped, c.in, c.sc, c.w, fit_model(swapped, c.in, c.yw, c.sc, c.w)).score.delta_bic;
+    if (other_given_best < ambiguity_bic && best_given_other < ambiguity_bic) chosen.alternatives.push_back(std::string(open[i].id()));
+  }
 }
 
 // The noise model from what the current model leaves (ordinary least squares on the training rows).
@@ -320,6 +330,9 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
   result.bootstrap = options.bootstrap;
   std::vector<Candidate> open = candidates;
   Progress progress("explain: selecting effects", static_cast<std::size_t>(std::max(1, o.max_effects)));
+  std::optional<NoiseLikelihood::Optimum> current;  // the likelihood's optimum for result.model, when known
+  StageClock clock(result.times);
+  clock.lap("noise model");
   for (int step = 0; step < o.max_effects && !open.empty(); ++step) {
     progress.update(static_cast<std::size_t>(step));
     if (o.noise_model == NoiseModelSource::current) result.noise = current_model_noise(in, y, result.model, sc, rows);
@@ -328,20 +341,25 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
     result.whitened_samples = static_cast<std::size_t>(yw.size());
     const WhitenedFit fit = fit_model(result.model, in, yw, sc, w);
     const Step c{in, y, sc, w, yw, result.model, fit};
+    clock.lap("noise model");
     std::vector<Evaluated> ev = score_candidates(open, c, options, step, checkpoint);
-    const std::ptrdiff_t best = gate_by_likelihood(ev, open, c, rows, result.noise);
+    clock.lap("scores and bootstrap");
+    const Gated gated = gate_by_likelihood(ev, open, c, rows, result.noise, current);
+    const std::ptrdiff_t best = gated.index;
+    current = gated.with;  // the next step's model is this step's with the winner
+    clock.lap("likelihood gate");
     std::vector<CandidateScore> scores;
     for (const auto& e : ev) scores.push_back(e.score);
     result.steps.push_back(scores);
     if (best < 0) break;
     const auto b = static_cast<std::size_t>(best);
-    if (open[b].nonlinear != NonlinearParameter::none) ev[b].score.tau_s = refine_parameter(open[b], ev[b].score.tau_s, c);
     SelectedEffect chosen{open[b], ev[b].score, {}, {}};
     ModelSpec next = with_effect(result.model, open[b], ev[b].score.tau_s);
     find_alternatives(chosen, b, ev, open, c, next, fit_model(next, in, yw, sc, w), o.ambiguity_bic);
     result.effects.push_back(chosen);
     result.model = std::move(next);
     open.erase(open.begin() + best);
+    clock.lap("refinement and alternatives");
   }
   progress.finish();
   return result;

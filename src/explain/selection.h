@@ -28,6 +28,7 @@
 
 #include "core/checkpoint.h"
 #include "explain/effect.h"
+#include "explain/stage_times.h"
 #include "sensor/noise_model.h"
 
 namespace gyrosid::explain {
@@ -85,6 +86,7 @@ struct SelectionResult {
   NoiseModel noise;                              // the whitening model
   std::size_t whitened_samples = 0;
   int bootstrap = 0;                             // resamples used (raised so Holm's smallest threshold is reachable)
+  StageTimes times;                              // wall time per part of the selection
 };
 
 // The whitener of the training samples for a noise model.

@@ -166,6 +166,12 @@ json noise_terms_json(const std::vector<NoiseTerm>& terms) {
   return out;
 }
 
+json stage_times_json(const StageTimes& t) {
+  json out = json::array();
+  for (const auto& [stage, s] : t.seconds) out.push_back({{"stage", stage}, {"s", s}});
+  return out;
+}
+
 json selection_json(const SelectionRecord& s) {
   json steps = json::array();
   for (const auto& step : s.steps) {
@@ -264,7 +270,8 @@ json to_json(const ExplainSummary& s) {
           {"simulation", s.simulation},
           {"selection", selection_json(s.selection)},
           {"diagnostics", {{"before", diagnostics_json(s.before)}, {"after", diagnostics_json(s.after)}}},
-          {"run_time_s", s.run_time_s}};
+          {"run_time_s", s.run_time_s},
+          {"stage_times_s", stage_times_json(s.stage_times)}};
 }
 
 ExplainSummary explain_summary_from_json(const json& j) {
@@ -289,6 +296,9 @@ ExplainSummary explain_summary_from_json(const json& j) {
   s.before = diagnostics_of(j.at("diagnostics").at("before"));
   s.after = diagnostics_of(j["diagnostics"].at("after"));
   s.run_time_s = j.at("run_time_s");
+  if (j.contains("stage_times_s")) {
+    for (const auto& t : j.at("stage_times_s")) s.stage_times.add(t.at("stage").get<std::string>(), t.at("s").get<double>());
+  }
   return s;
 }
 

@@ -111,14 +111,20 @@ Whitener::Whitener(NoiseModel model, std::vector<Eigen::Index> rows, const std::
 }
 
 Eigen::MatrixXd Whitener::apply(const Eigen::MatrixXd& x) const {
+  // Column by column: each column's filter is a scalar recursion over contiguous memory (the same arithmetic,
+  // in the same order per element, as filtering all columns of a row at once, without a temporary per row).
   Eigen::MatrixXd out(static_cast<Eigen::Index>(rows_.size()), x.cols());
-  Eigen::MatrixXd state = Eigen::MatrixXd::Zero(2, x.cols());
-  for (std::size_t r = 0; r < rows_.size(); ++r) {
-    state.row(1) *= decay_[r];
-    const Eigen::RowVectorXd innovation = x.row(rows_[r]) - state.row(0) - state.row(1);
-    out.row(static_cast<Eigen::Index>(r)) = innovation * inv_sd_[r];
-    state.row(0) += gain_[r](0) * innovation;
-    state.row(1) += gain_[r](1) * innovation;
+  for (Eigen::Index c = 0; c < x.cols(); ++c) {
+    const double* in = x.col(c).data();
+    double* o = out.col(c).data();
+    double level = 0.0, wander = 0.0;  // the filtered random-walk and Gauss-Markov states
+    for (std::size_t r = 0; r < rows_.size(); ++r) {
+      wander *= decay_[r];
+      const double innovation = in[rows_[r]] - level - wander;
+      o[r] = innovation * inv_sd_[r];
+      level += gain_[r](0) * innovation;
+      wander += gain_[r](1) * innovation;
+    }
   }
   return out;
 }

@@ -1,0 +1,34 @@
+// Wall time per stage of an explain run (seconds), summed by stage name in the order the stages first ran:
+// where a slow recording spends its time (explain.json "stage_times_s", the report's run-time line).
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace gyrosid::explain {
+
+struct StageTimes {
+  std::vector<std::pair<std::string, double>> seconds;
+  void add(std::string_view stage, double s);
+  void add(const StageTimes& other);  // every stage of `other` added to this one's
+};
+
+// Laps of a steady clock: lap(stage) books the time since the previous lap (or construction) to `stage`.
+class StageClock {
+ public:
+  explicit StageClock(StageTimes& times) : times_(times), last_(std::chrono::steady_clock::now()) {}
+  void lap(std::string_view stage) {
+    const auto now = std::chrono::steady_clock::now();
+    times_.add(stage, std::chrono::duration<double>(now - last_).count());
+    last_ = now;
+  }
+
+ private:
+  StageTimes& times_;
+  std::chrono::steady_clock::time_point last_;
+};
+
+}  // namespace gyrosid::explain
