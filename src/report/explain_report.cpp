@@ -115,6 +115,13 @@ std::string ordinal(int n) {
 }
 
 // Which blocks were held out, as explain_input.h's rule: block b when b % every == 2 % every.
+// " (stage a s, stage b s, ...)": where the run time went, in the order the stages ran.
+std::string stage_times_text(const explain::StageTimes& t) {
+  std::string out;
+  for (const auto& [stage, s] : t.seconds) out += str_cat(out.empty() ? " (" : ", ", stage, " ", format_significant(s, 2), " s");
+  return out.empty() ? out : out + ")";
+}
+
 std::string heldout_text(int every) { return str_cat("every ", ordinal(every), " from the ", ordinal(2 % every + 1), " held out"); }
 
 void effects_markdown(const explain::ExplainSummary& j, std::ostringstream& md) {
@@ -187,7 +194,7 @@ std::string report_markdown(const ExplainResult& r) {
              ? str_cat(" (", j.recording.heldout_outside_support, " held-out samples lie outside the training blocks' support - the "
                        "simulation extrapolates there - and confirm nothing)")
              : std::string())
-     << ". Run time " << format_significant(j.run_time_s, 3) << " s.\n\n";
+     << ". Run time " << format_significant(j.run_time_s, 3) << " s" << stage_times_text(j.stage_times) << ".\n\n";
   const auto& fit = j.fit;
   md << "## Fit (residual rms, deg/h)\n\n| | training | held-out |\n|---|---|---|\n"
      << "| simulation as given | " << format_significant(fit.rms_simulation_dph, 4) << " | |\n"
