@@ -63,6 +63,17 @@ double max_off_diagonal_error(const Eigen::Matrix3d& estimate, const Eigen::Matr
   return e.maxCoeff();
 }
 
+// The same data fitted jointly and sequentially, with otherwise the same options.
+struct JointAndSequential {
+  TriadFit joint, sequential;
+};
+JointAndSequential fit_both_ways(const TriadData& d, TriadFitOptions o) {
+  o.estimation = "joint";
+  TriadFit joint = fit_triad(d, o);
+  o.estimation = "sequential";
+  return {std::move(joint), fit_triad(d, o)};
+}
+
 TEST(TriadFit, NoiseFreeMisalignmentAndBiasPolynomialsAreRecoveredExactly) {
   const TriadSensor sensor = planted_triad(0.0);
   const TriadData d = simulate_triad_data(sensor, six_positions({0, 25, 50}, 30, 10), 1);
@@ -301,9 +312,7 @@ TEST(TriadFit, JointRecoversTheMatrixWhereARateNonlinearSurfaceBiasesTheSequenti
   o.surfaces = "classical";
   o.bias_order = 0;
   o.surface_options = {{"sf_temperature_order", "0"}, {"sf_rate_order", "2"}};
-  const TriadFit joint = fit_triad(d, o);
-  o.estimation = "sequential";
-  const TriadFit sequential = fit_triad(d, o);
+  const auto [joint, sequential] = fit_both_ways(d, o);
   const double joint_err = max_off_diagonal_error(joint.model.misalignment, m.misalignment);
   const double sequential_err = max_off_diagonal_error(sequential.model.misalignment, m.misalignment);
   EXPECT_LT(joint_err, 1e-9);
@@ -363,9 +372,7 @@ TEST(TriadFit, JointRbfWeightsRefineTheSequentialFitAndRecoverThePlantedTriad) {
   o.surfaces = "rbf";
   o.bias_order = 1;
   o.surface_options = {{"criterion", "bic"}, {"width", "0.3"}};
-  const TriadFit joint = fit_triad(train, o);
-  o.estimation = "sequential";
-  const TriadFit sequential = fit_triad(train, o);
+  const auto [joint, sequential] = fit_both_ways(train, o);
 
   const double joint_err = max_off_diagonal_error(joint.model.misalignment, m.misalignment);
   const double sequential_err = max_off_diagonal_error(sequential.model.misalignment, m.misalignment);
