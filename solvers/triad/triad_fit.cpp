@@ -25,6 +25,7 @@ OptionTable TriadFitOptions::table() {
       .real("max_sigma", &max_sigma, 0.0, 1.0, "M and G entries with a larger sigma are reported as not determined", true)
       .real("collinearity", &collinearity, 1e-12, 0.5, "a surface coefficient this close (sine) to the span of M, b, G is held at nominal")
       .text("surface_solver", &surface_solver, "RBF solver of the RBF surfaces (sequential fit, joint start)")
+      .choice("surface_input", &surface_input, {"predicted", "measured"}, "the rate the surfaces are fitted at: predicted = the noise-free outputs the model predicts from the reference (passes to a fixed point); measured = the recorded outputs, noise included (errors in variables)")
       .choice("rbf_joint", &rbf_joint, {"weights", "nodes"}, "joint rbf surfaces: weights moves the weights of the sequential fit's nodes (its centres and widths held: its cost can only fall); nodes moves centres and widths too")
       .passthrough("nls.", &solver_options, "an option of the least-squares back-end (listed by --options-of triad)")
       .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver");
@@ -184,17 +185,19 @@ TriadUncertainty uncertainty_of(const Stage& s, bool g_sensitivity, double max_s
 // A classical surface gets the triad's bias order unless told otherwise, so that sequential and joint fits
 // span the same family of functions.
 std::array<std::shared_ptr<const CalibrationModel>, 3> fit_surfaces(const TriadData& d, const TriadModel& linear, const TriadFitOptions& o,
-                                                                    int bias_order, nlohmann::json& stages) {
+                                                                    int bias_order, const Eigen::MatrixX3d& surface_rate, nlohmann::json& stages) {
   CalibrationRequest request;
   request.model = o.surfaces;
   request.solver = o.surface_solver;
   request.options = o.surface_options;
   if (o.surfaces == "classical" && !request.options.count("bias_order")) request.options["bias_order"] = std::to_string(bias_order);
   const Eigen::MatrixX3d left = d.gyro - linear.predict_outputs(d);
+  TriadData at = d;  // the surfaces' rate input: what axis_recording calls the measured rate
+  at.gyro = surface_rate;
   std::array<std::shared_ptr<const CalibrationModel>, 3> out;
   for (int a = 0; a < 3; ++a) {
     const Eigen::VectorXd error = left.col(a);
-    CalibrationResult r = calibrate(axis_recording(d, a, &error), request);
+    CalibrationResult r = calibrate(axis_recording(at, a, &error), request);
     stages.push_back({{"stage", str_cat("surface ", kAxes[a])}, {"summary", r.summary}});
     out[static_cast<std::size_t>(a)] = std::move(r.model);
   }
@@ -206,13 +209,13 @@ std::array<std::shared_ptr<const CalibrationModel>, 3> fit_surfaces(const TriadD
 // carried over, noted) stacked on the rows of the surface's share of M_aa's and b_a's columns (surface_terms.h),
 // held at the sequential fit's share with weight kOwnedWeight on a unit-norm residual vector. The sequential
 // solution meets every row, so the joint cost starts at the sequential cost and can only fall.
-std::pair<Eigen::MatrixXd, Eigen::VectorXd> joint_weight_rows(const TriadData& d, int a, const RbfNetwork& net, const TriadBias& bias, int bias_order,
-                                                              const nlohmann::json& summary, const TriadFitOptions& o, std::vector<std::string>& notes) {
+std::pair<Eigen::MatrixXd, Eigen::VectorXd> joint_weight_rows(const TriadData& d, const Eigen::MatrixX3d& surface_rate, int a, const RbfNetwork& net,
+                                                              const TriadBias& bias, int bias_order, const nlohmann::json& summary, const TriadFitOptions& o, std::vector<std::string>& notes) {
   constexpr double kOwnedWeight = 1e3;
   Eigen::MatrixXd x(d.size(), 2);  // the inputs measured_rate, temperature (RbfTerm's), normalised
   Eigen::MatrixXd owned(d.size(), bias_order + 2);  // omega_a | v^0..v^nb
   for (Eigen::Index k = 0; k < d.size(); ++k) {
-    const double raw[2] = {d.gyro(k, a), d.temp_c(k, a)};
+    const double raw[2] = {surface_rate(k, a), d.temp_c(k, a)};
     double out[2];
     net.normalizer.apply(raw, out);
     x.row(k) << out[0], out[1];
@@ -236,6 +239,54 @@ std::pair<Eigen::MatrixXd, Eigen::VectorXd> joint_weight_rows(const TriadData& d
   Eigen::VectorXd target = Eigen::VectorXd::Zero(rows.rows());
   target.tail(constraint.rows()) = constraint * net.weights;
   return {rows, target};
+}
+
+// The noise-free outputs `model` predicts from the reference: g = (I + M) omega + b(T) + G f + e(T, g), the
+// surfaces' rate input found by fixed-point iteration from the linear part's prediction (each step shrinks
+// the change by the surface's slope in rate, ppm to per mille).
+Eigen::MatrixX3d noise_free_outputs(const TriadData& d, const TriadModel& model) {
+  TriadModel linear = model;
+  linear.surfaces = {};
+  TriadData at = d;
+  at.gyro = linear.predict_outputs(d);
+  const bool surfaces = std::any_of(model.surfaces.begin(), model.surfaces.end(), [](const auto& s) { return s != nullptr; });
+  for (int step = 0; surfaces && step < 4; ++step) at.gyro = model.predict_outputs(at);
+  return at.gyro;
+}
+
+// One more pass of fitting the surfaces at the outputs `model` predicts? Updates `rate` and says yes unless it
+// moved by less than kRateTolerance (converged) or `pass` was the last allowed (noted).
+constexpr int kMaxSurfacePasses = 25;
+constexpr double kRateTolerance = 1e-11;  // rad/s, 2e-6 deg/h
+bool next_surface_rate(const TriadData& d, const TriadModel& model, int pass, Eigen::MatrixX3d& rate, std::vector<std::string>& notes) {
+  Eigen::MatrixX3d next = noise_free_outputs(d, model);
+  const double change = (next - rate).cwiseAbs().maxCoeff();
+  rate = std::move(next);
+  if (change < kRateTolerance) return false;
+  if (pass < kMaxSurfacePasses) return true;
+  notes.push_back(str_cat("surface_input=predicted: the surfaces' rate input still moved by ", units::radps_to_dph(change), " deg/h after ", pass, " passes"));
+  return false;
+}
+
+// Each gyro's surface term of the joint problem at the surface rates: classical columns, or the sequential
+// network (its constant folded into the bias) with its weight rows; spec.surfaces points at them.
+void joint_terms(const TriadData& d, const TriadFitOptions& o, int bias_order, const Eigen::MatrixX3d& surface_rate,
+                 const std::array<std::shared_ptr<const CalibrationModel>, 3>& sequential, const nlohmann::json& stages,
+                 TriadProblemSpec& spec, std::array<std::unique_ptr<SurfaceTerm>, 3>& terms, std::vector<std::string>& notes) {
+  const std::size_t surface_stage0 = stages.size() >= 3 ? stages.size() - 3 : 0;  // rbf: the three surface fits' summaries
+  for (int a = 0; a < 3; ++a) {
+    const auto ai = static_cast<std::size_t>(a);
+    if (o.surfaces == "classical") {
+      terms[ai] = classical_term(classical_surface_options(o.surface_options), surface_rate.col(a), d.temp_c.col(a));
+    } else {
+      RbfNetwork net = dynamic_cast<const RbfNetwork&>(*sequential[ai]);
+      spec.start.bias.coefficients[ai](0) += net.bias;
+      net.bias = 0.0;
+      auto [penalty, target] = joint_weight_rows(d, surface_rate, a, net, spec.start.bias, bias_order, stages[surface_stage0 + ai]["summary"], o, notes);
+      terms[ai] = rbf_term(net, std::move(penalty), std::move(target));
+    }
+    spec.surfaces[ai] = terms[ai].get();
+  }
 }
 
 TriadModel start_model(const TriadData& d, int bias_order) {
@@ -306,37 +357,38 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   spec.start = start_model(d, bias_order);
   nlohmann::json stages = nlohmann::json::array();
 
-  // Stage 1 (sequential; the whole fit without surfaces; the start of a joint RBF solve): M, b, G.
-  const bool linear_stage = o.surfaces == "none" || o.estimation == "sequential" || o.surfaces == "rbf";
+  // Stage 1 (sequential; the whole fit without surfaces; the start of a joint solve with surfaces): M, b, G.
+  const bool predicted = o.surfaces != "none" && o.surface_input == "predicted";
+  const bool linear_stage = o.surfaces == "none" || o.estimation == "sequential" || o.surfaces == "rbf" || predicted;
   Stage stage;
   if (linear_stage) {
     stage = run_stage(d, rows, spec, o);
     stages.push_back({{"stage", "misalignment and bias"}, {"summary", stage.summary}});
     spec.start = triad_model_of(stage.problem, stage.layout, spec);
   }
+  Eigen::MatrixX3d surface_rate = predicted ? noise_free_outputs(d, spec.start) : d.gyro;
+  spec.surface_rate = &surface_rate;
   std::array<std::shared_ptr<const CalibrationModel>, 3> sequential_surfaces;
   if (o.surfaces != "none" && (o.estimation == "sequential" || o.surfaces == "rbf")) {
-    sequential_surfaces = fit_surfaces(d, spec.start, o, bias_order, stages);
+    for (int pass = 1;; ++pass) {  // predicted: refitted at the outputs the last pass's model predicts, to a fixed point
+      sequential_surfaces = fit_surfaces(d, spec.start, o, bias_order, surface_rate, stages);
+      TriadModel last = spec.start;
+      last.surfaces = sequential_surfaces;
+      if (!predicted || !next_surface_rate(d, last, pass, surface_rate, fit.notes)) break;
+    }
   }
 
   std::array<std::unique_ptr<SurfaceTerm>, 3> terms;
-  const std::size_t surface_stage0 = stages.size() >= 3 ? stages.size() - 3 : 0;  // rbf: the three surface fits' summaries
   if (o.estimation == "joint" && o.surfaces != "none") {
-    for (int a = 0; a < 3; ++a) {
-      const auto ai = static_cast<std::size_t>(a);
-      if (o.surfaces == "classical") {
-        terms[ai] = classical_term(classical_surface_options(o.surface_options), d.gyro.col(a), d.temp_c.col(a));
-      } else {  // rbf: start from the sequential network, its constant folded into the bias
-        RbfNetwork net = dynamic_cast<const RbfNetwork&>(*sequential_surfaces[ai]);
-        spec.start.bias.coefficients[ai](0) += net.bias;
-        net.bias = 0.0;
-        auto [penalty, target] = joint_weight_rows(d, a, net, spec.start.bias, bias_order, stages[surface_stage0 + ai]["summary"], o, fit.notes);
-        terms[ai] = rbf_term(net, std::move(penalty), std::move(target));
-      }
-      spec.surfaces[ai] = terms[ai].get();
+    // classical, predicted: passes to a fixed point as above; rbf: one, started from the sequential fit (at its
+    // fixed point's rates).
+    for (int pass = 1;; ++pass) {
+      joint_terms(d, o, bias_order, surface_rate, sequential_surfaces, stages, spec, terms, fit.notes);
+      stage = run_stage(d, rows, spec, o);
+      stages.push_back({{"stage", str_cat("joint, pass ", pass)}, {"summary", stage.summary}});
+      if (!predicted || o.surfaces != "classical") break;
+      if (!next_surface_rate(d, triad_model_of(stage.problem, stage.layout, spec), pass, surface_rate, fit.notes)) break;
     }
-    stage = run_stage(d, rows, spec, o);
-    stages.push_back({{"stage", "joint"}, {"summary", stage.summary}});
   }
   fit.model = triad_model_of(stage.problem, stage.layout, spec);
   if (o.estimation == "sequential") fit.model.surfaces = sequential_surfaces;

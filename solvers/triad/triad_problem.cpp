@@ -115,7 +115,7 @@ void design_row(const TriadData& d, int axis, Eigen::Index k, const TriadProblem
   for (int o = 0; o <= spec.bias_order; ++o, vp *= v) out[c++] = vp;
   if (spec.g_sensitivity)
     for (int j = 0; j < 3; ++j) out[c++] = d.accel(k, j);
-  if (const SurfaceTerm* s = spec.surfaces[static_cast<std::size_t>(axis)]) s->linear_columns(d.gyro(k, axis), d.temp_c(k, axis), out + c);
+  if (const SurfaceTerm* s = spec.surfaces[static_cast<std::size_t>(axis)]) s->linear_columns(spec.surface_rate_at(d, k, axis), d.temp_c(k, axis), out + c);
 }
 
 }  // namespace
@@ -235,7 +235,7 @@ NlsProblem build_triad_problem(const TriadData& d, const TriadRows& rows, const 
           y(r - r0) += we * (d.gyro(k, i) - d.reference(k, i));
           if (x.rows() > 0) {
             Eigen::RowVectorXd xi(inputs);
-            term->inputs(d.gyro(k, i), d.temp_c(k, i), xi.data());
+            term->inputs(spec.surface_rate_at(d, k, i), d.temp_c(k, i), xi.data());
             x.row(e - e0) = xi;
           }
           w.push_back(we);
