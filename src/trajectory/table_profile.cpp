@@ -90,7 +90,9 @@ std::string TableProfile::check_limits() const {
       return str_cat(where, ": chamber rate ", rate, " C/min exceeds the chamber limit ", limits.rate_limit_c_per_min,
                      " C/min");
     }
-    if (s.position < 1 || s.position > 6) return str_cat(where, ": mount position ", s.position, " is not 1..6");
+    if (s.position < 1 || s.position > kMountPositions) {
+      return str_cat(where, ": mount position ", s.position, " is not 1..", kMountPositions, " (Table 2.1's 1..6, body diagonals 7..10)");
+    }
     t += s.duration_s;
   }
   return "";
@@ -106,7 +108,18 @@ Eigen::Matrix3d mount_orientation(int position) {
     case 4: c << n, -d, e; break;
     case 5: c << d, e, -n; break;
     case 6: c << -d, e, n; break;
-    default: fail("mount position ", position, " is not one of Table 2.1's positions 1..6");
+    case 7: case 8: case 9: case 10: {
+      // Position 7: body (1,1,1)/sqrt 3 along Up (-D): x, y, z at equal angles (54.7 deg) from it, right-handed.
+      const double a = std::sqrt(2.0 / 3.0), b = 1.0 / std::sqrt(6.0), h = 1.0 / std::sqrt(2.0), u = 1.0 / std::sqrt(3.0);
+      c.col(0) << a, 0.0, -u;
+      c.col(1) << -b, -h, -u;
+      c.col(2) << -b, h, -u;
+      // 8..10: the body turned 180 deg about its z, y, x: the diagonals (-1,-1,1), (-1,1,-1), (1,-1,-1) up.
+      static const Eigen::Vector3d flips[] = {{1, 1, 1}, {-1, -1, 1}, {-1, 1, -1}, {1, -1, -1}};
+      c = c * flips[position - 7].asDiagonal();
+      break;
+    }
+    default: fail("mount position ", position, " is not one of 1..", kMountPositions, " (Table 2.1's 1..6, body diagonals 7..10)");
   }
   return c;
 }

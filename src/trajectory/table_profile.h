@@ -13,6 +13,10 @@
 //   1: x=N y=E z=D     2: x=N y=W z=U     3: x=N y=D z=W
 //   4: x=N y=U z=E     5: x=D y=E z=S     6: x=U y=E z=N
 // A single gyro's input axis is body z, so position 2 (z up) makes the table rate the input rate.
+// Beyond Table 2.1, for triads (multi-axis turns, which couple the misalignment to the other gyros' rates):
+//   7..10: a body diagonal up, (1,1,1), (-1,-1,1), (-1,1,-1), (1,-1,-1) / sqrt 3 - the table rate reaches
+//   every gyro at 1/sqrt 3 of itself, with the signs of that diagonal.
+inline constexpr int kMountPositions = 10;
 #pragma once
 
 #include <Eigen/Core>
@@ -46,7 +50,7 @@ struct ProfileSegment {
   double chamber_start_c = 25.0;
   double chamber_end_c = 25.0;
   RateProfile rate;
-  int position = 2;  // Table 2.1 mount position, 1..6
+  int position = 2;  // mount position: Table 2.1's 1..6, body diagonals 7..10 (below)
 };
 
 struct ChamberLimits {
@@ -70,7 +74,7 @@ struct TableProfile {
   std::string check_limits() const;
 };
 
-// Body axes in table axes for mount position 1..6 (columns: body x, y, z).
+// Body axes in table axes for mount position 1..kMountPositions (columns: body x, y, z).
 Eigen::Matrix3d mount_orientation(int position);
 
 // Sample times t_k = k dt over [0, duration): `samples` points (dt = duration / samples) or every

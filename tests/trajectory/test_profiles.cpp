@@ -141,6 +141,31 @@ TEST(Trajectories, SixPositionsGiveTable21EarthRateComponents) {
   }
 }
 
+// Positions 7..10: a body diagonal along the table's Up axis, so a table rate W reaches each gyro as
+// +-W / sqrt 3 with that diagonal's signs; proper rotations.
+TEST(Trajectories, DiagonalPositionsTurnEveryGyroAtOneOverRootThreeOfTheTableRate) {
+  const Eigen::Vector3d diagonals[4] = {{1, 1, 1}, {-1, -1, 1}, {-1, 1, -1}, {1, -1, -1}};
+  for (int pos = 7; pos <= 10; ++pos) {
+    const Eigen::Matrix3d c = mount_orientation(pos);
+    EXPECT_NEAR(c.determinant(), 1.0, 1e-15) << pos;
+    EXPECT_TRUE((c.transpose() * c).isApprox(Eigen::Matrix3d::Identity(), 1e-15)) << pos;
+    StaticOptions o;
+    o.duration_s = 10;
+    o.position = pos;
+    o.rate_radps = 0.5;
+    TableProfile p = static_profile(o);
+    p.latitude_rad = 0.0;
+    ASSERT_EQ(p.check_limits(), "");
+    const Excitation ex = excite(p, {0.0, 5.0}, {});
+    // Table rate about Up: body rate 0.5 (d / sqrt 3) plus the Earth rate (at most 7.3e-5 rad/s).
+    EXPECT_TRUE(ex.omega_ib_b[1].isApprox(0.5 * diagonals[pos - 7] / std::sqrt(3.0), 2e-4)) << pos << ": " << ex.omega_ib_b[1].transpose();
+    EXPECT_NEAR(ex.f_b[1].dot(diagonals[pos - 7].normalized()), earth::normal_gravity(0.0), 1e-9) << pos;  // specific force up the diagonal
+  }
+  TableProfile bad;
+  bad.segments.push_back({"x", 10.0, 25.0, 25.0, RateProfile::constant(0.0), 11});
+  EXPECT_NE(bad.check_limits().find("not 1..10"), std::string::npos);
+}
+
 TEST(Trajectories, TableAngleIsTheExactIntegralOfTheTriangleRate) {
   // Position 1 (z down) at the equator: the Earth rate is along N, so its body x/y components rotate with
   // the table angle alpha; compare with a fine trapezoidal integral of the table rate.
