@@ -25,7 +25,8 @@ OptionTable TriadFitOptions::table() {
       .real("max_sigma", &max_sigma, 0.0, 1.0, "M and G entries with a larger sigma are reported as not determined", true)
       .real("collinearity", &collinearity, 1e-12, 0.5, "a surface coefficient this close (sine) to the span of M, b, G is held at nominal")
       .text("surface_solver", &surface_solver, "RBF solver of the RBF surfaces (sequential fit, joint start)")
-      .choice("surface_input", &surface_input, {"predicted", "measured"}, "the rate the surfaces are fitted at: predicted = the noise-free outputs the model predicts from the reference (passes to a fixed point); measured = the recorded outputs, noise included (errors in variables)")
+      .choice("surface_input", &surface_input, {"smoothed", "measured"}, "the rate the surfaces are fitted at: smoothed = each output with its white noise averaged down where the reference holds still (surface_window); measured = the recorded outputs, noise included (errors in variables)")
+      .integer("surface_window", &surface_window, 0, 100000, "surface_input=smoothed: half-width (samples) of the centred window")
       .choice("rbf_joint", &rbf_joint, {"weights", "nodes"}, "joint rbf surfaces: weights moves the weights of the sequential fit's nodes (its centres and widths held: its cost can only fall); nodes moves centres and widths too")
       .passthrough("nls.", &solver_options, "an option of the least-squares back-end (listed by --options-of triad)")
       .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver");
@@ -241,31 +242,38 @@ std::pair<Eigen::MatrixXd, Eigen::VectorXd> joint_weight_rows(const TriadData& d
   return {rows, target};
 }
 
-// The noise-free outputs `model` predicts from the reference: g = (I + M) omega + b(T) + G f + e(T, g), the
-// surfaces' rate input found by fixed-point iteration from the linear part's prediction (each step shrinks
-// the change by the surface's slope in rate, ppm to per mille).
-Eigen::MatrixX3d noise_free_outputs(const TriadData& d, const TriadModel& model) {
-  TriadModel linear = model;
-  linear.surfaces = {};
-  TriadData at = d;
-  at.gyro = linear.predict_outputs(d);
-  const bool surfaces = std::any_of(model.surfaces.begin(), model.surfaces.end(), [](const auto& s) { return s != nullptr; });
-  for (int step = 0; surfaces && step < 4; ++step) at.gyro = model.predict_outputs(at);
-  return at.gyro;
+// Each gyro's output with its white noise averaged down (surface_input=smoothed): the linear part's prediction
+// P from the reference plus the residual g - P averaged over a centred window of up to 2 w + 1 samples inside
+// a run - consecutive samples whose reference rates differ by less than kRunStep (a rate-table step, a static
+// hold) and share a position_id. Within a run what the residual holds besides noise (the surface, the linear
+// part's misfit) moves only with the temperature, slowly, and a centred mean keeps a linear drift exactly; near
+// a run's edges the window keeps its length and slides inside the run (a run shorter than it is averaged
+// whole), so every sample's noise is averaged over min(2 w + 1, run length) samples. P
+// follows the Earth rate turning through the other axes during a turn, which the raw output mean would smear.
+constexpr double kRunStep = 1e-3;  // rad/s (0.057 deg/s)
+bool same_run(const TriadData& d, Eigen::Index a, Eigen::Index b) {
+  if (!d.position_id.empty() && d.position_id[static_cast<std::size_t>(a)] != d.position_id[static_cast<std::size_t>(b)]) return false;
+  return (d.reference.row(a) - d.reference.row(b)).cwiseAbs().maxCoeff() < kRunStep;
 }
 
-// One more pass of fitting the surfaces at the outputs `model` predicts? Updates `rate` and says yes unless it
-// moved by less than kRateTolerance (converged) or `pass` was the last allowed (noted).
-constexpr int kMaxSurfacePasses = 25;
-constexpr double kRateTolerance = 1e-11;  // rad/s, 2e-6 deg/h
-bool next_surface_rate(const TriadData& d, const TriadModel& model, int pass, Eigen::MatrixX3d& rate, std::vector<std::string>& notes) {
-  Eigen::MatrixX3d next = noise_free_outputs(d, model);
-  const double change = (next - rate).cwiseAbs().maxCoeff();
-  rate = std::move(next);
-  if (change < kRateTolerance) return false;
-  if (pass < kMaxSurfacePasses) return true;
-  notes.push_back(str_cat("surface_input=predicted: the surfaces' rate input still moved by ", units::radps_to_dph(change), " deg/h after ", pass, " passes"));
-  return false;
+Eigen::MatrixX3d smoothed_outputs(const TriadData& d, const TriadModel& linear, int half_width) {
+  const Eigen::MatrixX3d p = linear.predict_outputs(d);
+  const Eigen::Index n = d.size();
+  Eigen::MatrixX3d sum(n + 1, 3);  // prefix sums of the residual g - P
+  sum.row(0).setZero();
+  for (Eigen::Index k = 0; k < n; ++k) sum.row(k + 1) = sum.row(k) + (d.gyro.row(k) - p.row(k));
+  Eigen::MatrixX3d out(n, 3);
+  for (Eigen::Index begin = 0; begin < n;) {
+    Eigen::Index end = begin + 1;
+    while (end < n && same_run(d, end - 1, end)) ++end;
+    const Eigen::Index width = std::min<Eigen::Index>(2 * half_width + 1, end - begin);
+    for (Eigen::Index k = begin; k < end; ++k) {
+      const Eigen::Index first = std::clamp<Eigen::Index>(k - half_width, begin, end - width);
+      out.row(k) = p.row(k) + (sum.row(first + width) - sum.row(first)) / static_cast<double>(width);
+    }
+    begin = end;
+  }
+  return out;
 }
 
 // Each gyro's surface term of the joint problem at the surface rates: classical columns, or the sequential
@@ -358,37 +366,25 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   nlohmann::json stages = nlohmann::json::array();
 
   // Stage 1 (sequential; the whole fit without surfaces; the start of a joint solve with surfaces): M, b, G.
-  const bool predicted = o.surfaces != "none" && o.surface_input == "predicted";
-  const bool linear_stage = o.surfaces == "none" || o.estimation == "sequential" || o.surfaces == "rbf" || predicted;
+  const bool smoothed = o.surfaces != "none" && o.surface_input == "smoothed";
+  const bool linear_stage = o.surfaces == "none" || o.estimation == "sequential" || o.surfaces == "rbf" || smoothed;
   Stage stage;
   if (linear_stage) {
     stage = run_stage(d, rows, spec, o);
     stages.push_back({{"stage", "misalignment and bias"}, {"summary", stage.summary}});
     spec.start = triad_model_of(stage.problem, stage.layout, spec);
   }
-  Eigen::MatrixX3d surface_rate = predicted ? noise_free_outputs(d, spec.start) : d.gyro;
+  const Eigen::MatrixX3d surface_rate = smoothed ? smoothed_outputs(d, spec.start, o.surface_window) : d.gyro;
   spec.surface_rate = &surface_rate;
   std::array<std::shared_ptr<const CalibrationModel>, 3> sequential_surfaces;
   if (o.surfaces != "none" && (o.estimation == "sequential" || o.surfaces == "rbf")) {
-    for (int pass = 1;; ++pass) {  // predicted: refitted at the outputs the last pass's model predicts, to a fixed point
-      sequential_surfaces = fit_surfaces(d, spec.start, o, bias_order, surface_rate, stages);
-      TriadModel last = spec.start;
-      last.surfaces = sequential_surfaces;
-      if (!predicted || !next_surface_rate(d, last, pass, surface_rate, fit.notes)) break;
-    }
+    sequential_surfaces = fit_surfaces(d, spec.start, o, bias_order, surface_rate, stages);
   }
-
   std::array<std::unique_ptr<SurfaceTerm>, 3> terms;
   if (o.estimation == "joint" && o.surfaces != "none") {
-    // classical, predicted: passes to a fixed point as above; rbf: one, started from the sequential fit (at its
-    // fixed point's rates).
-    for (int pass = 1;; ++pass) {
-      joint_terms(d, o, bias_order, surface_rate, sequential_surfaces, stages, spec, terms, fit.notes);
-      stage = run_stage(d, rows, spec, o);
-      stages.push_back({{"stage", str_cat("joint, pass ", pass)}, {"summary", stage.summary}});
-      if (!predicted || o.surfaces != "classical") break;
-      if (!next_surface_rate(d, triad_model_of(stage.problem, stage.layout, spec), pass, surface_rate, fit.notes)) break;
-    }
+    joint_terms(d, o, bias_order, surface_rate, sequential_surfaces, stages, spec, terms, fit.notes);
+    stage = run_stage(d, rows, spec, o);
+    stages.push_back({{"stage", "joint"}, {"summary", stage.summary}});
   }
   fit.model = triad_model_of(stage.problem, stage.layout, spec);
   if (o.estimation == "sequential") fit.model.surfaces = sequential_surfaces;

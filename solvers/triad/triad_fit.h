@@ -15,16 +15,16 @@
 //   sequential  M, b(T), G first without surfaces; then each gyro's surface fitted to what they leave, by
 //               the surface kind's own fitter (solvers/calibrate.h: classical, greybox, rbf with any solver).
 //
-// The surfaces' rate input while fitting (surface_input): the model says e_i is a function of the gyro's
-// noise-free output, and so does the compensation (to within the noise times the surface's slope). Fitted at
-// the *recorded* output (surface_input=measured), every surface column carries the very noise its row fits:
-// errors in variables. A rate polynomial then spends its weakly determined combinations - those that vanish at
-// the training rates - on that noise, and the surface swings between the training rates (rate-linear triad on
-// triad_rate_sweep.yaml, sf_rate_order 6: +-0.1..1.7 deg/h at 10..80 deg/s, differently in joint and
-// sequential fits of the same data). surface_input=predicted (default) fits them at the outputs the model
-// predicts from the reference: the linear part's (stage 1) first, then, pass by pass, those of the model the
-// last pass fitted, surfaces included, until they stop moving (a fixed point of g = (I + M) omega + b + G f +
-// e(T, g); on noise-free data from a model of the family that is the recorded output, so nothing is lost).
+// The surfaces' rate input while fitting (surface_input). Fitted at the *recorded* output (measured), every
+// surface column carries the very noise its row fits: errors in variables. A rate polynomial then spends its
+// weakly determined combinations - those that vanish at the training rates - on that noise and swings between
+// the training rates (rate-linear triad on triad_rate_sweep.yaml, sf_rate_order 6, 10 deg/h: 0.1..1.7 deg/h at
+// 10..80 deg/s, differently in joint and sequential fits of the same data, which so parted on the flights).
+// smoothed (default) fits them at each output with its white noise averaged down where the reference holds
+// still (a centred window of surface_window samples each side, inside a rate step or hold; smoothed_outputs in
+// triad_fit.cpp); noise-free it is the recorded output to second order in the temperature drift. The model's
+// own prediction is no substitute: it replaces the noise by the model's misfit (tried: noise-free fits of the
+// rate-nonlinear FOG moved, medium-flight error 0.48 -> 0.63 m).
 //
 // Before each solve the entries the data do not determine are found (nls_covariance.h) and held at their
 // nominal value 0; they are reported as not determined, never as measured. Priority goes to M, then b, G and
@@ -59,7 +59,8 @@ struct TriadFitOptions {
                                       // at nominal (it would inflate their sigmas ~1/collinearity)
   std::string surface_solver = "ols"; // rbf surfaces: the RBF solver of the sequential fit / joint start
   std::string rbf_joint = "weights";  // joint rbf: weights (centres, widths held) | nodes (everything moves)
-  std::string surface_input = "predicted";  // the rate the surfaces are fitted at: predicted | measured (below)
+  std::string surface_input = "smoothed";  // the rate the surfaces are fitted at: smoothed | measured (below)
+  int surface_window = 30;                  // smoothed: half-width of the centred window, samples
   OptionMap surface_options;          // surface.<key>=<value>: options of the surface kind or its solver
   OptionTable table();
   std::string validate() const;

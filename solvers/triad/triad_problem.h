@@ -44,8 +44,8 @@ struct TriadProblemSpec {
   std::array<const SurfaceTerm*, 3> surfaces{nullptr, nullptr, nullptr};
   // The rate (rad/s, N x 3) each gyro's surface is evaluated at, per sample; null: the recorded outputs. The
   // recorded output carries the very noise the rows fit, so a surface of it (a rate polynomial most of all)
-  // can spend coefficients on that noise (errors in variables); triad_fit passes the noise-free outputs the
-  // model predicts from the reference instead.
+  // can spend coefficients on that noise (errors in variables); triad_fit passes the outputs with their
+  // noise averaged down instead (surface_input=smoothed, triad_fit.h).
   const Eigen::MatrixX3d* surface_rate = nullptr;
   double surface_rate_at(const TriadData& d, Eigen::Index k, int axis) const { return surface_rate ? (*surface_rate)(k, axis) : d.gyro(k, axis); }
 };

@@ -312,9 +312,8 @@ TEST(TriadFit, JointRecoversTheMatrixWhereARateNonlinearSurfaceBiasesTheSequenti
   o.surfaces = "classical";
   o.bias_order = 0;
   o.surface_options = {{"sf_temperature_order", "0"}, {"sf_rate_order", "2"}};
-  // At the recorded outputs (noise-free here) the joint problem holds the plant exactly; at the predicted ones
-  // (the default) the plant is the fixed point the passes approach, reached to their stopping tolerance.
-  for (const auto& [input, residual] : {std::pair<std::string, double>{"measured", 1e-6}, {"predicted", 1e-3}}) {
+  // Noise-free, the smoothed outputs (the default) are the recorded ones: both inputs hold the plant exactly.
+  for (const std::string input : {"measured", "smoothed"}) {
     o.surface_input = input;
     const auto [joint, sequential] = fit_both_ways(d, o);
     const double joint_err = max_off_diagonal_error(joint.model.misalignment, m.misalignment);
@@ -322,7 +321,7 @@ TEST(TriadFit, JointRecoversTheMatrixWhereARateNonlinearSurfaceBiasesTheSequenti
     EXPECT_LT(joint_err, 1e-9) << input;
     EXPECT_GT(sequential_err, 1e-4) << input;  // a tenth of a milliradian and more: the nonlinearity, not noise (there is none)
     for (int a = 0; a < 3; ++a) {
-      EXPECT_LT(joint.residual_rms_dph[static_cast<std::size_t>(a)], residual) << input << a;
+      EXPECT_LT(joint.residual_rms_dph[static_cast<std::size_t>(a)], 1e-6) << input << a;
       EXPECT_GT(sequential.residual_rms_dph[static_cast<std::size_t>(a)], 1.0) << input << a;
     }
   }
@@ -331,10 +330,11 @@ TEST(TriadFit, JointRecoversTheMatrixWhereARateNonlinearSurfaceBiasesTheSequenti
 // Errors in variables (triad_fit.h, surface_input). Single-axis turns at 0/10/30/60/100 deg/s: the other
 // axes' rate columns are (but for the Earth rate) orthogonal to a gyro's own surface columns, so by
 // Frisch-Waugh-Lovell the joint and the sequential least-squares fits give that gyro the same surface. They
-// do when the surfaces are fitted at the noise-free outputs the model predicts (the default). Fitted at the
+// do when the surfaces are fitted at the outputs with their noise averaged down (the default). Fitted at the
 // recorded outputs, the surface columns carry the noise the rows fit, the order-6 rate polynomial spends its
-// weakly determined combinations on it, and the two fits of the same data part between the training rates.
-TEST(TriadFit, SurfacesFittedAtTheNoiseFreeOutputsAgreeJointAndSequentialWhereTheProblemsSeparate) {
+// weakly determined combinations on it, and the two fits of the same data part between the training rates;
+// the smoothed outputs (noise averaged over each 60-s step) take nearly all of that away.
+TEST(TriadFit, SurfacesFittedAtSmoothedOutputsAgreeJointAndSequentialWhereTheProblemsSeparate) {
   const TriadSensor sensor = planted_triad(10.0);
   SoakOptions s;
   s.plateaus_c = {10, 40};
@@ -367,8 +367,12 @@ TEST(TriadFit, SurfacesFittedAtTheNoiseFreeOutputsAgreeJointAndSequentialWhereTh
     const auto [joint, sequential] = fit_both_ways(d, o);
     return radps_to_dph((joint.model.compensate(probe) - sequential.model.compensate(probe)).cwiseAbs().maxCoeff());
   };
-  EXPECT_LT(largest_difference_dph("predicted"), 0.01);
-  EXPECT_GT(largest_difference_dph("measured"), 0.1);
+  // The parting goes with the input noise's variance: averaging each 60-s step's 61 samples (surface_window 30)
+  // divides it by 61 (measured here: 1.04 -> 0.016 deg/h).
+  const double measured = largest_difference_dph("measured"), smoothed = largest_difference_dph("smoothed");
+  EXPECT_GT(measured, 0.1);
+  EXPECT_LT(smoothed, measured / 30.0);
+  EXPECT_LT(smoothed, 0.03);
 }
 
 // RBF surfaces, fitted jointly (rbf_joint=weights): the sequential fit's nodes - its centres and widths, the
