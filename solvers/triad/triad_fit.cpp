@@ -10,6 +10,7 @@
 #include "solvers/nls/nls_covariance.h"
 #include "solvers/nls/nls_solver.h"
 #include "solvers/solver.h"
+#include "solvers/triad/gravity_turns.h"
 #include "solvers/triad/triad_problem.h"
 
 namespace gyrosid {
@@ -21,7 +22,7 @@ OptionTable TriadFitOptions::table() {
       .choice("solver", &solver, nls_solvers().names(), "least-squares back-end (solvers/nls)")
       .integer("bias_order", &bias_order, 0, 6, "order of each gyro's bias polynomial in temperature")
       .flag("g_sensitivity", &g_sensitivity, "estimate the g-sensitivity matrix G (needs accel_{x,y,z}_mps2)")
-      .choice("reference", &reference, {"auto", "rate", "angle"}, "rate: per-sample reference rates; angle: each position_id segment known by its integral (Ferraris); auto: from the metadata 'reference'")
+      .choice("reference", &reference, {"auto", "rate", "angle", "gravity"}, "rate: per-sample reference rates; angle: each position_id segment known by its integral (Ferraris); gravity: hand turns (position_id 0) known by the gravity directions of the holds around them (IMU-TK); auto: from the metadata 'reference'")
       .real("max_sigma", &max_sigma, 0.0, 1.0, "M and G entries with a larger sigma are reported as not determined", true)
       .real("collinearity", &collinearity, 1e-12, 0.5, "a surface coefficient this close (sine) to the span of M, b, G is held at nominal")
       .text("surface_solver", &surface_solver, "RBF solver of the RBF surfaces (sequential fit, joint start)")
@@ -89,9 +90,11 @@ void hold_node_shapes(NlsProblem& p, const TriadLayout& layout) {
   }
 }
 
-Stage run_stage(const TriadData& d, const TriadRows& rows, const TriadProblemSpec& spec, const TriadFitOptions& o) {
+Stage run_stage(const TriadData& d, const TriadRows& rows, const TriadProblemSpec& spec, const TriadFitOptions& o,
+                const std::vector<GravityTurn>* turns = nullptr) {
   Stage s;
   s.problem = build_triad_problem(d, rows, spec, s.layout);
+  if (turns) add_gravity_turns(s.problem, d, *turns, spec, s.layout, 3);  // group 3: the turns' own noise level
   if (o.rbf_joint == "weights") hold_node_shapes(s.problem, s.layout);
   const auto free = s.problem.free_entries();  // copy: fixing changes the free set
   // M, b and G are the anchors: a linear surface coefficient within `collinearity` of their span (a rate shape
@@ -308,7 +311,7 @@ TriadModel start_model(const TriadData& d, int bias_order) {
 
 std::string reference_mode(const TriadFitOptions& o, const std::string& metadata) {
   if (o.reference != "auto") return o.reference;
-  return metadata == "angle" ? "angle" : "rate";
+  return metadata == "angle" || metadata == "gravity" ? metadata : "rate";
 }
 
 double median_interval(const std::vector<double>& t) {
@@ -350,7 +353,16 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   TriadFit fit;
   fit.options = o;
   const std::string mode = reference_mode(o, reference_metadata);
-  const TriadRows rows = mode == "angle" ? angle_rows(d) : rate_rows(d);
+  std::vector<GravityTurn> turns;
+  if (mode == "gravity") {
+    if (o.surfaces != "none" || o.g_sensitivity) fail("triad: reference=gravity estimates M and the biases only (surfaces=none, no g_sensitivity)");
+    turns = gravity_turns(d);
+  }
+  TriadRows rows = mode == "angle" ? angle_rows(d) : mode == "gravity" ? hold_rows(d) : rate_rows(d);
+  if (mode == "gravity") {
+    rows.description = str_cat(rows.rows(), " static-hold samples against reference 0 and ", turns.size(),
+                               " hand turns known by the gravity directions of the holds around them");
+  }
   if (mode == "angle" && o.surfaces != "none" && o.estimation == "sequential") {
     fail("triad: with an angle reference only segment integrals are known; sequential surfaces need per-sample reference rates (use estimation=joint or surfaces=none)");
   }
@@ -370,7 +382,7 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   const bool linear_stage = o.surfaces == "none" || o.estimation == "sequential" || o.surfaces == "rbf" || smoothed;
   Stage stage;
   if (linear_stage) {
-    stage = run_stage(d, rows, spec, o);
+    stage = run_stage(d, rows, spec, o, mode == "gravity" ? &turns : nullptr);
     stages.push_back({{"stage", "misalignment and bias"}, {"summary", stage.summary}});
     spec.start = triad_model_of(stage.problem, stage.layout, spec);
   }

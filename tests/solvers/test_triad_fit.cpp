@@ -4,6 +4,8 @@
 // the exact compensation.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <random>
 
@@ -448,6 +450,62 @@ TEST(TriadFit, JointRbfWeightsRefineTheSequentialFitAndRecoverThePlantedTriad) {
   };
   EXPECT_LT(rms_dph(joint), 6.0);
   EXPECT_GT(rms_dph(sequential), 5.0 * rms_dph(joint));
+}
+
+// Hand turns known by gravity (reference=gravity, solvers/triad/gravity_turns.h): holds at random attitudes,
+// turns between them at a constant body rate (so the sampled rotations compose exactly), outputs from a
+// planted M (scale factors and misalignment) and biases, specific force from each hold's attitude. Noise-free,
+// the fit recovers all nine entries of M and the biases - from the holds' gravity directions alone.
+TEST(TriadFit, HandTurnsKnownByGravityRecoverThePlantedMatrix) {
+  Eigen::Matrix3d m;
+  m << 2e-3, -1e-3, 3e-3, 8e-4, -5e-3, 1.4e-3, 4e-4, -1e-3, 1e-2;
+  const Eigen::Vector3d bias(dph_to_radps(-15.0), dph_to_radps(7.0), dph_to_radps(22.0));
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  auto random_rotation = [&] { return Eigen::Quaterniond(normal(rng), normal(rng), normal(rng), normal(rng)).normalized().toRotationMatrix(); };
+  TriadData d;
+  std::vector<Eigen::Vector3d> out, accel;
+  std::vector<int> id;
+  Eigen::Matrix3d c = random_rotation();  // body -> nav
+  const double dt = 0.01;
+  for (int h = 1; h <= 14; ++h) {
+    for (int k = 0; k < 100; ++k) {  // hold: Earth rate neglected, specific force up
+      out.push_back(bias);
+      accel.push_back(c.transpose() * Eigen::Vector3d(0, 0, -9.81));
+      id.push_back(h);
+    }
+    if (h == 14) break;
+    const Eigen::Matrix3d next = random_rotation();
+    const Eigen::AngleAxisd turn(c.transpose() * next);  // body rotation from this hold to the next
+    const int samples = 150;
+    const Eigen::Vector3d omega = turn.axis() * turn.angle() / (samples * dt);
+    for (int k = 0; k < samples; ++k) {
+      out.push_back((Eigen::Matrix3d::Identity() + m) * omega + bias);
+      accel.push_back(Eigen::Vector3d::Zero());  // not read in motion
+      id.push_back(0);
+    }
+    c = next;
+  }
+  const auto n = static_cast<Eigen::Index>(out.size());
+  d.gyro.resize(n, 3);
+  d.accel.resize(n, 3);
+  d.reference = Eigen::MatrixX3d::Zero(n, 3);
+  d.temp_c = Eigen::MatrixX3d::Constant(n, 3, 25.0);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    d.t_s.push_back(static_cast<double>(k) * dt);
+    d.gyro.row(k) = out[static_cast<std::size_t>(k)].transpose();
+    d.accel.row(k) = accel[static_cast<std::size_t>(k)].transpose();
+    d.position_id.push_back(id[static_cast<std::size_t>(k)]);
+  }
+  TriadFitOptions o;
+  o.bias_order = 0;
+  o.reference = "gravity";
+  const TriadFit f = fit_triad(d, o);
+  EXPECT_LT((f.model.misalignment - m).cwiseAbs().maxCoeff(), 1e-9) << f.model.misalignment;
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(f.model.bias.at(a, 25.0), bias(a), 1e-12) << a;
+  for (const auto& row : f.uncertainty.misalignment_known)
+    for (bool known : row) EXPECT_TRUE(known);
+  EXPECT_NE(f.reference.find("13 hand turns"), std::string::npos) << f.reference;
 }
 
 TEST(TriadModel, FileRoundTripAndCompensationInvertTheModelExactly) {
