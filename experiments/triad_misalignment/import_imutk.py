@@ -8,16 +8,21 @@ then the IMU turned by hand between ~37 static orientations. Nothing in it is a 
 IMU-TK's reference is gravity - the accelerometer's gravity direction in one hold, carried through the gyro's
 integrated rotation, must arrive at the next hold's direction (Tedaldi, Pretto, Menegatti, ICRA 2014).
 
-What the importer writes (RECORDING_FORMAT.md):
-  * only the static holds, one position_id each, found as IMU-TK finds them: the accelerometer's variance
-    over a 101-sample window below `multiplier` times its median in the first 50 s (the static start);
+What the importer writes (RECORDING_FORMAT.md), `write_recording`:
+  * the static holds, one position_id each (1, 2, ...), found as IMU-TK finds them: the accelerometer's
+    variance over a 101-sample window below `multiplier` times its median in the first 50 s (the static start);
   * ref_rate_{x,y,z}_dps = 0 in every hold (Earth rate neglected: 0.004 deg/s against a noise of 0.25 deg/s
-    per sample); the turns between holds are left out (t_s has gaps), because their reference - a rotation
-    known only up to the turn about gravity - is nothing the recording format can express;
+    per sample);
+  * turns=False: the turns between holds left out (t_s has gaps) - gyrosid then determines each gyro's bias,
+    noise and g-sensitivity, and reports every entry of M as not determined (null);
+  * turns=True: the turns too, position_id 0 ("in motion"; their reference column holds 0 and is not read),
+    under `# reference: gravity` - gyrosid's reference=gravity (solvers/triad/gravity_turns.h) then fits M
+    from them: each turn's compensated, integrated rotation must carry the gravity direction of the hold before
+    it into that of the hold after it, IMU-TK's reference;
   * gyro_dps = (counts - 32768) / 6258 rad/s in deg/s (IMU-TK's own initial guess, 6258 counts per rad/s);
-    accel_mps2 from the peer's accelerometer calibration; temp_c = 25, a constant placeholder (not recorded).
-So gyrosid determines each gyro's bias and noise from this session and, honestly, not M: every entry of M
-is reported as not determined (null). The peer gives M by IMU-TK's gravity-referenced method.
+    accel_mps2 from the peer's accelerometer calibration (|a| = g over the holds); temp_c = 25, a constant
+    placeholder (not recorded).
+`imutk_peer` re-derives IMU-TK's method in numpy (scipy least squares) as the independent check.
 """
 import math
 import os
@@ -130,23 +135,31 @@ def imutk_peer(t, gyro, acc, intervals):
             "residual_rms": float(np.sqrt(np.mean(sol.fun ** 2))), "params": sol.x}
 
 
-def write_recording(path, t, gyro, acc_mps2, intervals, source):
-    """The static holds as a gyrosid recording (position_id per hold, reference 0), atomically."""
+def write_recording(path, t, gyro, acc_mps2, intervals, source, turns=False):
+    """The static holds as a gyrosid recording (position_id per hold, reference 0), atomically. turns=True also
+    writes the hand turns between them, position_id 0 (in motion; their reference column, 0, is not read) under
+    `# reference: gravity`, the layout of gyrosid's reference=gravity (solvers/triad/gravity_turns.h)."""
     gyro_dps = np.degrees((gyro - ZERO_COUNTS) / GYRO_COUNTS_PER_RADPS)
+    pid = np.full(len(t), -1)
+    for k, (b, e) in enumerate(intervals, start=1):
+        pid[b:e] = k
+    if turns:
+        pid[intervals[0][0]:intervals[-1][1]][pid[intervals[0][0]:intervals[-1][1]] < 0] = 0
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
         f.write("# format: gyrosid-recording/1\n# sensor: Xsens IMU, IMU-TK test data (%s)\n# sample_rate_hz: %g\n"
                 % (source, round(1.0 / float(np.median(np.diff(t))), 3)))
+        if turns:
+            f.write("# reference: gravity\n")
         f.write("# description: %d static holds found by the accelerometer variance (IMU-TK's detector); reference 0 "
-                "(Earth rate neglected); the hand turns between holds are left out (gravity-referenced, no known rate "
-                "or angle); gyro = (counts - 32768) / 6258 rad/s; temp_c is a constant placeholder (not recorded)\n"
-                % len(intervals))
+                "(Earth rate neglected); %s; gyro = (counts - 32768) / 6258 rad/s; temp_c is a constant placeholder (not recorded)\n"
+                % (len(intervals), "the hand turns between holds with position_id 0 (known by the holds' gravity directions)" if turns else
+                   "the hand turns between holds are left out (gravity-referenced, no known rate or angle)"))
         f.write("t_s,ref_rate_x_dps,ref_rate_y_dps,ref_rate_z_dps,gyro_x_dps,gyro_y_dps,gyro_z_dps,temp_c,"
                 "accel_x_mps2,accel_y_mps2,accel_z_mps2,position_id\n")
-        for pid, (b, e) in enumerate(intervals, start=1):
-            for k in range(b, e):
-                g, a = gyro_dps[k], acc_mps2[k]
-                f.write("%.10g,0,0,0,%.17g,%.17g,%.17g,25,%.17g,%.17g,%.17g,%d\n" % (t[k], g[0], g[1], g[2], a[0], a[1], a[2], pid))
+        for k in np.flatnonzero(pid >= 0):
+            g, a = gyro_dps[k], acc_mps2[k]
+            f.write("%.10g,0,0,0,%.17g,%.17g,%.17g,25,%.17g,%.17g,%.17g,%d\n" % (t[k], g[0], g[1], g[2], a[0], a[1], a[2], pid[k]))
     os.replace(tmp, path)
 
 
@@ -161,10 +174,17 @@ def load_session(root):
 
 
 def synthetic_check(seed=1, holds=30, noise_counts=3.0):
-    """The peer on a synthetic session with planted T K (gyro) and accelerometer parameters: holds of 3 s at
-    successive orientations, turns of 2 s about a fixed random axis with a sine-shaped rate (so each turn's
-    rotation is exactly exp(angle [axis]x), independent of the peer's integration). Returns (planted I + M,
-    estimated I + M, sigma)."""
+    """The peer on a synthetic session (synthetic_session). Returns (planted I + M, estimated I + M, sigma)."""
+    t, gyro, acc, planted = synthetic_session(seed, holds, noise_counts)
+    peer = imutk_peer(t, gyro, acc, static_intervals(t, acc))
+    return planted, peer["I_plus_M"], peer["sigma"]
+
+
+def synthetic_session(seed=1, holds=30, noise_counts=3.0):
+    """A synthetic session with planted T K (gyro) and accelerometer parameters: holds of 3 s at successive
+    orientations, turns of 2 s about a fixed random axis with a sine-shaped rate (so each turn's rotation is
+    exactly exp(angle [axis]x), independent of any integration). Returns (t, gyro counts, acc counts, planted
+    I + M in gyrosid's terms)."""
     rng = np.random.default_rng(seed)
     rate, n_hold, n_turn = 100.0, 300, 200
     p_gyro = np.r_[rng.normal(0, 3e-3, 6), (1.0 + rng.normal(0, 0.02, 3)) / GYRO_COUNTS_PER_RADPS]
@@ -195,8 +215,7 @@ def synthetic_check(seed=1, holds=30, noise_counts=3.0):
     acc = np.linalg.solve(a_acc, GRAVITY * gravity.T).T + p_acc[6:9] + rng.normal(0, noise_counts, omega.shape)
     moving = np.linalg.norm(omega, axis=1) > 0  # the turns also shake the accelerometer
     acc[moving] += rng.normal(0, 200, (int(moving.sum()), 3))
-    peer = imutk_peer(t, gyro, acc, static_intervals(t, acc))
-    return np.linalg.inv(a_gyro * GYRO_COUNTS_PER_RADPS), peer["I_plus_M"], peer["sigma"]
+    return t, gyro, acc, np.linalg.inv(a_gyro * GYRO_COUNTS_PER_RADPS)
 
 
 if __name__ == "__main__":
