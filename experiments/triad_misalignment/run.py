@@ -179,7 +179,7 @@ class Experiment:
             planted, _ = first_order_m(sensor_cfg["misalignment_mrad"])
             folder = "compare" if train == "rate_sweep" else "compare_" + train  # rate_sweep: the original paths
             tag = "%s/%s_%s_%s" % (folder, sname, kind, est)
-            fit = self.simulate_and_fit_tagged(sensor, trainings[train]["trajectory"], seed, c["fits"][kind] + ["--" + est], tag, folder + "/" + sname)
+            fit = self.simulate_and_fit_tagged(sensor, self.sensor(trainings[train]["trajectory"]), seed, c["fits"][kind] + ["--" + est], tag, folder + "/" + sname)
             m = matrix(fit)
             err = np.sqrt(np.nanmean([(m[i, j] - planted[i, j]) ** 2 for (i, j) in OFF])) * 1e6
             model = self.run.path("models", tag, "seed%d.json" % seed)
@@ -424,15 +424,15 @@ class Experiment:
                 "largest error per session is %.2g..%.2g and its errors spread %.2f times its sigmas (the peer's: %.2f): "
                 "the same too-narrow intervals, for the same reason (each hold's gravity direction, shared by two turns, "
                 "is taken as exact).\n\n"
-                % (fit_t["reference"], min(err_ours), max(err_ours), float(z_ours.std()), float(z.std()), max(abs(grav[i, j] - peer["I_plus_M"][i, j]) for i in range(3) for j in range(3) if i != j) * 1e3,
+                % (fit_t["reference"], max(abs(grav[i, j] - peer["I_plus_M"][i, j]) for i in range(3) for j in range(3) if i != j) * 1e3,
                    max(abs(grav[i, i] - peer["I_plus_M"][i, i] + 1.0) for i in range(3)) * 1e6,
-                   max(abs(r["difference_in_sigma"]) for r in rows if "difference_in_sigma" in r)) +
+                   max(abs(r["difference_in_sigma"]) for r in rows if "difference_in_sigma" in r),
+                   min(err_ours), max(err_ours), float(z_ours.std()), float(z.std())) +
                 "### The holds-only fit and the peer\n\n"
-                "%d static holds found by IMU-TK's accelerometer-variance detector, %d hand turns between them. The turns' "
-                "reference is gravity (a rotation known up to the turn about the vertical), which a gyrosid recording "
-                "cannot express, so gyrosid gets the holds only (reference 0, Earth rate neglected) and determines the "
+                "%d static holds found by IMU-TK's accelerometer-variance detector, %d hand turns between them. Given the "
+                "holds only (`xsens_holds.csv`, reference 0, Earth rate neglected), gyrosid determines the "
                 "biases and noise (%s rad/s/sqrt(Hz)) but no entry of M: it reports all nine as not determined (%d "
-                "determined combinations) rather than a number. M comes from our re-derivation of IMU-TK's method "
+                "determined combinations) rather than a number. The peer (imutk_method columns) is our re-derivation of IMU-TK's method "
                 "(accelerometer by |a| = g over the holds, then the gyro's T K by carrying each hold's gravity "
                 "direction through the integrated turn to the next; residual rms %.2g in unit-vector terms; sigmas "
                 "from its Gauss-Newton covariance; on synthetic sessions with planted parameters, `synthetic_check()`, it "
