@@ -246,13 +246,13 @@ std::pair<Eigen::MatrixXd, Eigen::VectorXd> joint_weight_rows(const TriadData& d
 }
 
 // Each gyro's output with its white noise averaged down (surface_input=smoothed): the linear part's prediction
-// P from the reference plus the residual g - P averaged over a centred window of up to 2 w + 1 samples inside
-// a run - consecutive samples whose reference rates differ by less than kRunStep (a rate-table step, a static
-// hold) and share a position_id. Within a run what the residual holds besides noise (the surface, the linear
-// part's misfit) moves only with the temperature, slowly, and a centred mean keeps a linear drift exactly; near
-// a run's edges the window keeps its length and slides inside the run (a run shorter than it is averaged
-// whole), so every sample's noise is averaged over min(2 w + 1, run length) samples. P
-// follows the Earth rate turning through the other axes during a turn, which the raw output mean would smear.
+// P from the reference plus the residual g - P averaged over a window of 2 w + 1 samples inside a run -
+// consecutive samples whose reference rates differ by less than kRunStep (a rate-table step, a static hold) and
+// share a position_id. Within a run what the residual holds besides noise (the surface, the linear part's
+// misfit) moves only with the temperature, slowly: the window is centred (a linear drift kept exactly) but near
+// a run's edges, where it keeps its length and slides inside the run (a run shorter than it is averaged whole),
+// so every sample's noise is averaged over min(2 w + 1, run length) samples. P follows the Earth rate turning
+// through the other axes during a turn, which a mean of the raw outputs would smear.
 constexpr double kRunStep = 1e-3;  // rad/s (0.057 deg/s)
 bool same_run(const TriadData& d, Eigen::Index a, Eigen::Index b) {
   if (!d.position_id.empty() && d.position_id[static_cast<std::size_t>(a)] != d.position_id[static_cast<std::size_t>(b)]) return false;
