@@ -98,7 +98,11 @@ std::vector<GravityTurn> gravity_turns(const TriadData& d) {
     turn.after = gravity_direction(d, holds[h + 1].first, holds[h + 1].second);
     turns.push_back(std::move(turn));
   }
-  if (turns.empty()) fail("triad: reference=gravity: the recording has ", holds.size(), " holds - at least two, with a turn between, are needed");
+  // Two independent constraints per turn (the turn about gravity is invisible): the nine entries of M need five.
+  if (turns.size() < 5) {
+    fail("triad: reference=gravity: ", turns.size(), " turns between ", holds.size(), " holds give ", 2 * turns.size(),
+         " constraints for the 9 entries of M - at least 5 turns are needed");
+  }
   return turns;
 }
 

@@ -155,8 +155,8 @@ TriadUncertainty uncertainty_of(const Stage& s, bool g_sensitivity, double max_s
       u.misalignment_sigma(i, j) = sigma;
       u.misalignment_inflation(i, j) = inflation;
       bool known = !is_fixed(s.problem, s.layout.misalignment[ai], j);
-      if (known && sigma > max_sigma) {
-        notes.push_back(str_cat("M_", kAxes[i], kAxes[j], ": sigma ", sigma, " exceeds max_sigma ", max_sigma, " - reported as not determined, compensated with 0"));
+      if (known && !(sigma <= max_sigma)) {  // NaN: no covariance - not a measurement either
+        notes.push_back(str_cat("M_", kAxes[i], kAxes[j], ": sigma ", sigma, " exceeds max_sigma ", max_sigma, " (or could not be computed) - reported as not determined, compensated with 0"));
         known = false;
         model.misalignment(i, j) = 0.0;
       }
@@ -174,7 +174,7 @@ TriadUncertainty uncertainty_of(const Stage& s, bool g_sensitivity, double max_s
       const double sigma = g[static_cast<std::size_t>(j)].first;
       (*u.g_sensitivity_sigma)(i, j) = sigma;
       bool known = !is_fixed(s.problem, s.layout.g_sensitivity[ai], j);
-      if (known && sigma > max_sigma) {
+      if (known && !(sigma <= max_sigma)) {
         notes.push_back(str_cat("G_", kAxes[i], kAxes[j], ": sigma ", sigma, " rad/s per m/s^2 exceeds max_sigma - reported as not determined"));
         known = false;
         (*model.g_sensitivity)(i, j) = 0.0;

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/error.h"
 #include "core/units.h"
 #include "model/classical_model.h"
 #include "model/rbf_network.h"
@@ -506,6 +507,21 @@ TEST(TriadFit, HandTurnsKnownByGravityRecoverThePlantedMatrix) {
   for (const auto& row : f.uncertainty.misalignment_known)
     for (bool known : row) EXPECT_TRUE(known);
   EXPECT_NE(f.reference.find("13 hand turns"), std::string::npos) << f.reference;
+  // Four turns (8 constraints) cannot determine nine entries: refused, not fitted.
+  TriadData few = d;
+  const auto last = static_cast<Eigen::Index>(5 * 100 + 4 * 150);
+  few.t_s.resize(static_cast<std::size_t>(last));
+  few.position_id.resize(static_cast<std::size_t>(last));
+  few.gyro.conservativeResize(last, 3);
+  few.accel.conservativeResize(last, 3);
+  few.reference.conservativeResize(last, 3);
+  few.temp_c.conservativeResize(last, 3);
+  try {
+    fit_triad(few, o);
+    ADD_FAILURE() << "four turns were fitted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("at least 5 turns"), std::string::npos) << e.what();
+  }
 }
 
 TEST(TriadModel, FileRoundTripAndCompensationInvertTheModelExactly) {
