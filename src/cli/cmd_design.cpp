@@ -173,7 +173,7 @@ void run_design(DesignCommand c) {
   report.result = &r;
   write_file_atomic(dir / "trajectory.yaml", programme_yaml(r.trajectory));
   write_file_atomic(dir / "design.json", design_json(r, provenance).dump(2) + "\n");
-  write_file_atomic(dir / "calibration.yaml", design::calibration_yaml(family, settings.model, context.model_domain()));
+  write_file_atomic(dir / "calibration.yaml", design::calibration_yaml(family, settings.model, context.model_domain(), context.noise()));
   plot_design_coverage(dir / "coverage.png", design::observe_trajectory(context, r.trajectory), context.envelope(),
                        str_cat("design for ", c.envelope, " (", format_significant(r.trajectory.profile.duration_min(), 4), " min, ",
                                c.model, " model)"));

@@ -87,6 +87,7 @@ class DesignContext {
   Criterion criterion() const { return criterion_; }
   ModelFamily family() const { return family_; }
   const Prior& prior() const { return prior_; }
+  const NoiseSpec& noise() const { return noise_; }  // the sensor's noise, as the Fisher information whitens with it
   const Linearisation& linearisation() const { return lin_; }
 
   // The reference per flight (envelope order) for cof_minimax. `like_for_like` (the reference was predicted

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "core/enum_names.h"
+#include "design/information.h"
 #include "model/greybox_fit.h"
 #include "model/physics_terms.h"
 #include "sensor/gyro_error_model.h"
@@ -96,7 +97,10 @@ SurfaceGrid greybox_grid(const ModelOptions& options, const Domain& domain);
 GreyboxOptions greybox_options(const ModelOptions& options, const Domain& domain);
 
 // The options of `gyrosid calibrate` that fit the model a design assumed (model, solver, options), as YAML.
-std::string calibration_yaml(ModelFamily family, const ModelOptions& options, const Domain& domain);
+// The hybrid is given `noise`, the sensor's noise model the design's Fisher information whitened with
+// (noise=given), when the hybrid can hold it (white, at most one Gauss-Markov process, rate random walk);
+// otherwise it estimates its own (noise=auto), and the YAML says why.
+std::string calibration_yaml(ModelFamily family, const ModelOptions& options, const Domain& domain, const NoiseSpec& noise);
 
 // `nominal` is the sensor's error model and `coil_tau_s` its probe-to-coil lag: the expansion point of the
 // grey-box thermal-lag column.

@@ -317,7 +317,7 @@ TEST(DesignAssessment, ExpectedNormMatchesTheHalfNormalAndMonteCarlo) {
 
 // The calibration `gyrosid calibrate` would run for the design's model (the design's calibration.yaml).
 CalibrationRequest calibration_for(const DesignContext& context, const ModelOptions& options) {
-  return calibration_request_from_config(ConfigNode::parse(calibration_yaml(context.family(), options, context.model_domain()), "calibration.yaml"));
+  return calibration_request_from_config(ConfigNode::parse(calibration_yaml(context.family(), options, context.model_domain(), context.noise()), "calibration.yaml"));
 }
 
 double mean(const std::vector<double>& v) {
@@ -601,6 +601,36 @@ TEST(DesignAssessment, TheDesignTakesTheSensorItIsGiven) {
     const double t = 25.0 * 60.0, chamber = 25.0 - 2.0 * t / 60.0;
     EXPECT_NEAR(o.inputs.temp_c(static_cast<Eigen::Index>(t)), chamber + 2.0 / 60.0 * tau * (1.0 - std::exp(-t / tau)), 1e-6) << tau;
   }
+}
+
+TEST(DesignCalibration, TheHybridIsGivenTheNoiseModelThePredictionWhitenedWith) {
+  // The sensor file's noise (deg/h at 1 Hz, Gauss-Markov deg/h and s, random walk deg/h/rt(h)) reaches the
+  // calibration as the same process the design's Kalman whitening used: per-sample variances at 3 Hz equal.
+  const SensorSpec sensor = load_sensor(ConfigNode::parse(
+      "kind: gyro\nname: t\nnoise:\n  white_dph_at_1hz: 4\n  gauss_markov:\n    - {sigma_dph: 3, tau_s: 600}\n  rrw_dph_rt_h: 0.5\n", "s.yaml"));
+  const NoiseSpec noise = NoiseSpec::of(as_triad(sensor).gyros[2].noise);
+  const Domain d = short_and_medium()->domain;
+  const CalibrationRequest r = calibration_request_from_config(ConfigNode::parse(calibration_yaml(ModelFamily::hybrid, ModelOptions{}, d, noise), "c.yaml"));
+  ASSERT_EQ(r.model, "hybrid");
+  EXPECT_EQ(r.options.at("noise"), "given");
+  HybridOptions h;
+  h.table().apply(r.options);
+  ASSERT_EQ(h.validate(), "");
+  EXPECT_NEAR(h.given_white_dph_at_1hz, 4.0, 1e-12);
+  EXPECT_NEAR(h.given_gm_sigma_dph, 3.0, 1e-12);
+  EXPECT_NEAR(h.given_gm_tau_s, 600.0, 1e-12);
+  EXPECT_NEAR(h.given_rrw_dph_rt_h, 0.5, 1e-12);
+  const double dt = 1.0 / 3.0;
+  const NoiseModel m = given_noise_model(h, dt, 1.0);  // in rad/s
+  EXPECT_NEAR(m.white_var / (noise.white_psd / dt), 1.0, 1e-12);
+  EXPECT_NEAR(m.rw_q / (noise.rrw_psd * dt), 1.0, 1e-12);
+  EXPECT_NEAR(m.gm_var / std::pow(noise.markov[0].sigma_radps, 2), 1.0, 1e-12);
+  // Two Gauss-Markov processes: the hybrid holds one, so it estimates its own model, and the file says why.
+  NoiseSpec two = noise;
+  two.markov.push_back({dph_to_radps(1.0), 60.0});
+  const std::string yaml = calibration_yaml(ModelFamily::hybrid, ModelOptions{}, d, two);
+  EXPECT_EQ(calibration_request_from_config(ConfigNode::parse(yaml, "c.yaml")).options.at("noise"), "auto");
+  EXPECT_THAT(yaml, testing::HasSubstr("2 Gauss-Markov processes"));
 }
 
 }  // namespace
