@@ -89,9 +89,22 @@ class Study:
             out[flight] = j.get("error_after_1h_m", j["end_error_m"])
         return out
 
-    def rows(self, tag, sensor, designs, thesis_names):
+    def floor(self, tag, sensor, trajectories):
+        """The information floor per trajectory file: {file: {flight: cof_noise_mean_m}} (E|S d|, averaged as the criterion is) of the smallest model nested in
+        every calibration (a constant bias and scale factor), generalised least squares with the sensor's noise."""
+        d = self.run.path(tag, "floor", "x")[:-2]
+        zero = ["--set", "model.classical_bias_order=0", "--set", "model.classical_sf_temperature_order=0", "--set", "model.classical_sf_rate_order=0"]
+        self.gyrosid(["design", "--evaluate"] + trajectories + ["--model", "classical"] + zero + ["--envelope", self.cfg["design"]["envelope"],
+                                                                                                  "--sensor", sensor, "--out", d], os.path.join(d, "evaluation.json"))
+        j = load_json(os.path.join(d, "evaluation.json"))["trajectories"]
+        return {t: {f: j[t]["flights"][f]["cof_noise_mean_m"] for f in FLIGHTS} for t in trajectories}
+
+    def rows(self, tag, sensor, designs, thesis_names, calibration=None, floor=False):
         """One row per (trajectory, calibration): predicted and achieved criterion of fit per flight.
-        `designs` lists the designs ({solver, budget, criterion})."""
+        `designs` lists the designs ({solver, budget, criterion}); `calibration` (default design.calibration):
+        best - the predictions are for gyrosid's best noisy calibration itself; assumed - for the design's own
+        calibration.yaml (the hybrid given the sensor's noise model), best is fitted beside it. `floor`: add each
+        trajectory's information floor (floor_<flight>_m)."""
         cfg = self.cfg
         trajectories = []  # (name, file, minutes, kind, predicted {flight: m} for the assumed calibration, solver info)
         for spec in designs:
@@ -117,7 +130,8 @@ class Study:
         out = []
         # A design for gyrosid's best noisy calibration (design.model: hybrid, calibration: best) predicts that
         # calibration: no separate fit of the design's calibration.yaml.
-        assumed_is_best = cfg["design"].get("calibration") == "best"
+        assumed_is_best = (calibration or cfg["design"].get("calibration")) == "best"
+        floors = self.floor(tag, sensor, [t[1] for t in trajectories]) if floor else {}
         for name, path, minutes, kind, pred, info, assumed in trajectories:
             calibrations = [("best", cfg["calibrations"]["best"], pred)] if assumed_is_best else \
                 [("best", cfg["calibrations"]["best"], None), ("assumed", ["--config", assumed], pred)]
@@ -129,6 +143,8 @@ class Study:
                 row = {"trajectory": name, "kind": kind, "minutes": minutes, "calibration": cal}
                 row.update(info)
                 for f in FLIGHTS:
+                    if path in floors:
+                        row[f + "_floor_m"] = floors[path][f]
                     v = [s[f] for s in per_seed]
                     mean = sum(v) / len(v)
                     row[f + "_m"] = mean
@@ -210,6 +226,7 @@ def plots(out, rows, tag):
 
 
 COLUMNS = ["trajectory", "kind", "minutes", "calibration"] + [f + s for f in FLIGHTS for s in ("_m", "_sd_m", "_predicted_m")]
+FLOOR_COLUMNS = [f + "_floor_m" for f in FLIGHTS]
 
 
 def main():
@@ -229,13 +246,13 @@ def main():
         other = []
         if o:
             sys.stderr.write("second sensor (%s)\n" % o["sensor"])
-            other = study.rows("other", study.sensor_path(o["sensor"]), o["designs"], o["thesis"])
+            other = study.rows("other", study.sensor_path(o["sensor"]), o["designs"], o["thesis"], o.get("calibration"), o.get("floor", False))
     except OutOfTime:
         sys.stderr.write("stopped after --max-minutes %g; rerun to resume\n" % args.max_minutes)
         sys.exit(3)
     write_csv(os.path.join(args.out, "results.csv"), rows, COLUMNS + ["objective", "design_s", "evaluations", "termination"])
     if other:
-        write_csv(os.path.join(args.out, "other_sensor.csv"), other, COLUMNS)
+        write_csv(os.path.join(args.out, "other_sensor.csv"), other, COLUMNS + (FLOOR_COLUMNS if any("short_floor_m" in r for r in other) else []))
     plots(args.out, rows, "")
     table_cols = ["trajectory", "minutes", "calibration", "short_m", "medium_m", "long_m", "short_predicted_m", "medium_predicted_m", "long_predicted_m"]
     solver_cols = ["trajectory", "minutes", "design_model", "criterion", "objective", "design_s", "evaluations", "short_m", "medium_m", "long_m"]
@@ -248,9 +265,24 @@ def main():
         if any(r["trajectory"] == "classical_soak" and r["calibration"] == "classical" for r in other):
             soak = find(other, "classical_soak", "classical")
             text += ["\nEach design (best noisy calibration) against this sensor's 8-h soak + classical model (factor = soak / design):\n\n"]
-            text += ["- %s (%g min): %s%s\n" % (r["trajectory"], r["minutes"], ", ".join("%s %.2fx" % (f, soak[f + "_m"] / r[f + "_m"]) for f in FLIGHTS),
-                                                 "" if all(r[f + "_m"] < soak[f + "_m"] for f in FLIGHTS) else " (loses a flight)")
-                     for r in other if r["kind"].startswith("design") and r["calibration"] == "best"]
+            text += ["- %s (%g min, calibration %s): %s%s\n" % (r["trajectory"], r["minutes"], r["calibration"],
+                                                                  ", ".join("%s %.2fx" % (f, soak[f + "_m"] / r[f + "_m"]) for f in FLIGHTS),
+                                                                  "" if all(r[f + "_m"] < soak[f + "_m"] for f in FLIGHTS) else " (loses a flight)")
+                     for r in other if r["kind"].startswith("design") and r["calibration"] != "classical"]
+        pred = [r for r in other if "short_predicted_m" in r]
+        if pred:
+            inside = sum(1 for r in pred for f in FLIGHTS if 1 / 1.5 <= r[f + "_pred_over_achieved"] <= 1.5)
+            text += ["\nPredicted within 1.5x of the achieved mean (the calibration the prediction is for): %d of %d pairs; "
+                     "predicted/achieved: %s.\n" % (inside, 3 * len(pred), "; ".join("%s %s %s" % (r["trajectory"], r["calibration"], "/".join(
+                         "%.2f" % r[f + "_pred_over_achieved"] for f in FLIGHTS)) for r in pred))]
+        fl = [r for r in other if "short_floor_m" in r and r["calibration"] != "classical"]
+        if fl:
+            text += ["\nInformation floor (criterion of fit, m, that the noise alone leaves when only a constant bias and scale factor "
+                     "are estimated, by generalised least squares with the sensor's true noise - below every calibration "
+                     "model's along that trajectory), against this sensor's soak + classical achieved:\n\n",
+                     markdown_table([{"trajectory": r["trajectory"], "minutes": r["minutes"], **{f + "_floor_m": r[f + "_floor_m"] for f in FLIGHTS}}
+                                     for r in fl if r["calibration"] == fl[0]["calibration"]],
+                                    ["trajectory", "minutes"] + [f + "_floor_m" for f in FLIGHTS])]
     write_text(os.path.join(args.out, "summary.md"), "".join(text))
     sys.stdout.write("".join(text))
 

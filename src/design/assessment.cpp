@@ -203,6 +203,7 @@ Prediction DesignContext::predict(const Observations& o) const {
     const Eigen::Matrix3d c = lin.sensitivity * sigma * lin.sensitivity.transpose();
     fp.cof_m = expected_norm(m, c);
     fp.cof_noise_m = std::sqrt(c.trace());
+    fp.cof_noise_mean_m = expected_norm(Eigen::Vector3d::Zero(), c);
     fp.cof_bias_m = m.norm();
     fp.cof_posterior_m = std::sqrt((scaled_sensitivity_[i] * e.posterior * scaled_sensitivity_[i].transpose()).trace());
     fp.surface_rms_dph = surface(lin.surface_columns, lin.surface_true_error, &fp.surface_bias_dph, &fp.surface_noise_dph);

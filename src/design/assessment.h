@@ -45,6 +45,7 @@ struct FlightPrediction {
   double horizon_s = 0.0;
   double cof_m = 0.0;            // expected criterion of fit: E|m + S d|
   double cof_noise_m = 0.0;      // sqrt(tr S Sigma S'): the noise's part alone
+  double cof_noise_mean_m = 0.0; // E|S d|: the noise's part alone, averaged as the criterion of fit is
   double cof_bias_m = 0.0;       // |m|: the model class's part (a noise-free calibration's error)
   double cof_posterior_m = 0.0;  // sqrt(tr S P S'), P the posterior covariance: what the cof criteria minimise
   double surface_rms_dph = 0.0;  // sqrt(mean(bias^2 + variance)) over the flight's (T, w) samples

@@ -13,6 +13,7 @@ nlohmann::json prediction_json(const design::Prediction& p) {
   for (const auto& f : p.flights) {
     flights[f.flight] = {{"cof_m", f.cof_m},
                          {"cof_noise_m", f.cof_noise_m},
+                         {"cof_noise_mean_m", f.cof_noise_mean_m},
                          {"cof_posterior_m", f.cof_posterior_m},
                          {"cof_bias_m", f.cof_bias_m},
                          {"horizon_s", f.horizon_s},

@@ -589,6 +589,8 @@ TEST(DesignAssessment, TheDesignTakesTheSensorItIsGiven) {
   const Prediction a = evaluate_trajectory(base, programme), b = evaluate_trajectory(loud, programme);
   for (std::size_t f = 0; f < a.flights.size(); ++f) {
     EXPECT_NEAR(b.flights[f].cof_noise_m / a.flights[f].cof_noise_m, 2.0, 2e-3) << a.flights[f].flight;
+    EXPECT_NEAR(b.flights[f].cof_noise_mean_m / a.flights[f].cof_noise_mean_m, 2.0, 2e-3) << a.flights[f].flight;
+    EXPECT_LT(a.flights[f].cof_noise_mean_m, a.flights[f].cof_noise_m);  // E|z| < sqrt(E|z|^2) (Jensen)
     EXPECT_NEAR(b.flights[f].surface_noise_dph / a.flights[f].surface_noise_dph, 2.0, 2e-3) << a.flights[f].flight;
   }
   TrajectorySpec ramp = load_trajectory(ConfigNode::parse(
