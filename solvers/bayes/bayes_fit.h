@@ -67,6 +67,7 @@ struct BayesFit {
   double noise_sigma = 0.0;    // per-sample white noise sigma, y units
   std::optional<NoiseModel> noise;  // the coloured model trained under (variances in y units, beta applied)
   std::string noise_choice;    // what was decided about the noise, and why
+  std::string noise_averaging; // coloured: the weights of the slow term's scales the posterior averages over
   Termination termination = Termination::converged;
   std::string message;
   int evaluations = 0;
