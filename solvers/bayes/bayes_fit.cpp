@@ -14,6 +14,7 @@
 #include "core/units.h"
 #include "model/gaussian_node.h"
 #include "solvers/bayes/evidence.h"
+#include "solvers/bayes/model_error.h"
 #include "solvers/common/candidates.h"
 #include "solvers/common/terminations.h"
 
@@ -33,6 +34,8 @@ void BayesFitOptions::bind(OptionTable& t) {
       .choice("noise", &noise, {"auto", "white", "coloured", "given"},
               "noise model: white; coloured (white + random walk + Gauss-Markov by Allan fit, Kalman-whitened); auto: coloured when the evidence says so; given: the given_* options")
       .integer("noise_passes", &noise_passes, 1, 10, "coloured: noise-model estimates, each from the previous fit's residual")
+      .choice("model_error", &model_error, {"cv", "none"},
+              "cv: add to the predictive sigma the misfit variance that cross-validation over levels or time blocks reveals; none: the posterior alone")
       .real("given_white_dph_at_1hz", &given_white_dph_at_1hz, 0.0, 1e6, "noise=given: white noise, deg/h at 1 Hz")
       .real("given_rrw_dph_rt_h", &given_rrw_dph_rt_h, 0.0, 1e6, "noise=given: rate random walk, deg/h/rt(h)")
       .real("given_gm_sigma_dph", &given_gm_sigma_dph, 0.0, 1e6, "noise=given: Gauss-Markov sigma, deg/h")
@@ -135,29 +138,36 @@ EvidenceAt evidence_at(const BayesProblem& p, const Eigen::MatrixXd& centres, co
   return out;
 }
 
-// The narrowest identifiable width of each input: an input recorded at discrete levels (a rate table's
-// plateaus, a chamber's temperature steps; gaps wider than 0.5 % of the normalised range cover over half of
-// it) carries no information between its levels, where a narrower node would fall back to the prior mean
-// and its predictive sigma would vanish with the node; the evidence cannot see this. Its bound is the
-// median spacing of the levels; other inputs keep min_width.
-std::vector<double> identifiable_min_widths(const Eigen::MatrixXd& x, double min_width) {
+InputLevels input_levels(const Eigen::VectorXd& v) {
   constexpr double kLevelGap = 0.01;  // normalised inputs span [-1, 1]
-  std::vector<double> bounds;
-  for (Eigen::Index k = 0; k < x.cols(); ++k) {
-    std::vector<double> v(x.col(k).data(), x.col(k).data() + x.rows());
-    std::sort(v.begin(), v.end());
-    std::vector<double> gaps;
-    double covered = 0.0;
-    for (std::size_t i = 1; i < v.size(); ++i) {
-      if (v[i] - v[i - 1] > kLevelGap) gaps.push_back(v[i] - v[i - 1]), covered += v[i] - v[i - 1];
-    }
-    double bound = min_width;
-    if (!v.empty() && covered > 0.5 * (v.back() - v.front())) {
-      std::nth_element(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2), gaps.end());
-      bound = std::max(bound, gaps[gaps.size() / 2]);
-    }
-    bounds.push_back(bound);
+  InputLevels out;
+  const Eigen::Index n = v.size();
+  if (n < 2) return out;
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i) order[static_cast<std::size_t>(i)] = i;
+  std::sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return v(a) < v(b); });
+  std::vector<double> gaps;
+  double covered = 0.0;
+  std::vector<int> level(static_cast<std::size_t>(n), 0);
+  int current = 0;
+  for (std::size_t i = 1; i < order.size(); ++i) {
+    const double gap = v(order[i]) - v(order[i - 1]);
+    if (gap > kLevelGap) gaps.push_back(gap), covered += gap, ++current;
+    level[static_cast<std::size_t>(order[i])] = current;
   }
+  if (!(covered > 0.5 * (v(order.back()) - v(order.front())))) return out;
+  std::nth_element(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2), gaps.end());
+  out.level = std::move(level), out.spacing = gaps[gaps.size() / 2], out.count = current + 1;
+  return out;
+}
+
+// The narrowest identifiable width of each input: an input recorded at discrete levels (a rate table's
+// plateaus, a chamber's temperature steps; input_levels) carries no information between its levels, where a
+// narrower node would fall back to the prior mean and its predictive sigma would vanish with the node; the
+// evidence cannot see this. Its bound is the median spacing of the levels; other inputs keep min_width.
+std::vector<double> identifiable_min_widths(const Eigen::MatrixXd& x, double min_width) {
+  std::vector<double> bounds;
+  for (Eigen::Index k = 0; k < x.cols(); ++k) bounds.push_back(std::max(min_width, input_levels(x.col(k)).spacing));
   return bounds;
 }
 
@@ -484,11 +494,15 @@ nlohmann::json BayesFit::details(double y_scale) const {
                       {"noise_sigma_radps", noise_sigma * y_scale}, {"noise_choice", noise_choice},
                       {"evaluations", evaluations}};
   if (!noise_averaging.empty()) j["noise_averaging"] = noise_averaging;
+  if (!model_error_note.empty()) j["model_error"] = model_error_note;
   if (noise) j["noise_model_dph"] = scaled(*noise, y_scale * 180.0 / 3.14159265358979323846 * 3600.0).to_json();
   return j;
 }
 
-BayesFit fit_bayes(const BayesProblem& p, const BayesFitOptions& o, SolveMonitor& monitor) {
+namespace {
+
+// Widths, prior and noise (fit_bayes without the model-error estimate).
+BayesFit fit_widths_and_noise(const BayesProblem& p, const BayesFitOptions& o, SolveMonitor& monitor) {
   if (p.x.rows() != p.y.size() || p.fixed.rows() != p.y.size()) fail("bayes: inputs, target and fixed columns differ in length");
   const Eigen::MatrixXd centres = o.nodes > 0 ? rows_of(p.x, select_candidates(p.x, o.nodes)) : Eigen::MatrixXd(0, p.x.cols());
   const TimeAxis axis = time_axis(p);
@@ -543,6 +557,19 @@ BayesFit fit_bayes(const BayesProblem& p, const BayesFitOptions& o, SolveMonitor
                                " in log evidence, below BIC's penalty ", format_significant(penalty, 3));
   white.evaluations = coloured->evaluations;
   return white;
+}
+
+}  // namespace
+
+BayesFit fit_bayes(const BayesProblem& p, const BayesFitOptions& o, SolveMonitor& monitor) {
+  BayesFit fit = fit_widths_and_noise(p, o, monitor);
+  // A given noise model stands for the truth (the Cramer-Rao floor): its posterior is left as it is.
+  if (o.model_error == "cv" && !p.given_noise) {
+    const ModelErrorEstimate e = model_error_by_cv(p, fit, time_axis(p).t_s);
+    fit.model_error_var = e.variance;
+    fit.model_error_note = e.describe(p.report_scale);
+  }
+  return fit;
 }
 
 }  // namespace gyrosid

@@ -39,6 +39,7 @@ struct BayesFitOptions {
   std::string algorithm = "LD_LBFGS";
   std::string noise = "auto";      // auto | white | coloured | given
   int noise_passes = 2;            // coloured: noise-model estimates, each from the previous fit's residual
+  std::string model_error = "cv";  // cv: add the misfit variance cross-validation reveals to the predictive sigma (model_error.h); none
   // noise = given: the recording's noise is known (e.g. from `gyrosid allan`, or the truth of a simulation
   // for the Cramer-Rao floor): white (deg/h at 1 Hz), rate random walk (deg/h/rt(h)), Gauss-Markov.
   double given_white_dph_at_1hz = 0.0, given_rrw_dph_rt_h = 0.0, given_gm_sigma_dph = 0.0, given_gm_tau_s = 0.0;
@@ -68,6 +69,8 @@ struct BayesFit {
   std::optional<NoiseModel> noise;  // the coloured model trained under (variances in y units, beta applied)
   std::string noise_choice;    // what was decided about the noise, and why
   std::string noise_averaging; // coloured: the weights of the slow term's scales the posterior averages over
+  double model_error_var = 0.0;  // misfit variance added to the predictive variance (y units^2; model_error.h)
+  std::string model_error_note;  // how it was estimated
   Termination termination = Termination::converged;
   std::string message;
   int evaluations = 0;
@@ -85,6 +88,16 @@ struct EvidenceAt {
 };
 EvidenceAt evidence_at(const BayesProblem& problem, const Eigen::MatrixXd& centres, const Eigen::RowVectorXd& widths,
                        const FixedPart& fixed, bool fixed_beta, Precisions warm, Eigen::VectorXd* gradient);
+
+// An input recorded at discrete levels: its sorted values split wherever they jump by over 0.01 (normalised
+// units), the jumps covering over half its range. level: every sample's level index (ascending values),
+// spacing: the median jump, count: the number of levels; level is empty for a continuous input.
+struct InputLevels {
+  std::vector<int> level;
+  double spacing = 0.0;
+  int count = 0;
+};
+InputLevels input_levels(const Eigen::VectorXd& v);
 
 // The lower bound of each input's width (normalised units): min_width, or for an input recorded at
 // discrete levels (gaps over 0.01 covering over half its range) the median spacing of its levels.

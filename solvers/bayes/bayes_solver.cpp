@@ -25,6 +25,7 @@ SolveOutcome BayesRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, Sol
   net.weights = f.rbf_weights;
   net.bias = f.fixed_weights(0);
   net.weight_posterior = WeightPosterior::of_covariance(f.covariance, f.noise_sigma);
+  net.weight_posterior->model_error_radps = std::sqrt(f.model_error_var);
   if (f.noise) net.weight_posterior->noise_model = scaled(*f.noise, units::radps_to_dph(problem.y_scale)).to_json();
   return {f.termination, f.message, f.details(problem.y_scale)};
 }

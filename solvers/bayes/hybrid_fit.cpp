@@ -94,6 +94,7 @@ std::unique_ptr<HybridModel> fit_hybrid(const Recording& recording, const Hybrid
   rbf.weights = f.rbf_weights * y_scale;
   WeightPosterior posterior = WeightPosterior::of_covariance(f.covariance * (y_scale * y_scale), f.noise_sigma * y_scale);
   if (f.noise) posterior.noise_model = scaled(*f.noise, units::radps_to_dph(y_scale)).to_json();
+  posterior.model_error_radps = std::sqrt(f.model_error_var) * y_scale;
   return std::make_unique<HybridModel>(scaling, terms, f.fixed_weights * y_scale, std::move(rbf), std::move(posterior));
 }
 

@@ -13,7 +13,7 @@ Eigen::VectorXd WeightPosterior::sigma(const Eigen::MatrixXd& h) const {
   if (h.cols() != root.cols()) fail("posterior: ", h.cols(), " regressors for ", root.cols(), " weights");
   // |L' h_i| for every row: row i of h L.
   const Eigen::MatrixXd hl = h * root.triangularView<Eigen::Lower>();
-  return hl.rowwise().norm();
+  return (hl.rowwise().squaredNorm().array() + model_error_radps * model_error_radps).sqrt().matrix();
 }
 
 WeightPosterior WeightPosterior::of_covariance(const Eigen::MatrixXd& p, double noise_sigma) {
@@ -36,6 +36,7 @@ WeightPosterior WeightPosterior::of_covariance(const Eigen::MatrixXd& p, double 
 void WeightPosterior::scale(double factor) {
   root *= factor;
   noise_sigma_radps *= factor;
+  model_error_radps *= factor;
 }
 
 nlohmann::json WeightPosterior::to_json() const {
@@ -48,6 +49,7 @@ nlohmann::json WeightPosterior::to_json() const {
   }
   nlohmann::json j = {{"root_lower", rows}, {"noise_sigma_radps", noise_sigma_radps}};
   if (!noise_model.is_null()) j["noise_model"] = noise_model;
+  if (model_error_radps > 0) j["model_error_radps"] = model_error_radps;
   return j;
 }
 
@@ -65,6 +67,8 @@ WeightPosterior WeightPosterior::from_json(const nlohmann::json& j, Eigen::Index
   }
   if (!p.root.allFinite()) fail(source, ": posterior has non-finite values");
   p.noise_sigma_radps = j.value("noise_sigma_radps", 0.0);
+  p.model_error_radps = j.value("model_error_radps", 0.0);
+  if (!(p.model_error_radps >= 0) || !std::isfinite(p.model_error_radps)) fail(source, ": posterior model_error_radps must be finite and >= 0");
   if (j.contains("noise_model")) p.noise_model = j["noise_model"];
   return p;
 }

@@ -3,7 +3,8 @@
 // add:
 //
 //   output(x) = h(x)' w,   w ~ N(mean, P),   P = L L'   (L lower triangular, the Cholesky factor)
-//   sigma(x)  = sqrt(h(x)' P h(x)) = |L' h(x)|           the standard deviation of the estimated output
+//   sigma(x)  = sqrt(|L' h(x)|^2 + s_m^2)                the standard deviation of the estimated output:
+//               the posterior's, and s_m the model-class error the training data revealed (0 if none)
 //
 // A new experiment with regressor rows H and white noise of variance s^2 per sample would move
 // the precision to P^-1 + H'H / s^2 (for coloured noise: H and the data whitened by the noise model).
@@ -19,13 +20,14 @@ namespace gyrosid {
 struct WeightPosterior {
   Eigen::MatrixXd root;             // L (M x M, lower triangular): P = L L'
   double noise_sigma_radps = 0.0;   // per-sample white noise of the training data
+  double model_error_radps = 0.0;   // misfit the training data revealed (solvers/bayes/model_error.h), in sigma
   nlohmann::json noise_model;       // the coloured noise model trained under, if any (sensor/noise_model.h)
 
   Eigen::Index size() const { return root.rows(); }
   Eigen::MatrixXd covariance() const { return root * root.transpose(); }
   // From a covariance matrix (symmetric positive semi-definite; a round-off jitter is added if needed).
   static WeightPosterior of_covariance(const Eigen::MatrixXd& p, double noise_sigma);
-  // sigma of h' w for each row of h (N x M).
+  // sigma of h' w for each row of h (N x M): sqrt(h' P h + model_error^2).
   Eigen::VectorXd sigma(const Eigen::MatrixXd& h) const;
   // Scales the weights' units by `factor` (e.g. from the unit-RMS training target to rad/s).
   void scale(double factor);
