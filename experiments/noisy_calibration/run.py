@@ -48,6 +48,11 @@ class Experiment:
         self.out = os.path.abspath(args.out)
         self.deadline = time.time() + 60.0 * args.budget_min
         self.rows = []
+        self.only = set(args.methods.split(",")) if args.methods else None
+
+    def wanted(self, method):
+        """--methods: rerun only these (the rest is taken from --keep-rows)."""
+        return self.only is None or method in self.only
 
     def check_time(self):
         if time.time() > self.deadline:
@@ -210,13 +215,15 @@ class Experiment:
                 for trajectory in cfg["reference"]["trajectories"]:
                     recording = self.reference_recording(trajectory, noise, seed)
                     for m in cfg["methods"]:
-                        if m.get("slow") and seed not in cfg["slow_seeds"]:
+                        if (m.get("slow") and seed not in cfg["slow_seeds"]) or not self.wanted(m["name"]):
                             continue
                         self.reference_method(trajectory, noise, seed, m["name"], m["args"], recording)
-                    self.reference_floor(trajectory, noise, seed, recording)
-                    if noise["name"] in cfg["full"] or seed in cfg["slow_seeds"]:
+                    if self.wanted("crb_oracle"):
+                        self.reference_floor(trajectory, noise, seed, recording)
+                    if (noise["name"] in cfg["full"] or seed in cfg["slow_seeds"]) and self.wanted("gp_sklearn"):
                         self.reference_peers(trajectory, noise, seed, recording)
-                self.classical_soak(noise, seed)
+                if self.wanted("classical_soak"):
+                    self.classical_soak(noise, seed)
 
     # --- time and memory against N ---------------------------------------------------------------------
 
@@ -229,7 +236,7 @@ class Experiment:
             rec = self.run.path("data", "scaling", "n%d.csv" % n)
             self.gyrosid(["simulate", "--sensor", self.sensor_with(noise), "--trajectory", sc["trajectory"], "--samples", n,
                           "--seed", 1, "--out", rec], rec)
-            for name in sc["methods"]:
+            for name in [m for m in sc["methods"] if self.wanted(m)]:
                 model = self.run.path("models", "scaling", "n%d" % n, name + ".json")
                 self.gyrosid(["calibrate", "--recording", rec] + methods[name] + ["--out", model], model)
                 self.rows.append(self.model_row({"sensor": "reference", "trajectory": "scaling", "noise": sc["noise"], "seed": 1,
@@ -264,7 +271,7 @@ class Experiment:
                     if not os.path.exists(rec):
                         generator_c.generate(rec, prog, noise["white_dph"], noise.get("gm_sigma_dph", 0.0), noise.get("gm_tau_s", 0.0), seed)
                     key = {"sensor": "C", "trajectory": prog, "noise": noise["name"], "seed": seed}
-                    for name in c["methods"]:
+                    for name in [m for m in c["methods"] if self.wanted(m)]:
                         tag = "c/%s/%s/seed%d/%s" % (prog, noise["name"], seed, name)
                         model = self.run.path("models", tag + ".json")
                         self.gyrosid(["calibrate", "--recording", rec] + methods[name] + ["--out", model], model)
@@ -273,7 +280,7 @@ class Experiment:
                         row["heldout_rms_dph"], row["heldout_coverage_95"], _ = self.compensation_scores(model, heldout, self.run.path("heldout", tag + ".csv"))
                         self.rows.append(row)
                     self.rows.append(self.c_floor(key, rec, grid, heldout, noise))
-                    if noise["name"] in self.cfg["full"] or seed in self.cfg["slow_seeds"]:
+                    if (noise["name"] in self.cfg["full"] or seed in self.cfg["slow_seeds"]) and self.wanted("gp_sklearn"):
                         out = self.run.path("peers", "c", prog, noise["name"], "seed%d.json" % seed)
                         p = self.cfg["peers"]
                         self.python("peers.py", ["--train", rec, "--eval", grid, "--eval", heldout, "--out", out, "--gp-subset", p["gp_subset"],
@@ -291,6 +298,19 @@ class Experiment:
         return row
 
 
+def _number(text):
+    """A value read back from rows.csv: a number where it parses as one (None for an empty cell)."""
+    if text == "":
+        return ""
+    try:
+        return int(text)
+    except ValueError:
+        try:
+            return float(text)
+        except ValueError:
+            return text
+
+
 def builtin_text(name):
     """A built-in config's text: configs/<relative path> of this repository."""
     assert name.startswith("builtin:")
@@ -306,6 +326,8 @@ def main():
     ap.add_argument("--budget-min", type=float, default=25.0)
     ap.add_argument("--part", choices=["reference", "sensor_c", "scaling", "all"], default="all")
     ap.add_argument("--summary-only", action="store_true", help="summarise what is cached, compute nothing")
+    ap.add_argument("--methods", help="comma-separated: rerun only these methods (with --keep-rows for the others)")
+    ap.add_argument("--keep-rows", help="rows.csv of an earlier run: its rows for recordings and methods this run did not produce are kept")
     args = ap.parse_args()
     cfg = yaml.safe_load(open(args.config))
     e = Experiment(args, cfg)
@@ -324,6 +346,12 @@ def main():
             if not args.summary_only:  # out of budget; a summary goes on to what later stages have cached
                 break
     e.rows = list({tuple(sorted((k, str(v)) for k, v in r.items())): r for r in e.rows}.values())  # stages revisit cached rows
+    if args.keep_rows:
+        key = lambda r: tuple(str(r[k]) for k in ("sensor", "trajectory", "noise", "seed", "method"))
+        produced = {key(r) for r in e.rows}
+        with open(args.keep_rows) as f:
+            kept = [r for r in csv.DictReader(f) if key(r) not in produced and not e.wanted(r["method"])]
+        e.rows += [{k: _number(v) for k, v in r.items()} for r in kept]
     write_csv(os.path.join(e.out, "rows.csv"), e.rows, COLUMNS)
     import summarise  # noqa: E402
     summarise.write_summary(e.out, e.rows, cfg, " ".join(sys.argv), done)
