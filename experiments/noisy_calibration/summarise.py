@@ -151,7 +151,7 @@ def targets_section(rows, cfg, best):
     for flight, key in (("short", "cof_short_m"), ("medium", "cof_medium_m"), ("long", "cof_long_1h_m")):
         soak = per_seed(rows, key, "classical_soak", sensor="reference", trajectory="soak", noise="white_10")
         ours = per_seed(rows, key, best, sensor="reference", trajectory="dual", noise="white_10")
-        seeds = sorted(set(soak) & set(ours))
+        seeds = sorted(s for s in set(soak) & set(ours) if soak[s] is not None and ours[s] is not None)
         if seeds:
             ratios = [soak[s] / ours[s] for s in seeds]
             md.append("- CoF %s, dual scan 10 deg/h: classical soak / %s = %s per seed (median %s; target %s).\n" % (
