@@ -101,24 +101,17 @@ ModelErrorEstimate model_error_by_cv(const BayesProblem& p, const BayesFit& fit,
   noise.dt_s = median_interval(t_s);
   noise.white_var = std::exp(-fit.log_beta);
   if (fit.noise) noise = *fit.noise;
-  std::vector<Eigen::Index> all(static_cast<std::size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i) all[static_cast<std::size_t>(i)] = i;
-  Eigen::MatrixXd hw;
-  Eigen::VectorXd yw;
-  if (fit.noise) {
-    const Whitener w(noise, all, t_s, RandomWalkStart::zero);
-    hw = w.apply(h), yw = w.apply(p.y);
-  } else {
-    const double root_beta = std::exp(0.5 * fit.log_beta);
-    hw = root_beta * h, yw = root_beta * p.y;
-  }
-  const Eigen::MatrixXd gram = hw.transpose() * hw;
-  const Eigen::VectorXd b = hw.transpose() * yw;
+  // White noise: the full Gram matrix once, each fold's subtracted (coloured: per fold, below).
+  const double root_beta = std::exp(0.5 * fit.log_beta);
+  const Eigen::MatrixXd hw = fit.noise ? Eigen::MatrixXd() : Eigen::MatrixXd(root_beta * h);
+  const Eigen::VectorXd yw = fit.noise ? Eigen::VectorXd() : Eigen::VectorXd(root_beta * p.y);
+  const Eigen::MatrixXd gram = fit.noise ? Eigen::MatrixXd() : Eigen::MatrixXd(hw.transpose() * hw);
+  const Eigen::VectorXd b = fit.noise ? Eigen::VectorXd() : Eigen::VectorXd(hw.transpose() * yw);
   // Prior precision: alpha on the RBF weights, a vanishing one on the flat-prior fixed columns (a fold may
   // remove the support of one of them).
   Eigen::VectorXd prior(m + q);
   prior.head(m).setConstant(std::exp(fit.log_alpha));
-  prior.tail(q).setConstant(1e-10 * std::max(1.0, gram.diagonal().maxCoeff()));
+  prior.tail(q).setConstant(1e-10);  // targets have unit RMS, so the data's precision is far above it
 
   const std::vector<int> fold = folds_of(p.x, out.folds, out.fold_kind);
   std::vector<double> excess;
@@ -127,13 +120,26 @@ ModelErrorEstimate model_error_by_cv(const BayesProblem& p, const BayesFit& fit,
     for (Eigen::Index i = 0; i < n; ++i)
       if (fold[static_cast<std::size_t>(i)] == k) rows.push_back(i);
     if (rows.empty() || static_cast<Eigen::Index>(rows.size()) == n) continue;
-    Eigen::MatrixXd hwk(static_cast<Eigen::Index>(rows.size()), m + q);
-    Eigen::VectorXd ywk(hwk.rows());
-    for (std::size_t r = 0; r < rows.size(); ++r) hwk.row(static_cast<Eigen::Index>(r)) = hw.row(rows[r]), ywk(static_cast<Eigen::Index>(r)) = yw(rows[r]);
-    Eigen::MatrixXd a = gram;
-    a.noalias() -= hwk.transpose() * hwk;
+    Eigen::MatrixXd a;
+    Eigen::VectorXd bk;
+    if (fit.noise) {
+      // Coloured: the other samples whitened anew (the filter runs across the gap). Dropping the fold's rows
+      // of the full whitening instead would leave the fold's information in the innovations after it, and
+      // strip a block at the start of the record of the level the constant is known by.
+      std::vector<Eigen::Index> train;
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (fold[static_cast<std::size_t>(i)] != k) train.push_back(i);
+      const Whitener w(noise, train, t_s, RandomWalkStart::zero);
+      const Eigen::MatrixXd hwt = w.apply(h);
+      a = hwt.transpose() * hwt, bk = hwt.transpose() * w.apply(p.y);
+    } else {
+      Eigen::MatrixXd hwk(static_cast<Eigen::Index>(rows.size()), m + q);
+      Eigen::VectorXd ywk(hwk.rows());
+      for (std::size_t r = 0; r < rows.size(); ++r) hwk.row(static_cast<Eigen::Index>(r)) = hw.row(rows[r]), ywk(static_cast<Eigen::Index>(r)) = yw(rows[r]);
+      a = gram, bk = b - hwk.transpose() * ywk;
+      a.noalias() -= hwk.transpose() * hwk;
+    }
     a.diagonal() += prior;
-    const Eigen::VectorXd bk = b - hwk.transpose() * ywk;
     const Eigen::LLT<Eigen::MatrixXd> llt(a);
     if (llt.info() != Eigen::Success) continue;
     const Eigen::VectorXd mean = llt.solve(bk);

@@ -6,8 +6,9 @@
 //
 //   folds: the levels of an input recorded at discrete levels (predicting a level from the others mimics
 //          predicting between levels), else K contiguous blocks in time;
-//   per fold k: the posterior mean m_k and covariance A_k^-1 from the other samples (whitened rows; the
-//          full Gram matrix minus the fold's, O(N (M+P)^2) once and O((M+P)^3) per fold, no N x N matrix);
+//   per fold k: the posterior mean m_k and covariance A_k^-1 from the other samples (white noise: the full
+//          Gram matrix minus the fold's, O(N (M+P)^2) once; coloured: the other samples whitened anew by
+//          the Kalman filter across the gap, O(N (M+P)^2) per fold; no N x N matrix);
 //   runs: the fold's samples split into runs over which the inputs move less than half a width (the misfit
 //          is nearly constant over a run while white noise averages down), with mean residual e_r,
 //          the estimate's variance a_r = h_r' A_k^-1 h_r and the noise variance of the run mean v_r
