@@ -15,6 +15,7 @@
 #include "model/gaussian_node.h"
 #include "solvers/bayes/evidence.h"
 #include "solvers/bayes/model_error.h"
+#include "solvers/bayes/revisits.h"
 #include "solvers/common/candidates.h"
 #include "solvers/common/terminations.h"
 
@@ -501,6 +502,11 @@ nlohmann::json BayesFit::details(double y_scale) const {
 
 namespace {
 
+// noise=auto keeps white noise when at least kMinRevisits revisits show under kMisfitRatio of the drift the
+// coloured model predicts (revisits.h; with 30 pairs the ratio's standard error under real drift is ~0.26).
+constexpr int kMinRevisits = 30;
+constexpr double kMisfitRatio = 0.25;
+
 // Widths, prior and noise (fit_bayes without the model-error estimate).
 BayesFit fit_widths_and_noise(const BayesProblem& p, const BayesFitOptions& o, SolveMonitor& monitor) {
   if (p.x.rows() != p.y.size() || p.fixed.rows() != p.y.size()) fail("bayes: inputs, target and fixed columns differ in length");
@@ -530,7 +536,20 @@ BayesFit fit_widths_and_noise(const BayesProblem& p, const BayesFitOptions& o, S
   const double screen = residual_log_likelihood(r, screened, axis, rows) - residual_log_likelihood(r, white_only, axis, rows);
   const double screen_penalty = 0.5 * std::max(1, screened.parameters() - 1) * std::log(static_cast<double>(p.y.size()));
   std::optional<BayesFit> coloured;
-  if ((screened.rw_q > 0 || screened.gm_var > 0) && (o.noise == "coloured" || screen > screen_penalty)) {
+  const bool drift = screened.rw_q > 0 || screened.gm_var > 0;
+  std::string revisits;
+  if (drift && o.noise == "auto" && screen > screen_penalty) {
+    // The time correlation may be the misfit of the model class, not drift: revisits tell (revisits.h).
+    const RevisitCheck check = check_revisits(p.x, white.widths, r, axis.t_s, screened);
+    revisits = str_cat("; ", check.describe());
+    if (check.pairs >= kMinRevisits && check.ratio() < kMisfitRatio) {
+      white.noise_choice = str_cat("white: the residual is correlated in time (", describe(screened, p.report_scale), " raises its likelihood by ",
+                                   format_significant(screen, 3), "), but ", check.describe(), ", below ", kMisfitRatio,
+                                   ": the correlation is the model's misfit (a function of the inputs), not drift");
+      return white;
+    }
+  }
+  if (drift && (o.noise == "coloured" || screen > screen_penalty)) {
     // The evidence search starts from the Allan fit: the plug-in estimate lets a random walk stand in for
     // drift the white fit has half absorbed.
     coloured = coloured_passes(p, o, centres, axis, rows, white, allan, monitor);
@@ -550,7 +569,7 @@ BayesFit fit_widths_and_noise(const BayesProblem& p, const BayesFitOptions& o, S
   const std::string coloured_model = describe(*coloured->noise, p.report_scale);
   if (o.noise == "coloured" || gain > penalty) {
     coloured->noise_choice = str_cat("coloured (", coloured_model, "): log evidence +", format_significant(gain, 3),
-                                     " over white noise, above BIC's penalty ", format_significant(penalty, 3), " for the drift parameters");
+                                     " over white noise, above BIC's penalty ", format_significant(penalty, 3), " for the drift parameters", revisits);
     return *coloured;
   }
   white.noise_choice = str_cat("white: the coloured model (", coloured_model, ") gains ", format_significant(gain, 3),

@@ -329,6 +329,45 @@ TEST(BayesFit, GaussMarkovDriftIsNoiseNotSurface) {
 }
 
 
+TEST(BayesFit, MisfitCorrelatedInTimeIsNotTakenForDriftWhereTheInputsRevisit) {
+  // A trajectory that revisits its inputs (input 1 a triangle wave: up, down, up) and a truth with a kink
+  // the Gaussian nodes cannot follow, noise-free but for a 1e-4 white floor: the white fit's misfit is
+  // smooth in time, so a coloured noise model raises its likelihood, but it repeats at the revisits and is
+  // no drift. noise=auto must keep white noise - the same fit as noise=white. With Gauss-Markov drift added
+  // (tau 150 samples) on the same trajectory, the revisits differ by the drift and auto must go coloured.
+  const Eigen::Index n = 3000;
+  Drawn d;
+  d.x.resize(n, 2);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i), phase = std::fmod(3.0 * t / static_cast<double>(n), 2.0);
+    d.x(i, 0) = std::sin(2 * M_PI * t / 53.0), d.x(i, 1) = -1 + 2 * (phase < 1 ? phase : 2 - phase);
+  }
+  d.truth = (d.x.col(0).array() * (1 + 0.3 * d.x.col(1).array()) + 0.4 * (d.x.col(1).array() - 0.2).abs()).matrix();
+  RandomStream r(41, "revisits");
+  d.y = d.truth;
+  for (Eigen::Index i = 0; i < n; ++i) d.y(i) += 1e-4 * r.normal();
+  auto fit_with = [&](const std::string& noise) {
+    BayesFitOptions o;
+    o.nodes = 40, o.noise = noise, o.model_error = "none";
+    SolveMonitor monitor;
+    return fit_bayes(problem_of(d), o, monitor);
+  };
+  const BayesFit misfit = fit_with("auto");
+  EXPECT_FALSE(misfit.noise.has_value()) << misfit.noise_choice;
+  EXPECT_NE(misfit.noise_choice.find("misfit"), std::string::npos) << misfit.noise_choice;  // the screen saw correlation
+  EXPECT_EQ(misfit.rbf_weights, fit_with("white").rbf_weights);
+
+  const double phi = std::exp(-1.0 / 150.0);
+  double g = 0.3 * r.normal();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    g = phi * g + 0.3 * std::sqrt(1 - phi * phi) * r.normal();
+    d.y(i) += g + 0.05 * r.normal();
+  }
+  const BayesFit drift = fit_with("auto");
+  ASSERT_TRUE(drift.noise.has_value()) << drift.noise_choice;
+  EXPECT_GT(drift.noise->gm_var, 0.0) << drift.noise_choice;
+}
+
 // Coverage of a known truth by the 95 % band, over several seeds (issue 11: the band covers 0.93-0.97).
 struct Coverage {
   int inside = 0, total = 0;
