@@ -35,6 +35,8 @@ void BayesFitOptions::bind(OptionTable& t) {
       .choice("noise", &noise, {"auto", "white", "coloured", "given"},
               "noise model: white; coloured (white + random walk + Gauss-Markov by Allan fit, Kalman-whitened); auto: coloured when the evidence says so; given: the given_* options")
       .integer("noise_passes", &noise_passes, 1, 10, "coloured: noise-model estimates, each from the previous fit's residual")
+      .choice("drift_averaging", &drift_averaging, {"sigma", "mixture", "none"},
+              "coloured: the fits along the slow drift term's ridge of equal evidence widen the covariance only (sigma), also move the mean (mixture), or are not made (none)")
       .choice("model_error", &model_error, {"cv", "none"},
               "cv: add to the predictive sigma the misfit variance that cross-validation over levels or time blocks reveals; none: the posterior alone")
       .real("given_white_dph_at_1hz", &given_white_dph_at_1hz, 0.0, 1e6, "noise=given: white noise, deg/h at 1 Hz")
@@ -428,7 +430,9 @@ BayesFit coloured_passes(const BayesProblem& p, const BayesFitOptions& o, const 
 // tau* x {1/4, 1/2, 1, 2, 4} on the ridge (inside the search's bounds [2 dt, 2 span]), uniform prior in log
 // tau, weights w_i = exp(log evidence_i - max) normalised; the fit carries the mixture's two moments:
 //   theta = sum w_i theta_i,   P = sum w_i (P_i + d_i d_i'),   d_i = theta_i - theta   (theta = [rbf, fixed]).
-void average_slow_drift(const BayesProblem& p, BayesFit& fit, const std::vector<Eigen::Index>& rows, const TimeAxis& axis, SolveMonitor& monitor) {
+// move_mean false (drift_averaging=sigma): theta stays the fit's, P the mixture's second moment about it.
+void average_slow_drift(const BayesProblem& p, BayesFit& fit, bool move_mean, const std::vector<Eigen::Index>& rows, const TimeAxis& axis,
+                        SolveMonitor& monitor) {
   if (!fit.noise || !(fit.noise->gm_var > 0)) return;
   const NoiseModel base = *fit.noise;
   const double span = std::max(axis.t_s.back() - axis.t_s.front(), 10 * axis.dt_s);
@@ -466,6 +470,7 @@ void average_slow_drift(const BayesProblem& p, BayesFit& fit, const std::vector<
     theta.back() << point.rbf_weights, point.fixed_weights;
   }
   for (std::size_t i = 0; i < points.size(); ++i) mean += (w[i] /= total) * theta[i];
+  if (!move_mean) mean << fit.rbf_weights, fit.fixed_weights;
   Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(m + q, m + q);
   std::ostringstream note;
   note << "averaged over the Gauss-Markov term's tau along its ridge of equal drift intensity: weights";
@@ -553,7 +558,7 @@ BayesFit fit_widths_and_noise(const BayesProblem& p, const BayesFitOptions& o, S
     // The evidence search starts from the Allan fit: the plug-in estimate lets a random walk stand in for
     // drift the white fit has half absorbed.
     coloured = coloured_passes(p, o, centres, axis, rows, white, allan, monitor);
-    average_slow_drift(p, *coloured, rows, axis, monitor);
+    if (o.drift_averaging != "none") average_slow_drift(p, *coloured, o.drift_averaging == "mixture", rows, axis, monitor);
   } else if (o.noise == "auto") {
     white.noise_choice = str_cat("white: the best coloured model of the residual (", describe(screened, p.report_scale), ") raises its likelihood by ",
                                  format_significant(screen, 3), ", below BIC's penalty ", format_significant(screen_penalty, 3));

@@ -39,6 +39,9 @@ struct BayesFitOptions {
   std::string algorithm = "LD_LBFGS";
   std::string noise = "auto";      // auto | white | coloured | given
   int noise_passes = 2;            // coloured: noise-model estimates, each from the previous fit's residual
+  // coloured: how the fits along the slow drift term's ridge of equal evidence enter (average_slow_drift):
+  // sigma - the covariance only (the mean stays the fit's), mixture - mean and covariance, none
+  std::string drift_averaging = "mixture";
   std::string model_error = "cv";  // cv: add the misfit variance cross-validation reveals to the predictive sigma (model_error.h); none
   // noise = given: the recording's noise is known (e.g. from `gyrosid allan`, or the truth of a simulation
   // for the Cramer-Rao floor): white (deg/h at 1 Hz), rate random walk (deg/h/rt(h)), Gauss-Markov.

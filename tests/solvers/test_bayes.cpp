@@ -346,9 +346,9 @@ TEST(BayesFit, MisfitCorrelatedInTimeIsNotTakenForDriftWhereTheInputsRevisit) {
   RandomStream r(41, "revisits");
   d.y = d.truth;
   for (Eigen::Index i = 0; i < n; ++i) d.y(i) += 1e-4 * r.normal();
-  auto fit_with = [&](const std::string& noise) {
+  auto fit_with = [&](const std::string& noise, const std::string& averaging = "mixture") {
     BayesFitOptions o;
-    o.nodes = 40, o.noise = noise, o.model_error = "none";
+    o.nodes = 40, o.noise = noise, o.model_error = "none", o.drift_averaging = averaging;
     SolveMonitor monitor;
     return fit_bayes(problem_of(d), o, monitor);
   };
@@ -366,6 +366,15 @@ TEST(BayesFit, MisfitCorrelatedInTimeIsNotTakenForDriftWhereTheInputsRevisit) {
   const BayesFit drift = fit_with("auto");
   ASSERT_TRUE(drift.noise.has_value()) << drift.noise_choice;
   EXPECT_GT(drift.noise->gm_var, 0.0) << drift.noise_choice;
+  // drift_averaging=sigma keeps the mean of the fit without averaging; its covariance is the ridge mixture's
+  // second moment about that mean: the mixture's covariance plus s s', s = the mixture's mean - the fit's mean.
+  const BayesFit plain = fit_with("auto", "none"), widened = fit_with("auto", "sigma");
+  EXPECT_EQ(widened.rbf_weights, plain.rbf_weights);
+  EXPECT_EQ(widened.fixed_weights, plain.fixed_weights);
+  Eigen::VectorXd shift(plain.rbf_weights.size() + plain.fixed_weights.size());
+  shift << drift.rbf_weights - plain.rbf_weights, drift.fixed_weights - plain.fixed_weights;
+  ASSERT_GT(shift.norm(), 0.0);  // the ridge's fits differ: the identity below is not trivially met
+  EXPECT_LT((widened.covariance - drift.covariance - shift * shift.transpose()).norm(), 1e-8 * widened.covariance.norm());
 }
 
 // Coverage of a known truth by the 95 % band, over several seeds (issue 11: the band covers 0.93-0.97).
