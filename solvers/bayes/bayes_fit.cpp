@@ -507,8 +507,9 @@ nlohmann::json BayesFit::details(double y_scale) const {
 
 namespace {
 
-// noise=auto keeps white noise when at least kMinRevisits revisits show under kMisfitRatio of the drift the
-// coloured model predicts (revisits.h; with 30 pairs the ratio's standard error under real drift is ~0.26).
+// noise=auto keeps white noise when at least kMinRevisits revisits differ by under kMisfitRatio of what
+// samples as far apart in time differ by (revisits.h; with 30 pairs the ratio's standard error under real
+// drift is ~0.26).
 constexpr int kMinRevisits = 30;
 constexpr double kMisfitRatio = 0.25;
 
