@@ -254,9 +254,12 @@ Diagnostics diagnose(const ExplainInput& in, const Eigen::VectorXd& residual, co
   d.noise = noise;
   const Whitened x(in, residual, noise);
   whiteness(x, noise, d);
-  channel_correlations(in, x, alpha, d);
-  time_windows(in, residual, x, alpha, d);
-  grid_cells(in, residual, x, alpha, d);
+  // Any of the three families (channels, time windows, cells) reports unexplained structure, so each gets a
+  // third of alpha (Bonferroni across the families): the recording's false alarm stays at most alpha.
+  const double family_alpha = alpha / 3.0;
+  channel_correlations(in, x, family_alpha, d);
+  time_windows(in, residual, x, family_alpha, d);
+  grid_cells(in, residual, x, family_alpha, d);
   noise_terms(in, residual, noise, d);
   return d;
 }

@@ -10,7 +10,8 @@
 //   (T, omega)  mean residual per cell, heating and cooling apart, against the noise model's Allan variance at
 //               the cell's length (conservative for cells spread over the record);
 //   noise       overlapping Allan deviation of the residual and its IEEE Std 952 terms.
-// Thresholds are Bonferroni-corrected over the lags, channels, segments or cells tested. Only training
+// Thresholds are Bonferroni-corrected over the lags, channels, segments or cells tested, and across the three
+// families that report unexplained structure (channels, time, cells: alpha / 3 each). Only training
 // samples are diagnosed (ExplainInput::diagnosed): held out, the residual carries the simulation's
 // prediction error, which a cell or window test would read as structure.
 #pragma once

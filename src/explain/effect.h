@@ -37,6 +37,11 @@ struct Candidate {
   std::vector<double> tau_grid_s;    // values tried for the nonlinear parameter
   std::string_view id() const;
   int nonlinear_parameters() const { return nonlinear == NonlinearParameter::none ? 0 : 1; }
+  // Its count in a BIC penalty beside its columns: a location searched over the record (a change point's
+  // time) is not a regular parameter and counts twice - the modified BIC of Zhang & Siegmund (2007,
+  // Biometrics 63:22), 3/2 ln n of log-likelihood per change, i.e. 3 ln n on the 2 log L scale for a step's
+  // height and time, where the plain BIC counts 2 ln n. (Its O(1) term in the segment lengths is left out.)
+  int bic_parameters() const { return nonlinear_parameters() + (nonlinear == NonlinearParameter::term_parameter && !scale_parameter() ? 1 : 0); }
   // The parameter is a positive scale (refined on a log scale) rather than a location (a time).
   bool scale_parameter() const { return nonlinear != NonlinearParameter::term_parameter || term->parameter()->scale; }
 };

@@ -50,7 +50,17 @@ NoiseModel likelihood_noise_model(const Eigen::VectorXd& residual, const std::ve
   if (rows.size() < 500 || !(start.white_var > 0)) return start;
   const NoiseLikelihood likelihood(rows, t_s, start);
   const Eigen::MatrixXd constant = Eigen::MatrixXd::Ones(residual.size(), 1);
-  const NoiseLikelihood::Optimum best = likelihood.maximise(constant, residual);
+  // A slow random walk and a Gauss-Markov process with a long time constant fit the same stretch of data
+  // nearly equally well, so the likelihood has a basin for each; the Allan fit's start can sit in the worse
+  // one. Also started from each slow part alone (sized so that it reaches the white variance over the
+  // record), the best optimum kept.
+  const double n = static_cast<double>(rows.size());
+  NoiseLikelihood::Optimum best = likelihood.maximise(constant, residual);
+  for (const std::array<double, 3>& from : {std::array<double, 3>{-std::log(n), -25.0, std::log(100.0 * start.dt_s)},
+                                            std::array<double, 3>{-25.0, 0.0, std::log(n * start.dt_s / 10.0)}}) {
+    const NoiseLikelihood::Optimum other = likelihood.maximise(constant, residual, {0.0, from});
+    if (other.log_likelihood > best.log_likelihood) best = other;
+  }
   NoiseModel m;
   m.dt_s = start.dt_s;
   m.white_var = 1.0;

@@ -126,7 +126,7 @@ Evaluated evaluate(const Candidate& c, const ModelSpec& model, const ExplainInpu
     e.z.push_back(std::move(z));
   }
   e.score.delta_rss = std::max(best, 0.0);
-  const int q = c.nonlinear_parameters();
+  const int q = c.bic_parameters();
   e.score.lr = e.score.columns ? n * std::log(fit.rss / std::max(fit.rss - e.score.delta_rss, 1e-300 * fit.rss)) : 0.0;
   e.score.delta_bic = e.score.columns ? delta_bic(fit.rss, e.score.delta_rss, n, e.score.columns + q) : -std::numeric_limits<double>::infinity();
   return e;
@@ -246,13 +246,24 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
   if (order.empty()) return {};
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ev[a].score.delta_bic > ev[b].score.delta_bic; });
   const NoiseLikelihood likelihood(rows, c.in.signals.t_s, noise);
-  const NoiseLikelihood::Optimum l0 = current ? *current : likelihood.maximise(model_columns(c.model, c.in.signals, c.sc), c.y);
+  const Eigen::MatrixXd x0 = model_columns(c.model, c.in.signals, c.sc);
+  NoiseLikelihood::Optimum l0 = current ? *current : likelihood.maximise(x0, c.y);
   const double n = static_cast<double>(c.yw.size());
   for (std::size_t i : order) {
     if (open[i].nonlinear != NonlinearParameter::none) ev[i].score.tau_s = refine_parameter(open[i], ev[i].score.tau_s, c);
     const ModelSpec with = with_effect(c.model, open[i], ev[i].score.tau_s);
     const NoiseLikelihood::Optimum l1 = likelihood.maximise(model_columns(with, c.in.signals, c.sc), c.y, l0);
-    ev[i].score.ml_delta_bic = 2.0 * (l1.log_likelihood - l0.log_likelihood) - (ev[i].score.columns + open[i].nonlinear_parameters()) * std::log(n);
+    const double penalty = (ev[i].score.columns + open[i].bic_parameters()) * std::log(n);
+    ev[i].score.ml_delta_bic = 2.0 * (l1.log_likelihood - l0.log_likelihood) - penalty;
+    if (!(ev[i].score.ml_delta_bic > 0)) continue;
+    // The candidate moved the noise to other parameters: the model without it is maximised again from
+    // there, so that it does not win only because the null's search stopped in the other basin (a slow
+    // random walk and a long Gauss-Markov wander fit nearly alike).
+    const NoiseLikelihood::Optimum again = likelihood.maximise(x0, c.y, l1);
+    if (again.log_likelihood > l0.log_likelihood) {
+      l0 = again;
+      ev[i].score.ml_delta_bic = 2.0 * (l1.log_likelihood - l0.log_likelihood) - penalty;
+    }
     if (ev[i].score.ml_delta_bic > 0) return {static_cast<std::ptrdiff_t>(i), l1};
   }
   return {};

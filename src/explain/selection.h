@@ -9,7 +9,7 @@
 //      (what the base can already absorb) and orthonormalised to Z; its statistic is |Z' r|^2, the drop
 //      in the residual sum of squares, maximised over the parameter grid;
 //   3. its likelihood ratio LR = n log(RSS / (RSS - stat)) and dBIC = LR - (k + q) log n (q nonlinear
-//      parameters);
+//      parameters, a searched change time counted twice: Candidate::bic_parameters);
 //   4. its p-value comes from a circular block bootstrap of r - the same maximisation over the parameter
 //      grid on every resample, so a lag search is not judged by a plain chi-square;
 //   5. Holm's step-down procedure over the candidates controls the family-wise error at alpha;

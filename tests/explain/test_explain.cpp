@@ -367,6 +367,47 @@ TEST(Explain, ASlowGaussMarkovWanderIsNotAChangePoint) {
   }
 }
 
+// A rate random walk of 2 deg/h/sqrt(h) (the independent generator's control, issue 12) added to the white
+// noise: per-sample increments of sd K / 60 deg/h.
+Recording with_random_walk(std::uint64_t seed, double k_dph_per_rt_h) {
+  Recording rec = simulate_with("", seed);
+  RandomStream rng(seed, "random walk");
+  std::vector<double> gyro = rec.column("gyro_dps");
+  double b = 0.0;
+  for (std::size_t i = 0; i < rec.rows(); ++i) {
+    b += k_dph_per_rt_h / 60.0 * rng.normal();
+    gyro[i] += b / 3600.0;
+  }
+  rec.set_column("gyro_dps", gyro);
+  return rec;
+}
+
+// The random walk is coloured noise, on every seed: no change point, no trend, no correlation or cell left.
+// Two causes of false discoveries on such controls: the noise likelihood stopping in the basin of a long
+// Gauss-Markov wander (a slow random walk fits nearly alike), so that a step bettered the null only because
+// the null's optimum was the wrong one; and a searched change time counted like a regular parameter (ln n).
+TEST(Explain, ARateRandomWalkIsNotAChangePointOnAnySeed) {
+  for (std::uint64_t seed : {31, 32, 33, 34, 35}) {
+    const ExplainResult r = explain_recording(with_random_walk(seed, 2.0), fast());
+    EXPECT_EQ(r.summary.verdict, Verdict::no_missing_physics) << "seed " << seed << ": " << ids(r.summary) << unexplained(r.summary);
+  }
+}
+
+// The same random walk with a 0.5-sigma bias step (10 deg/h) mid-record: the step is still found, at its time.
+TEST(Explain, AHalfSigmaStepOnARandomWalkIsStillFound) {
+  Recording rec = with_random_walk(31, 2.0);
+  const auto& t = rec.column("t_s");
+  const double t_step = t.front() + 0.45 * (t.back() - t.front());
+  std::vector<double> gyro = rec.column("gyro_dps");
+  for (std::size_t i = 0; i < rec.rows(); ++i) gyro[i] += t[i] >= t_step ? 10.0 / 3600.0 : 0.0;
+  rec.set_column("gyro_dps", gyro);
+  const ExplainResult r = explain_recording(rec, fast());
+  const Unexplained* step = nullptr;
+  for (const auto& u : r.summary.unexplained) step = u.kind == UnexplainedKind::change_point ? &u : step;
+  ASSERT_NE(step, nullptr) << ids(r.summary) << unexplained(r.summary);
+  EXPECT_NEAR(step->t_start_s, t_step, 120.0);
+}
+
 TEST(Explain, ShupeFromOneRampRateWithoutLagIsReportedWithItsAmbiguity) {
   // No thermal lag and a zig-zag at one ramp rate: dT/dt is +-5 C/min on every sample but the few at each
   // turnaround, so a Shupe bias (k dT/dt; here 2.5 deg/h, a quarter of the noise) and a heating/cooling offset
