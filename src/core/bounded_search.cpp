@@ -44,6 +44,7 @@ BoundedSearchResult minimize_bounded(const ObjectiveWithGradient& objective, std
   opt.set_maxeval(o.max_evaluations);
   if (o.xtol_rel > 0) opt.set_xtol_rel(o.xtol_rel);
   if (o.xtol_abs > 0) opt.set_xtol_abs(o.xtol_abs);
+  if (o.initial_step > 0) opt.set_initial_step(o.initial_step);
   opt.set_min_objective([](const std::vector<double>& x, std::vector<double>& gradient, void* f) {
     return (*static_cast<const ObjectiveWithGradient*>(f))(x, gradient);
   }, const_cast<ObjectiveWithGradient*>(&tracked));

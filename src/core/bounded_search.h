@@ -21,6 +21,7 @@ struct BoundedSearchOptions {
   std::string algorithm = "LN_BOBYQA";  // an NLopt derivative-free algorithm (LN_* or GN_*)
   int max_evaluations = 100;
   double xtol_rel = 0.0, xtol_abs = 0.0;
+  double initial_step = 0.0;             // the first trust radius (every coordinate); 0: NLopt's from the bounds
   std::optional<unsigned long> seed;     // NLopt's generator (global algorithms)
 };
 

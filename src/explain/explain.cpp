@@ -99,6 +99,18 @@ Accepted accept(const std::vector<Judged>& judged, const ModelSpec& base, const 
   return a;
 }
 
+// The judging's profile of the accepted model, if it made one: the selected model's when nothing was
+// demoted, the selected model without the one demoted effect otherwise - the refit starts at its optimum.
+std::optional<ProfiledFit> profiled_start(const Judgement& judgement, const Accepted& accepted) {
+  std::optional<ProfiledFit> p;
+  if (accepted.demoted.empty()) p = judgement.full;
+  for (const auto& j : judgement.effects) {
+    if (accepted.demoted.size() == 1 && j.effect.score.id == accepted.demoted.front().id) p = j.profiled_without;
+  }
+  if (!p || p->nonlinear == 0 || p->model.terms.size() != accepted.model.terms.size()) return std::nullopt;
+  return p;
+}
+
 // The refitted model: SI coefficients, the prior's column becoming its gain.
 std::unique_ptr<ExplainedModel> refitted_model(const RefitResult& fit, const TermScaling& scaling, std::unique_ptr<CalibrationModel> prior) {
   std::vector<Term> terms;
@@ -282,9 +294,11 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   clock.lap("candidates and selection");
 
   // 3. Stability and held-out confirmation of every selected effect; 4. the joint refit with intervals.
-  const Accepted accepted = accept(judge_effects(in, y, base, sel, scaling, w), base, sel, o.min_stability, o.selection.ambiguity_bic);
+  const Judgement judgement = judge_effects(in, y, base, sel, scaling, w);
+  const Accepted accepted = accept(judgement.effects, base, sel, o.min_stability, o.selection.ambiguity_bic);
   clock.lap("judging (stability, held-out, profiles)");
-  const RefitResult final_fit = refit(in, y, accepted.model, accepted.lag_selected, scaling, w);
+  const std::optional<ProfiledFit> profile = profiled_start(judgement, accepted);
+  const RefitResult final_fit = refit(in, y, profile ? profile->model : accepted.model, accepted.lag_selected, scaling, w, profile && profile->converged);
   clock.lap("refit");
   summary.absorbed_alternatives = absorbed_alternatives(candidates, accepted, in, y, scaling, w, o.selection.ambiguity_bic);
   clock.lap("absorbed alternatives");

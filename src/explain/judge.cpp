@@ -36,22 +36,38 @@ std::vector<int> training_blocks(const ExplainInput& in) {
   return blocks;
 }
 
-// Fraction of (up to eight) leave-one-training-block-out fits in which the effect keeps dBIC > 0.
-double stability(const ExplainInput& in, const Eigen::VectorXd& y, const NoiseModel& noise, const Eigen::MatrixXd& x_full,
-                 const Eigen::MatrixXd& x_minus, int extra_parameters) {
-  int kept = 0, tried = 0;
-  for (int b : training_blocks(in)) {
-    if (tried == 8) break;
-    const Whitener wb = rows_whitener(in, noise, [&](Eigen::Index i) {
-      return !in.heldout[static_cast<std::size_t>(i)] && in.block[static_cast<std::size_t>(i)] != b;
-    });
-    const RowFit f1 = gls(x_full, y, wb), f0 = gls(x_minus, y, wb);
-    const double n = static_cast<double>(f1.n);
-    const int k = std::max(1, f1.rank - f0.rank) + extra_parameters;
-    kept += n * std::log(f0.rss / f1.rss) - k * std::log(n) > 0;
-    ++tried;
+// The (up to eight) leave-one-training-block-out fits: each block's whitener and the selected model's
+// residual sum of squares and rank there, computed once for every effect.
+struct BlockFits {
+  std::vector<Whitener> whiteners;
+  std::vector<Eigen::VectorXd> y;  // whitened by each
+  std::vector<RssAndRank> full;
+};
+
+BlockFits block_fits(const ExplainInput& in, const Eigen::VectorXd& y, const NoiseModel& noise, const Eigen::MatrixXd& x_full) {
+  BlockFits b;
+  for (int block : training_blocks(in)) {
+    if (b.whiteners.size() == 8) break;
+    b.whiteners.push_back(rows_whitener(in, noise, [&](Eigen::Index i) {
+      return !in.heldout[static_cast<std::size_t>(i)] && in.block[static_cast<std::size_t>(i)] != block;
+    }));
+    b.y.push_back(b.whiteners.back().apply(y));
+    b.full.push_back(whitened_rss_and_rank(b.whiteners.back().apply(x_full), b.y.back()));
   }
-  return tried ? static_cast<double>(kept) / tried : 1.0;
+  return b;
+}
+
+// Fraction of the leave-one-training-block-out fits in which the effect keeps dBIC > 0.
+double stability(const BlockFits& blocks, const Eigen::MatrixXd& x_minus, int extra_parameters) {
+  int kept = 0;
+  for (std::size_t k = 0; k < blocks.whiteners.size(); ++k) {
+    const Whitener& wb = blocks.whiteners[k];
+    const RssAndRank f1 = blocks.full[k], f0 = whitened_rss_and_rank(wb.apply(x_minus), blocks.y[k]);
+    const double n = static_cast<double>(wb.rows().size());
+    const int q = std::max(1, f1.rank - f0.rank) + extra_parameters;
+    kept += n * std::log(f0.rss / f1.rss) - q * std::log(n) > 0;
+  }
+  return blocks.whiteners.empty() ? 1.0 : static_cast<double>(kept) / static_cast<double>(blocks.whiteners.size());
 }
 
 }  // namespace
@@ -61,8 +77,8 @@ RowFit gls(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Whitener& w
   return {f.beta, f.rss, static_cast<std::size_t>(f.residual.size()), f.rank};
 }
 
-std::vector<Judged> judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const SelectionResult& sel,
-                                  const TermScaling& scaling, const Whitener& w) {
+Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const SelectionResult& sel,
+                        const TermScaling& scaling, const Whitener& w) {
   const Eigen::MatrixXd x_full = model_columns(sel.model, in.signals, scaling);
   const RowFit fit_full = gls(x_full, y, w);
   const Eigen::VectorXd residual_full = y - x_full * fit_full.beta;
@@ -71,10 +87,11 @@ std::vector<Judged> judge_effects(const ExplainInput& in, const Eigen::VectorXd&
   for (Eigen::Index i = 0; i < in.size(); ++i) confirming += in.confirms(i);
   const std::optional<Whitener> heldout_w =
       confirming ? std::optional<Whitener>(rows_whitener(in, sel.noise, [&](Eigen::Index i) { return in.confirms(i); })) : std::nullopt;
-  std::vector<Judged> out;
+  Judgement out;
   std::size_t term = base.terms.size();
   const bool lag_selected = sel.model.lag_tau_s != base.lag_tau_s;
-  std::optional<ProfiledFit> profiled_full;
+  std::optional<ProfiledFit>& profiled_full = out.full;
+  const BlockFits blocks = block_fits(in, y, sel.noise, x_full);
   for (const auto& selected : sel.effects) {
     Judged j{selected, std::nullopt};
     const bool lag = selected.candidate.nonlinear == NonlinearParameter::coil_lag;
@@ -93,15 +110,16 @@ std::vector<Judged> judge_effects(const ExplainInput& in, const Eigen::VectorXd&
       j.heldout_testable = d.norm() / std::sqrt(static_cast<double>(std::max<Eigen::Index>(1, d.size()))) > 0.05 * sigma;
       j.heldout_z = d.norm() > 0 ? (d.squaredNorm() + 2.0 * r.dot(d)) / (2.0 * sigma_h * d.norm()) : 0.0;
     }
-    j.stability = stability(in, y, sel.noise, x_full, x_minus, lag ? 0 : selected.candidate.nonlinear_parameters());
+    j.stability = stability(blocks, x_minus, lag ? 0 : selected.candidate.nonlinear_parameters());
     const ProfiledFit without = profiled_fit(in, y, minus, lag_selected && !lag, scaling, w);
+    j.profiled_without = without;
     if (without.nonlinear > 0) {
       if (!profiled_full) profiled_full = profiled_fit(in, y, sel.model, lag_selected, scaling, w);
       const double n = static_cast<double>(fit_full.n);
       const int k = (j.term ? j.term->size() : 0) + selected.candidate.nonlinear_parameters();
       j.profiled_delta_bic = n * std::log(without.rss / std::min(profiled_full->rss, without.rss)) - k * std::log(n);
     }
-    out.push_back(j);
+    out.effects.push_back(j);
   }
   return out;
 }

@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "explain/refit.h"
 #include "explain/selection.h"
 
 namespace gyrosid::explain {
@@ -24,6 +25,9 @@ struct Judged {
   // warm-up's tau) are re-optimised without it (a profile likelihood): a lag refitted may explain what a
   // Shupe term took at the lag's old value. None when no other nonlinear parameter is left to refit.
   std::optional<double> profiled_delta_bic;
+  // The selected model without it, its nonlinear parameters at that profile's optimum (the refit's start
+  // when it is the only effect demoted).
+  std::optional<ProfiledFit> profiled_without;
 
   bool explained_by_others() const { return profiled_delta_bic && *profiled_delta_bic <= 0; }
   // The held-out blocks cannot test it and its evidence against the coloured noise re-estimated by maximum
@@ -35,9 +39,14 @@ struct Judged {
   }
 };
 
+struct Judgement {
+  std::vector<Judged> effects;
+  std::optional<ProfiledFit> full;  // the selected model's profile, when a nonlinear parameter was re-optimised
+};
+
 // `y` in deg/h on every sample; `w` the training whitener of the selection's noise model.
-std::vector<Judged> judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const SelectionResult& sel,
-                                  const TermScaling& scaling, const Whitener& w);
+Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const SelectionResult& sel,
+                        const TermScaling& scaling, const Whitener& w);
 
 // Generalised least squares on the rows a whitener covers: coefficients, RSS, count and rank.
 struct RowFit {

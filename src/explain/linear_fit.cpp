@@ -79,9 +79,16 @@ Eigen::MatrixXd triangular_factor(const Eigen::MatrixXd& a, Eigen::Index chunk =
 }  // namespace
 
 double whitened_rss(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, double tolerance) {
+  return whitened_rss_and_rank(x, y, tolerance).rss;
+}
+
+RssAndRank whitened_rss_and_rank(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, double tolerance) {
   const Eigen::Index n = x.rows(), p = x.cols();
-  if (p == 0) return y.squaredNorm();
-  if (n <= p + 1) return fit_whitened(x, y, tolerance).rss;
+  if (p == 0) return {y.squaredNorm(), 0};
+  if (n <= p + 1) {
+    const WhitenedFit f = fit_whitened(x, y, tolerance);
+    return {f.rss, f.rank};
+  }
   // The triangle of [X y] (X equilibrated): its last column holds Q1' y - the first p entries in the span of
   // X's columns, the last one the norm of the rest.
   Eigen::VectorXd norms = x.colwise().norm().transpose();
@@ -95,7 +102,7 @@ double whitened_rss(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, double t
   qr.setThreshold(tolerance);
   qr.compute(r.topLeftCorner(p, p));
   const Eigen::VectorXd z2 = qr.householderQ().adjoint() * r.col(p).head(p);
-  return r(p, p) * r(p, p) + z2.tail(p - qr.rank()).squaredNorm();
+  return {r(p, p) * r(p, p) + z2.tail(p - qr.rank()).squaredNorm(), static_cast<int>(qr.rank())};
 }
 
 Eigen::MatrixXd new_directions(const Eigen::MatrixXd& c, const Eigen::MatrixXd& basis, double tolerance) {

@@ -24,6 +24,12 @@ WhitenedFit fit_whitened(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, dou
 // The residual sum of squares of fit_whitened(x, y) alone (same rank decision), without forming Q or the
 // coefficients: for likelihoods evaluated many times.
 double whitened_rss(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, double tolerance = 1e-9);
+// The same, with the rank fit_whitened would find.
+struct RssAndRank {
+  double rss = 0.0;
+  int rank = 0;
+};
+RssAndRank whitened_rss_and_rank(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, double tolerance = 1e-9);
 
 // An orthonormal basis of the part of c orthogonal to `basis` (Gram-Schmidt twice, then pivoted QR);
 // columns with less than `tolerance` of their norm left are dropped. Zero columns out: nothing new.

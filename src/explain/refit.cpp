@@ -81,10 +81,19 @@ class RefitCost : public ceres::CostFunction {
 };
 
 // Variable projection: the time constants by BOBYQA, every linear coefficient solved exactly inside.
-// Returns the whitened RSS at the optimum.
-double optimise_parameters(const ExplainInput& in, const Eigen::VectorXd& yw, const ModelSpec& model, const std::vector<NonlinearFit>& taus,
-                           const TermScaling& sc, const Whitener& w, std::vector<double>& log_tau, int max_evaluations_each = 100) {
-  if (taus.empty()) return whitened_rss(w.apply(model_columns(model, in.signals, sc)), yw);
+// Returns the whitened RSS at the optimum and whether the search converged (stopped on its tolerance).
+struct Projected {
+  double rss = 0.0;
+  bool converged = true;
+};
+struct ProjectionSearch {
+  int max_evaluations_each = 100;
+  double xtol = 1e-4;          // in log(tau)
+  double initial_step = 0.0;   // in log(tau); 0: from the bounds
+};
+Projected optimise_parameters(const ExplainInput& in, const Eigen::VectorXd& yw, const ModelSpec& model, const std::vector<NonlinearFit>& taus,
+                              const TermScaling& sc, const Whitener& w, std::vector<double>& log_tau, const ProjectionSearch& search = {}) {
+  if (taus.empty()) return {whitened_rss(w.apply(model_columns(model, in.signals, sc)), yw), true};
   const double duration = in.signals.t_s.back() - in.signals.t_s.front();
   std::vector<double> lo, hi;
   for (double v : log_tau) {
@@ -92,14 +101,15 @@ double optimise_parameters(const ExplainInput& in, const Eigen::VectorXd& yw, co
     hi.push_back(std::min(std::log(std::max(10.0, 2.0 * duration)), v + std::log(10.0)));
   }
   BoundedSearchOptions bobyqa;
-  bobyqa.xtol_abs = 1e-4;
-  bobyqa.max_evaluations = max_evaluations_each * static_cast<int>(log_tau.size());
+  bobyqa.xtol_abs = search.xtol;
+  bobyqa.initial_step = search.initial_step;
+  bobyqa.max_evaluations = search.max_evaluations_each * static_cast<int>(log_tau.size());
   const BoundedSearchResult r = minimize_bounded([&](const std::vector<double>& x) {
     const ModelSpec m = at_parameters(model, taus, x);
     return whitened_rss(w.apply(model_columns(m, in.signals, sc)), yw);
   }, log_tau, lo, hi, bobyqa);
   log_tau = r.x;
-  return r.value;
+  return {r.value, termination_of(r) == Termination::converged};
 }
 
 std::vector<NonlinearFit> nonlinear_parameters(const ModelSpec& model, bool refine_lag) {
@@ -153,17 +163,21 @@ ProfiledFit profiled_fit(const ExplainInput& in, const Eigen::VectorXd& y, const
   const std::vector<NonlinearFit> taus = nonlinear_parameters(model, refine_lag);
   std::vector<double> log_tau;
   for (const auto& t : taus) log_tau.push_back(std::log(t.value));
-  return {optimise_parameters(in, yw, model, taus, sc, w, log_tau, 30), static_cast<int>(taus.size())};
+  // Started near the optimum (the selection refined every parameter on a fine grid): a first trust radius
+  // of 10 % and a tolerance of 0.1 % in tau - an offset of 0.1 % changes the RSS by (0.001 / sd)^2 whitened
+  // units, below 0.01 in dBIC for any parameter known to better than 1 %.
+  const Projected p = optimise_parameters(in, yw, model, taus, sc, w, log_tau, {30, 1e-3, 0.1});
+  return {p.rss, static_cast<int>(taus.size()), at_parameters(model, taus, log_tau), p.converged};
 }
 
 RefitResult refit(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& model, bool refine_lag, const TermScaling& sc,
-                  const Whitener& w) {
+                  const Whitener& w, bool optimised) {
   RefitResult out;
   const Eigen::VectorXd yw = w.apply(y);
   out.nonlinear = nonlinear_parameters(model, refine_lag);
   std::vector<double> log_tau;
   for (const auto& t : out.nonlinear) log_tau.push_back(std::log(t.value));
-  optimise_parameters(in, yw, model, out.nonlinear, sc, w, log_tau);
+  if (!optimised) optimise_parameters(in, yw, model, out.nonlinear, sc, w, log_tau);
   out.model = at_parameters(model, out.nonlinear, log_tau);
 
   // Linear coefficients at the optimum; dependent columns are dropped before the joint problem.

@@ -40,13 +40,17 @@ struct RefitResult {
 // by variable projection from their current values (at most 30 evaluations each): a profile likelihood.
 struct ProfiledFit {
   double rss = 0.0;
-  int nonlinear = 0;  // parameters re-optimised
+  int nonlinear = 0;       // parameters re-optimised
+  ModelSpec model;         // with them at the optimum
+  bool converged = false;  // the search stopped on its tolerance, not its evaluation limit
 };
 ProfiledFit profiled_fit(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& model, bool refine_lag,
                          const TermScaling& scaling, const Whitener& whitener);
 
 // `refine_lag`: the lag is a parameter (it was selected); otherwise it stays at the model's value.
+// `optimised`: the model's nonlinear parameters are already at the projected optimum (a converged profile
+// of this model, refine_lag alike): the variable-projection search is skipped, the polish starts there.
 RefitResult refit(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& model, bool refine_lag,
-                  const TermScaling& scaling, const Whitener& whitener);
+                  const TermScaling& scaling, const Whitener& whitener, bool optimised = false);
 
 }  // namespace gyrosid::explain

@@ -246,8 +246,7 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
   if (order.empty()) return {};
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ev[a].score.delta_bic > ev[b].score.delta_bic; });
   const NoiseLikelihood likelihood(rows, c.in.signals.t_s, noise);
-  const Eigen::MatrixXd x0 = model_columns(c.model, c.in.signals, c.sc);
-  NoiseLikelihood::Optimum l0 = current ? *current : likelihood.maximise(x0, c.y);
+  const NoiseLikelihood::Optimum l0 = current ? *current : likelihood.maximise(model_columns(c.model, c.in.signals, c.sc), c.y);
   const double n = static_cast<double>(c.yw.size());
   for (std::size_t i : order) {
     if (open[i].nonlinear != NonlinearParameter::none) ev[i].score.tau_s = refine_parameter(open[i], ev[i].score.tau_s, c);
@@ -255,15 +254,6 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
     const NoiseLikelihood::Optimum l1 = likelihood.maximise(model_columns(with, c.in.signals, c.sc), c.y, l0);
     const double penalty = (ev[i].score.columns + open[i].bic_parameters()) * std::log(n);
     ev[i].score.ml_delta_bic = 2.0 * (l1.log_likelihood - l0.log_likelihood) - penalty;
-    if (!(ev[i].score.ml_delta_bic > 0)) continue;
-    // The candidate moved the noise to other parameters: the model without it is maximised again from
-    // there, so that it does not win only because the null's search stopped in the other basin (a slow
-    // random walk and a long Gauss-Markov wander fit nearly alike).
-    const NoiseLikelihood::Optimum again = likelihood.maximise(x0, c.y, l1);
-    if (again.log_likelihood > l0.log_likelihood) {
-      l0 = again;
-      ev[i].score.ml_delta_bic = 2.0 * (l1.log_likelihood - l0.log_likelihood) - penalty;
-    }
     if (ev[i].score.ml_delta_bic > 0) return {static_cast<std::ptrdiff_t>(i), l1};
   }
   return {};
