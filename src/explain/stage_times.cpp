@@ -10,8 +10,4 @@ void StageTimes::add(std::string_view stage, double s) {
   else it->second += s;
 }
 
-void StageTimes::add(const StageTimes& other) {
-  for (const auto& [stage, s] : other.seconds) add(stage, s);
-}
-
 }  // namespace gyrosid::explain

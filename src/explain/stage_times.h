@@ -13,7 +13,6 @@ namespace gyrosid::explain {
 struct StageTimes {
   std::vector<std::pair<std::string, double>> seconds;
   void add(std::string_view stage, double s);
-  void add(const StageTimes& other);  // every stage of `other` added to this one's
 };
 
 // Laps of a steady clock: lap(stage) books the time since the previous lap (or construction) to `stage`.
