@@ -109,10 +109,7 @@ std::vector<GravityTurn> gravity_turns(const TriadData& d) {
 TriadRows hold_rows(const TriadData& d) {
   TriadRows rows;
   for (Eigen::Index k = 0; k < d.size(); ++k) {
-    if (moving(d, static_cast<std::size_t>(k))) continue;
-    rows.sample.push_back(static_cast<int>(k));
-    rows.weight.push_back(1.0);
-    rows.start.push_back(static_cast<int>(rows.sample.size()));
+    if (!moving(d, static_cast<std::size_t>(k))) rows.add_sample(static_cast<int>(k));
   }
   return rows;
 }

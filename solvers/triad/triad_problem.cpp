@@ -122,11 +122,7 @@ void design_row(const TriadData& d, int axis, Eigen::Index k, const TriadProblem
 
 TriadRows rate_rows(const TriadData& d) {
   TriadRows rows;
-  for (Eigen::Index k = 0; k < d.size(); ++k) {
-    rows.sample.push_back(static_cast<int>(k));
-    rows.weight.push_back(1.0);
-    rows.start.push_back(static_cast<int>(k) + 1);
-  }
+  for (Eigen::Index k = 0; k < d.size(); ++k) rows.add_sample(static_cast<int>(k));
   rows.description = str_cat(d.size(), " samples against the recorded reference rates");
   return rows;
 }
@@ -143,11 +139,7 @@ TriadRows angle_rows(const TriadData& d) {
     while (end < n && d.position_id[end] == d.position_id[begin]) ++end;
     if (d.reference.middleRows(static_cast<Eigen::Index>(begin), static_cast<Eigen::Index>(end - begin)).isZero(0.0)) {
       // A static hold (reference 0 throughout): known at every sample, one row each.
-      for (std::size_t k = begin; k < end; ++k) {
-        rows.sample.push_back(static_cast<int>(k));
-        rows.weight.push_back(1.0);
-        rows.start.push_back(static_cast<int>(rows.sample.size()));
-      }
+      for (std::size_t k = begin; k < end; ++k) rows.add_sample(static_cast<int>(k));
       ++held;
     } else {
       // A turn known by its angle: one row, the integral over the segment. Sample k is the mean rate over

@@ -31,6 +31,12 @@ struct TriadRows {
   std::vector<double> weight;
   std::string description;
   int rows() const { return static_cast<int>(start.size()) - 1; }
+  // One row of its own: sample k, weight 1.
+  void add_sample(int k) {
+    sample.push_back(k);
+    weight.push_back(1.0);
+    start.push_back(static_cast<int>(sample.size()));
+  }
 };
 
 TriadRows rate_rows(const TriadData& data);
