@@ -66,6 +66,19 @@ double max_off_diagonal_error(const Eigen::Matrix3d& estimate, const Eigen::Matr
   return e.maxCoeff();
 }
 
+// A triad's outputs (rad/s) one per second at 25 C on every gyro, no reference yet.
+TriadData triad_at_outputs(const std::vector<Eigen::Vector3d>& outputs) {
+  TriadData d;
+  const auto n = static_cast<Eigen::Index>(outputs.size());
+  d.gyro.resize(n, 3);
+  d.temp_c = Eigen::MatrixX3d::Constant(n, 3, 25.0);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    d.t_s.push_back(static_cast<double>(k));
+    d.gyro.row(k) = outputs[static_cast<std::size_t>(k)].transpose();
+  }
+  return d;
+}
+
 // The same data fitted jointly and sequentially, with otherwise the same options.
 struct JointAndSequential {
   TriadFit joint, sequential;
@@ -296,18 +309,11 @@ TEST(TriadFit, JointRecoversTheMatrixWhereARateNonlinearSurfaceBiasesTheSequenti
   // Outputs along single-axis and diagonal turns at +-20, 60, 120 deg/s, with static holds; the reference is
   // the body rate those outputs imply (the model inverted exactly).
   const std::vector<Eigen::Vector3d> directions = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0, 1, 1}, {1, 0, 1}, {1, -1, 0}, {1, 1, 1}};
-  TriadData d;
   std::vector<Eigen::Vector3d> outputs;
   for (const auto& u : directions)
     for (double rate : {0.0, 20.0, -20.0, 60.0, -60.0, 120.0, -120.0})
       for (int k = 0; k < 10; ++k) outputs.push_back(dps_to_radps(rate) * u.normalized());
-  const auto n = static_cast<Eigen::Index>(outputs.size());
-  d.gyro.resize(n, 3);
-  d.temp_c = Eigen::MatrixX3d::Constant(n, 3, 25.0);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    d.t_s.push_back(static_cast<double>(k));
-    d.gyro.row(k) = outputs[static_cast<std::size_t>(k)].transpose();
-  }
+  TriadData d = triad_at_outputs(outputs);
   d.reference = m.compensate(d);
   ASSERT_LT((m.predict_outputs(d) - d.gyro).cwiseAbs().maxCoeff(), 1e-15);
 
@@ -350,17 +356,10 @@ TEST(TriadFit, SurfacesFittedAtSmoothedOutputsAgreeJointAndSequentialWhereThePro
   t.sampling.rate_hz = 1.0;
   const TriadData d = simulate_triad_data(sensor, t, 5);
   // Outputs between (and at) the training rates, about each axis, at 25 C: the two fits' compensations compared.
-  TriadData probe;
   std::vector<Eigen::Vector3d> outputs;
   for (int a = 0; a < 3; ++a)
     for (double rate : {2.0, 5.0, 10.0, 20.0, 45.0, 80.0, -45.0, -80.0}) outputs.push_back(dps_to_radps(rate) * Eigen::Vector3d::Unit(a));
-  const auto n = static_cast<Eigen::Index>(outputs.size());
-  probe.gyro.resize(n, 3);
-  probe.temp_c = Eigen::MatrixX3d::Constant(n, 3, 25.0);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    probe.t_s.push_back(static_cast<double>(k));
-    probe.gyro.row(k) = outputs[static_cast<std::size_t>(k)].transpose();
-  }
+  const TriadData probe = triad_at_outputs(outputs);
   auto largest_difference_dph = [&](const std::string& input) {
     TriadFitOptions o;
     o.surfaces = "classical";
