@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
 #include "core/random.h"
 #include "model/gaussian_node.h"
@@ -328,6 +329,54 @@ TEST(BayesFit, GaussMarkovDriftIsNoiseNotSurface) {
   EXPECT_LT(coloured.noise->gm_tau_s, 450.0);
 }
 
+
+TEST(BayesFit, SlowGaussMarkovWanderIsNotTakenForARandomWalk) {
+  // White noise 0.1, Gauss-Markov 0.3 at tau 600 samples and a small random walk (increment variance 7e-7
+  // per sample: 1/430 of the q = 2 sigma^2 / tau that the wander looks like above 1/(2 pi tau), as
+  // other_fog.yaml's 0.5 deg/h/rt(h) against its GM 3 deg/h at 600 s), on 3 h at 1 Hz of a fast input
+  // cycling (a rate) and a slow triangle (a temperature scanned up and down twice). Above 1/(2 pi tau) the
+  // wander is a random walk of q = 3e-4, so a search may take it for one; the walk has no level, and the
+  // fit would then waste the slow information on the constant. noise=auto must find the wander: tau within
+  // a factor 2 of 600, the walk not ten times its planted size, and the surface about as good as with the
+  // noise model given.
+  const Eigen::Index n = 10800;
+  Drawn d;
+  d.x.resize(n, 2);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i), phase = std::fmod(4.0 * t / static_cast<double>(n), 2.0);
+    d.x(i, 0) = std::sin(2 * M_PI * t / 97.0), d.x(i, 1) = -1 + 2 * (phase < 1 ? phase : 2 - phase);
+  }
+  d.truth = (1.5 * d.x.col(0).array() * (1 + 0.3 * d.x.col(1).array()) + 0.5 * d.x.col(1).array().square()).matrix();
+  NoiseModel planted;
+  planted.dt_s = 1.0, planted.white_var = 0.01, planted.rw_q = 7e-7, planted.gm_var = 0.09, planted.gm_tau_s = 600.0;
+  RandomStream r(17, "slow-wander");
+  const double phi = std::exp(-1.0 / planted.gm_tau_s);
+  double g = 0.3 * r.normal(), w = 0.0;
+  d.y = d.truth;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    g = phi * g + 0.3 * std::sqrt(1 - phi * phi) * r.normal();
+    w += std::sqrt(planted.rw_q) * r.normal();
+    d.y(i) += g + w + 0.1 * r.normal();
+  }
+  auto fit_with = [&](const std::optional<NoiseModel>& given) {
+    BayesFitOptions o;
+    o.nodes = 30, o.model_error = "none", o.noise = given ? "given" : "auto";
+    BayesProblem p = problem_of(d);
+    p.given_noise = given;
+    SolveMonitor monitor;
+    const BayesFit fit = fit_bayes(p, o, monitor);
+    const Eigen::VectorXd f = gaussian_columns(d.x, fit.centres, fit.widths) * fit.rbf_weights +
+                              Eigen::VectorXd::Constant(n, fit.fixed_weights(0));
+    return std::pair{fit, std::sqrt((f - d.truth).array().square().mean())};
+  };
+  const auto [fit, rms] = fit_with(std::nullopt);
+  ASSERT_TRUE(fit.noise.has_value()) << fit.noise_choice;
+  EXPECT_GT(fit.noise->gm_tau_s, 300.0) << fit.noise_choice;
+  EXPECT_LT(fit.noise->gm_tau_s, 1200.0) << fit.noise_choice;
+  EXPECT_LT(fit.noise->rw_q, 10 * planted.rw_q) << fit.noise_choice;
+  const double given_rms = fit_with(planted).second;
+  EXPECT_LT(rms, 1.5 * given_rms) << "auto " << rms << " (" << fit.noise_choice << "), given " << given_rms;
+}
 
 TEST(BayesFit, MisfitCorrelatedInTimeIsNotTakenForDriftWhereTheInputsRevisit) {
   // A trajectory that revisits its inputs (input 1 a triangle wave: up, down, up) and a truth with a kink
