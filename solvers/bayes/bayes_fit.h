@@ -7,7 +7,9 @@
 // Noise: white, or coloured - white + rate random walk + Gauss-Markov (sensor/noise_model.h) fitted by Allan
 // deviation to the residual of the white fit, the problem whitened by its Kalman filter (generalised least
 // squares without an N x N covariance, thesis s5.5.3's open problem), and refitted; the noise model is
-// re-estimated from each new residual (`noise_passes`). `auto` keeps the coloured fit when its evidence beats
+// re-estimated from each new residual (`noise_passes`) by the evidence, the random walk kept only where it
+// beats a Gauss-Markov wander alone by BIC's penalty for its parameter (within a record the two look alike,
+// and a walk discards the level the bias needs). `auto` keeps the coloured fit when its evidence beats
 // the white fit's by more than BIC's penalty for the extra noise parameters. A given noise model (known
 // noise: the Cramer-Rao floor) fixes beta = 1.
 //

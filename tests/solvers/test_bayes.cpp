@@ -378,6 +378,36 @@ TEST(BayesFit, SlowGaussMarkovWanderIsNotTakenForARandomWalk) {
   EXPECT_LT(rms, 1.5 * given_rms) << "auto " << rms << " (" << fit.noise_choice << "), given " << given_rms;
 }
 
+TEST(BayesFit, ARandomWalkIsStillFound) {
+  // The other side of SlowGaussMarkovWanderIsNotTakenForARandomWalk: on the same trajectory, white noise 0.1
+  // and a random walk alone (increment variance 3e-5 per sample: 0.57 after the 3 h). Its evidence beats
+  // any Gauss-Markov wander whose tau the search allows (up to 2 spans) by more than BIC's penalty: the
+  // walk is kept, within a factor 2.
+  const Eigen::Index n = 10800;
+  Drawn d;
+  d.x.resize(n, 2);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i), phase = std::fmod(4.0 * t / static_cast<double>(n), 2.0);
+    d.x(i, 0) = std::sin(2 * M_PI * t / 97.0), d.x(i, 1) = -1 + 2 * (phase < 1 ? phase : 2 - phase);
+  }
+  d.truth = (1.5 * d.x.col(0).array() * (1 + 0.3 * d.x.col(1).array()) + 0.5 * d.x.col(1).array().square()).matrix();
+  const double q = 3e-5;
+  RandomStream r(19, "walk");
+  double w = 0.0;
+  d.y = d.truth;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    w += std::sqrt(q) * r.normal();
+    d.y(i) += w + 0.1 * r.normal();
+  }
+  BayesFitOptions o;
+  o.nodes = 30, o.model_error = "none";
+  SolveMonitor monitor;
+  const BayesFit fit = fit_bayes(problem_of(d), o, monitor);
+  ASSERT_TRUE(fit.noise.has_value()) << fit.noise_choice;
+  EXPECT_GT(fit.noise->rw_q, 0.5 * q) << fit.noise_choice;
+  EXPECT_LT(fit.noise->rw_q, 2.0 * q) << fit.noise_choice;
+}
+
 TEST(BayesFit, MisfitCorrelatedInTimeIsNotTakenForDriftWhereTheInputsRevisit) {
   // A trajectory that revisits its inputs (input 1 a triangle wave: up, down, up) and a truth with a kink
   // the Gaussian nodes cannot follow, noise-free but for a 1e-4 white floor: the white fit's misfit is
