@@ -414,6 +414,7 @@ double evidence_under(const BayesProblem& p, const Eigen::MatrixXd& phi, const N
 struct NoiseByEvidence {
   NoiseModel model;
   double log_evidence;
+  std::string family;  // nested_noise_by_evidence: which family was kept, and the evidence that decided it
 };
 NoiseByEvidence noise_by_evidence(const BayesProblem& p, const Eigen::MatrixXd& phi, const TimeAxis& axis, const std::vector<Eigen::Index>& rows,
                                   const NoiseModel& start, bool random_walk, const Precisions& warm, SolveMonitor& monitor) {
@@ -423,7 +424,7 @@ NoiseByEvidence noise_by_evidence(const BayesProblem& p, const Eigen::MatrixXd& 
     monitor.iteration(-value / static_cast<double>(p.y.size()));
     return -value;
   }, 60);
-  return {o.model, -o.value};
+  return {o.model, -o.value, ""};
 }
 
 // The noise model by the evidence, a random walk admitted only where it earns its parameter. A Gauss-Markov
@@ -452,7 +453,13 @@ NoiseByEvidence nested_noise_by_evidence(const BayesProblem& p, const Eigen::Mat
   }
   const NoiseByEvidence stationary = noise_by_evidence(p, phi, axis, rows, wander, false, warm, monitor);
   const double penalty = 0.5 * std::log(static_cast<double>(p.y.size()));
-  return full.model.rw_q > 0 && full.log_evidence - stationary.log_evidence > penalty ? full : stationary;
+  const double gain = full.log_evidence - stationary.log_evidence;
+  // (a full search that dropped the walk is a second start of the white + Gauss-Markov family: the better wins)
+  NoiseByEvidence out = gain > (full.model.rw_q > 0 ? penalty : 0.0) ? full : stationary;
+  out.family = str_cat(out.model.rw_q > 0 ? "random walk kept" : "no random walk", ": with it the log evidence ",
+                       gain >= 0 ? "+" : "", format_significant(gain, 3), " over a Gauss-Markov wander alone (BIC's penalty ",
+                       format_significant(penalty, 3), ")");
+  return out;
 }
 
 // Noise search and width search in turn, `noise_passes` times, from the white fit and the noise model `model`.
@@ -461,13 +468,15 @@ BayesFit coloured_passes(const BayesProblem& p, const BayesFitOptions& o, const 
   BayesFit current = white;
   Precisions warm{white.log_alpha, 0.0};
   for (int pass = 0; pass < o.noise_passes; ++pass) {
-    model = nested_noise_by_evidence(p, centres, current.widths, axis, rows, model, warm, monitor).model;
+    const NoiseByEvidence chosen = nested_noise_by_evidence(p, centres, current.widths, axis, rows, model, warm, monitor);
+    model = chosen.model;
     const Whitener w(model, rows, axis.t_s, RandomWalkStart::zero);
     const std::vector<double> start = log_widths(current, o.per_input_widths);
     BayesFit fit = fit_under(p, o, &w, true, &start, centres, monitor);
     fit.evaluations += current.evaluations;
     fit.noise = model;
     fit.noise_sigma = std::sqrt(model.white_var);
+    fit.noise_family = chosen.family;
     warm = {fit.log_alpha, 0.0};
     current = fit;
   }
@@ -627,7 +636,8 @@ BayesFit fit_widths_and_noise(const BayesProblem& p, const BayesFitOptions& o, S
   const std::string coloured_model = describe(*coloured->noise, p.report_scale);
   if (o.noise == "coloured" || gain > penalty) {
     coloured->noise_choice = str_cat("coloured (", coloured_model, "): log evidence +", format_significant(gain, 3),
-                                     " over white noise, above BIC's penalty ", format_significant(penalty, 3), " for the drift parameters", revisits);
+                                     " over white noise, above BIC's penalty ", format_significant(penalty, 3), " for the drift parameters",
+                                     coloured->noise_family.empty() ? "" : "; " + coloured->noise_family, revisits);
     return *coloured;
   }
   white.noise_choice = str_cat("white: the coloured model (", coloured_model, ") gains ", format_significant(gain, 3),

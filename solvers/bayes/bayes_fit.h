@@ -74,6 +74,7 @@ struct BayesFit {
   std::optional<NoiseModel> noise;  // the coloured model trained under (variances in y units, beta applied)
   std::string noise_choice;    // what was decided about the noise, and why
   std::string noise_averaging; // coloured: the weights of the slow term's scales the posterior averages over
+  std::string noise_family;    // coloured: whether the random walk was kept over a Gauss-Markov wander alone, and why
   double model_error_var = 0.0;  // misfit variance added to the predictive variance (y units^2; model_error.h)
   std::string model_error_note;  // how it was estimated
   Termination termination = Termination::converged;
