@@ -441,7 +441,8 @@ NoiseByEvidence noise_by_evidence(const BayesProblem& p, const Eigen::MatrixXd& 
 // covers it on the record; the walk is added when the nested model white + random walk + Gauss-Markov
 // raises the evidence by more than BIC's penalty for its one parameter, 1/2 ln N. Both are searched, the
 // white + Gauss-Markov family from `start`'s Gauss-Markov term, or one of a tenth of the span as large as
-// the white noise (explain's start for a slow wander, explain/noise_likelihood.cpp).
+// the white noise (explain's start for a slow wander, explain/noise_likelihood.cpp), and from the full
+// search's walk turned into a wander of a tenth of the span on its ridge.
 NoiseByEvidence nested_noise_by_evidence(const BayesProblem& p, const Eigen::MatrixXd& centres, const Eigen::RowVectorXd& widths, const TimeAxis& axis,
                                          const std::vector<Eigen::Index>& rows, const NoiseModel& start, const Precisions& warm, SolveMonitor& monitor) {
   const Eigen::MatrixXd phi = gaussian_columns(p.x, centres, widths);
@@ -451,7 +452,16 @@ NoiseByEvidence nested_noise_by_evidence(const BayesProblem& p, const Eigen::Mat
     const double span = std::max(axis.t_s.back() - axis.t_s.front(), 10 * axis.dt_s);
     wander.gm_var = wander.white_var, wander.gm_tau_s = 0.1 * span;
   }
-  const NoiseByEvidence stationary = noise_by_evidence(p, phi, axis, rows, wander, false, warm, monitor);
+  NoiseByEvidence stationary = noise_by_evidence(p, phi, axis, rows, wander, false, warm, monitor);
+  if (full.model.rw_q > 0) {
+    // Also from the walk the full search found, as the wander of the same intensity (q = 2 sigma^2 dt / tau,
+    // the same spectrum above 1/(2 pi tau)) at a tenth of the span: a start on the ridge the walk lies on.
+    const double span = std::max(axis.t_s.back() - axis.t_s.front(), 10 * axis.dt_s);
+    NoiseModel ridge = full.model;
+    ridge.gm_tau_s = 0.1 * span, ridge.gm_var = full.model.rw_q * ridge.gm_tau_s / (2 * axis.dt_s), ridge.rw_q = 0.0;
+    const NoiseByEvidence other = noise_by_evidence(p, phi, axis, rows, ridge, false, warm, monitor);
+    if (other.log_evidence > stationary.log_evidence) stationary = other;
+  }
   const double penalty = 0.5 * std::log(static_cast<double>(p.y.size()));
   const double gain = full.log_evidence - stationary.log_evidence;
   // (a full search that dropped the walk is a second start of the white + Gauss-Markov family: the better wins)
