@@ -330,6 +330,19 @@ TEST(BayesFit, GaussMarkovDriftIsNoiseNotSurface) {
 }
 
 
+// 3 h at 1 Hz (n samples) of a fast input cycling (a rate, period 97 s) and a slow triangle (a temperature
+// scanned up and down twice), with a smooth truth on them; y is left to the test.
+Drawn three_hour_scan(Eigen::Index n) {
+  Drawn d;
+  d.x.resize(n, 2);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i), phase = std::fmod(4.0 * t / static_cast<double>(n), 2.0);
+    d.x(i, 0) = std::sin(2 * M_PI * t / 97.0), d.x(i, 1) = -1 + 2 * (phase < 1 ? phase : 2 - phase);
+  }
+  d.truth = (1.5 * d.x.col(0).array() * (1 + 0.3 * d.x.col(1).array()) + 0.5 * d.x.col(1).array().square()).matrix();
+  return d;
+}
+
 TEST(BayesFit, SlowGaussMarkovWanderIsNotTakenForARandomWalk) {
   // White noise 0.1, Gauss-Markov 0.3 at tau 600 samples and a small random walk (increment variance 7e-7
   // per sample: 1/430 of the q = 2 sigma^2 / tau that the wander looks like above 1/(2 pi tau), as
@@ -340,13 +353,7 @@ TEST(BayesFit, SlowGaussMarkovWanderIsNotTakenForARandomWalk) {
   // a factor 2 of 600, the walk not ten times its planted size, and the surface about as good as with the
   // noise model given.
   const Eigen::Index n = 10800;
-  Drawn d;
-  d.x.resize(n, 2);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double t = static_cast<double>(i), phase = std::fmod(4.0 * t / static_cast<double>(n), 2.0);
-    d.x(i, 0) = std::sin(2 * M_PI * t / 97.0), d.x(i, 1) = -1 + 2 * (phase < 1 ? phase : 2 - phase);
-  }
-  d.truth = (1.5 * d.x.col(0).array() * (1 + 0.3 * d.x.col(1).array()) + 0.5 * d.x.col(1).array().square()).matrix();
+  Drawn d = three_hour_scan(n);
   NoiseModel planted;
   planted.dt_s = 1.0, planted.white_var = 0.01, planted.rw_q = 7e-7, planted.gm_var = 0.09, planted.gm_tau_s = 600.0;
   RandomStream r(17, "slow-wander");
@@ -386,13 +393,7 @@ TEST(BayesFit, ARandomWalkKeepsItsIntensity) {
   // must be right: the intensity q + 2 sigma^2 dt / tau within 2x of the planted q, and a wander, if chosen,
   // slower than half the span (no shorter time constant the record would show).
   const Eigen::Index n = 10800;
-  Drawn d;
-  d.x.resize(n, 2);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double t = static_cast<double>(i), phase = std::fmod(4.0 * t / static_cast<double>(n), 2.0);
-    d.x(i, 0) = std::sin(2 * M_PI * t / 97.0), d.x(i, 1) = -1 + 2 * (phase < 1 ? phase : 2 - phase);
-  }
-  d.truth = (1.5 * d.x.col(0).array() * (1 + 0.3 * d.x.col(1).array()) + 0.5 * d.x.col(1).array().square()).matrix();
+  Drawn d = three_hour_scan(n);
   const double q = 3e-5;
   RandomStream r(19, "walk");
   double w = 0.0;
