@@ -11,6 +11,7 @@
 #include "core/bounded_search.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "core/recording.h"
 #include "core/units.h"
 #include "model/gaussian_node.h"
 #include "solvers/bayes/evidence.h"
@@ -80,14 +81,6 @@ NoiseModel given_noise_model(const BayesFitOptions& o, double dt, double y_scale
   return m;
 }
 
-double median_interval(const std::vector<double>& t_s) {
-  std::vector<double> steps;
-  for (std::size_t i = 1; i < t_s.size(); ++i) steps.push_back(t_s[i] - t_s[i - 1]);
-  if (steps.empty()) return 1.0;
-  std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
-  return steps[steps.size() / 2];
-}
-
 namespace {
 
 constexpr double kLog2Pi = 1.8378770664093454836;
@@ -107,7 +100,7 @@ TimeAxis time_axis(const BayesProblem& p) {
     a.t_s.resize(static_cast<std::size_t>(n));
     for (Eigen::Index i = 0; i < n; ++i) a.t_s[static_cast<std::size_t>(i)] = static_cast<double>(i);
   }
-  a.dt_s = median_interval(a.t_s);
+  a.dt_s = median_sample_interval(a.t_s);
   if (!(a.dt_s > 0)) fail("bayes: sample times must increase");
   a.runs.emplace_back();
   for (Eigen::Index i = 0; i < n; ++i) {

@@ -113,7 +113,5 @@ std::vector<double> identifiable_min_widths(const Eigen::MatrixXd& x, double min
 NoiseModel scaled(NoiseModel model, double factor);
 // The given noise (options noise=given) for sampling interval dt_s, in units of y_scale rad/s.
 NoiseModel given_noise_model(const BayesFitOptions& options, double dt_s, double y_scale);
-// The median sampling interval of t_s (1 when there are fewer than two samples).
-double median_interval(const std::vector<double>& t_s);
 
 }  // namespace gyrosid

@@ -1,5 +1,6 @@
 #include "solvers/bayes/bayes_solver.h"
 
+#include "core/recording.h"
 #include "core/units.h"
 
 namespace gyrosid {
@@ -17,7 +18,7 @@ SolveOutcome BayesRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, Sol
   p.fixed = Eigen::MatrixXd::Ones(problem.size(), 1);
   p.t_s = problem.t_s;
   p.report_scale = units::radps_to_dph(problem.y_scale);
-  if (options_.noise == "given") p.given_noise = given_noise_model(options_, median_interval(p.t_s), problem.y_scale);
+  if (options_.noise == "given") p.given_noise = given_noise_model(options_, median_sample_interval(p.t_s), problem.y_scale);
   const BayesFit f = fit_bayes(p, options_, monitor);
   const Eigen::Index m = f.centres.rows();
   net.centres = f.centres;

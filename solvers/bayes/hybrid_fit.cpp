@@ -1,6 +1,7 @@
 #include "solvers/bayes/hybrid_fit.h"
 
 #include "core/error.h"
+#include "core/recording.h"
 #include "core/units.h"
 #include "model/dataset.h"
 #include "model/terms/term_kinds.h"
@@ -79,7 +80,7 @@ std::unique_ptr<HybridModel> fit_hybrid(const Recording& recording, const Hybrid
   p.fixed = structure.physics_columns(wt.col(0), wt.col(1));
   p.t_s = d.t_s;
   p.report_scale = units::radps_to_dph(y_scale);
-  if (o.noise == "given") p.given_noise = given_noise_model(o, median_interval(p.t_s), y_scale);
+  if (o.noise == "given") p.given_noise = given_noise_model(o, median_sample_interval(p.t_s), y_scale);
   BayesFit f;
   summary = timed_solve("hybrid", [&](SolveMonitor& monitor) {
     f = fit_bayes(p, o, monitor);

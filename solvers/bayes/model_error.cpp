@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/format.h"
+#include "core/recording.h"
 #include "model/gaussian_node.h"
 
 namespace gyrosid {
@@ -98,7 +99,7 @@ ModelErrorEstimate model_error_by_cv(const BayesProblem& p, const BayesFit& fit,
   if (m > 0) h.leftCols(m) = gaussian_columns(p.x, fit.centres, fit.widths);
   h.rightCols(q) = p.fixed;
   NoiseModel noise;
-  noise.dt_s = median_interval(t_s);
+  noise.dt_s = median_sample_interval(t_s);
   noise.white_var = std::exp(-fit.log_beta);
   if (fit.noise) noise = *fit.noise;
   // White noise: the full Gram matrix once, each fold's subtracted (coloured: per fold, below).

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/recording.h"
 #include "core/units.h"
 #include "solvers/calibrate.h"
 #include "solvers/nls/nls_covariance.h"
@@ -314,17 +315,9 @@ std::string reference_mode(const TriadFitOptions& o, const std::string& metadata
   return metadata == "angle" || metadata == "gravity" ? metadata : "rate";
 }
 
-double median_interval(const std::vector<double>& t) {
-  std::vector<double> dt;
-  for (std::size_t k = 1; k < t.size(); ++k) dt.push_back(t[k] - t[k - 1]);
-  if (dt.empty()) return 1.0;
-  std::nth_element(dt.begin(), dt.begin() + static_cast<std::ptrdiff_t>(dt.size() / 2), dt.end());
-  return dt[dt.size() / 2];
-}
-
 void finish(TriadFit& fit, const Stage& s, const TriadData& d, const TriadRows& rows) {
   // Every row carries one sample's noise sigma_s = N / sqrt(dt).
-  const double dt = median_interval(d.t_s);
+  const double dt = median_sample_interval(d.t_s);
   fit.sample_rate_hz = 1.0 / dt;
   for (std::size_t a = 0; a < 3; ++a) fit.noise_density[a] = fit.uncertainty.noise_radps[a] * std::sqrt(dt);
   for (const auto& name : s.undetermined) fit.notes.push_back(name + ": not determined by the data - held at its nominal value");

@@ -2,6 +2,7 @@
 
 #include "core/units.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -285,6 +286,15 @@ double uniform_sample_interval(const Recording& recording, std::string_view purp
     }
   }
   return (t.back() - t.front()) / static_cast<double>(t.size() - 1);
+}
+
+double median_sample_interval(std::span<const double> t_s) {
+  if (t_s.size() < 2) return 1.0;
+  std::vector<double> steps(t_s.size() - 1);
+  for (std::size_t i = 1; i < t_s.size(); ++i) steps[i - 1] = t_s[i] - t_s[i - 1];
+  const auto middle = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
+  std::nth_element(steps.begin(), middle, steps.end());
+  return *middle;
 }
 
 std::vector<double> rate_column_dph(const Recording& recording, const std::string& name) {

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -83,6 +84,10 @@ std::vector<std::string> required_columns(RecordingKind kind, const Recording& r
 // call this; a non-uniform recording is an Error (naming `purpose` and the first offending row), never
 // resampled silently. Relative tolerance on each step: 1e-4.
 double uniform_sample_interval(const Recording& recording, std::string_view purpose);
+
+// The median step of the sample times t_s, in seconds: the typical interval of a recording with gaps or
+// jitter (1 when there are fewer than two samples).
+double median_sample_interval(std::span<const double> t_s);
 
 // A rate column in deg/h, whatever its suffix (_dps or _dph); Error naming the column for other columns.
 std::vector<double> rate_column_dph(const Recording& recording, const std::string& name);

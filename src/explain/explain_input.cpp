@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/recording.h"
 #include "core/units.h"
 
 namespace gyrosid::explain {
@@ -111,10 +112,7 @@ ExplainInput load_input(const Recording& rec, const InputOptions& o) {
   }
 
   // Sampling: median interval; segments of uniform sampling.
-  std::vector<double> dts(n - 1);
-  for (std::size_t i = 0; i + 1 < n; ++i) dts[i] = s.t_s[i + 1] - s.t_s[i];
-  std::nth_element(dts.begin(), dts.begin() + static_cast<std::ptrdiff_t>(dts.size() / 2), dts.end());
-  in.dt_s = dts[dts.size() / 2];
+  in.dt_s = median_sample_interval(s.t_s);
   in.segment.assign(n, 0);
   for (std::size_t i = 1; i < n; ++i) in.segment[i] = in.segment[i - 1] + (s.t_s[i] - s.t_s[i - 1] > 1.5 * in.dt_s ? 1 : 0);
 

@@ -117,6 +117,14 @@ TEST(Recording, UniformSamplingIsCheckedNotAssumed) {
   }
 }
 
+TEST(Recording, MedianSampleIntervalIgnoresGapsAndJitter) {
+  // Steps 0.9, 1.1, 1.0, 60 (a gap), 1.0: sorted 0.9, 1.0, 1.0, 1.1, 60 -> median 1.0 whatever the order.
+  EXPECT_DOUBLE_EQ(median_sample_interval(std::vector<double>{0.0, 0.9, 2.0, 3.0, 63.0, 64.0}), 1.0);
+  // A 10 Hz recording with one dropped sample.
+  EXPECT_NEAR(median_sample_interval(std::vector<double>{0.0, 0.1, 0.2, 0.4, 0.5}), 0.1, 1e-15);
+  EXPECT_DOUBLE_EQ(median_sample_interval(std::vector<double>{5.0}), 1.0);  // no step: the documented 1 s
+}
+
 TEST(AtomicFile, FailedWriteLeavesNothingBehind) {
   const auto dir = std::filesystem::temp_directory_path() / "gyrosid_atomic_test";
   std::filesystem::remove_all(dir);
