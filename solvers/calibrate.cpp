@@ -17,7 +17,8 @@ OptionTable classical_table(ClassicalOptions& o) {
   OptionTable t("classical");
   t.integer("bias_order", &o.bias_order, 0, 8, "bias polynomial order in temperature (thesis: 3)")
       .integer("sf_temperature_order", &o.sf_temperature_order, 0, 6, "scale-factor polynomial order in temperature (thesis: 2)")
-      .integer("sf_rate_order", &o.sf_rate_order, 0, 10, "scale-factor polynomial order in rate (thesis: 6)");
+      .integer("sf_rate_order", &o.sf_rate_order, 0, 10, "scale-factor polynomial order in rate (thesis: 6)")
+      .integer("sf_cross_order", &o.sf_cross_order, 0, 4, "temperature order of the rate shape's coefficients, v^i u^k w terms (thesis: 0, separable)");
   return t;
 }
 

@@ -38,19 +38,23 @@ class ClassicalTerm : public SurfaceTerm {
     shape_.temperature_reference = 0.5 * (temps.maxCoeff() + temps.minCoeff());
     shape_.temperature_scale = std::max(0.5 * (temps.maxCoeff() - temps.minCoeff()), 1.0);
   }
-  // classical_columns gives 1 | v^1..v^nt w | u^0..u^nw w; the 1 and u^0 w belong to the triad (b, M_ii).
-  int linear_size() const override { return options_.sf_temperature_order + options_.sf_rate_order; }
+  // classical_columns gives 1 | v^1..v^nt w | u^0..u^nw w | v^i u^k w; the 1 and u^0 w belong to the triad
+  // (b, M_ii): M_ii carries the whole constant scale factor, against the reference rate.
+  int linear_size() const override { return options_.sf_temperature_order + options_.sf_rate_order * (1 + options_.sf_cross_order); }
   void linear_columns(double rate, double temp_c, double* out) const override {
     const Eigen::MatrixXd c = classical_columns(shape_, options_, Eigen::VectorXd::Constant(1, rate), Eigen::VectorXd::Constant(1, temp_c));
-    const int nt = options_.sf_temperature_order, nw = options_.sf_rate_order;
+    const int nt = options_.sf_temperature_order, nw = options_.sf_rate_order, nc = options_.sf_cross_order;
     for (int k = 0; k < nt; ++k) out[k] = c(0, 1 + k);
     for (int k = 0; k < nw; ++k) out[nt + k] = c(0, 1 + nt + 1 + k);
+    for (int k = 0; k < nc * nw; ++k) out[nt + nw + k] = c(0, 1 + nt + 1 + nw + k);
   }
   std::vector<double> linear_start() const override { return std::vector<double>(static_cast<std::size_t>(linear_size()), 0.0); }
   std::vector<std::string> linear_names() const override {
     std::vector<std::string> out;
     for (int k = 1; k <= options_.sf_temperature_order; ++k) out.push_back(str_cat("sf_temperature_", k));
     for (int k = 1; k <= options_.sf_rate_order; ++k) out.push_back(str_cat("sf_rate_", k));
+    for (int i = 1; i <= options_.sf_cross_order; ++i)
+      for (int k = 1; k <= options_.sf_rate_order; ++k) out.push_back(str_cat("sf_cross_", i, "_", k));
     return out;
   }
   std::shared_ptr<CalibrationModel> model(const std::vector<double>& linear, const std::vector<std::vector<double>>&) const override {
@@ -61,6 +65,10 @@ class ClassicalTerm : public SurfaceTerm {
     m->sf_rate = Eigen::VectorXd::Zero(nw + 1);
     for (int k = 0; k < nt; ++k) m->sf_temperature(1 + k) = linear[static_cast<std::size_t>(k)];
     for (int k = 0; k < nw; ++k) m->sf_rate(1 + k) = linear[static_cast<std::size_t>(nt + k)];
+    const int nc = options_.sf_cross_order;
+    m->sf_cross = Eigen::MatrixXd::Zero(nc, nw);
+    for (int i = 0; i < nc; ++i)
+      for (int k = 0; k < nw; ++k) m->sf_cross(i, k) = linear[static_cast<std::size_t>(nt + nw + i * nw + k)];
     return m;
   }
 

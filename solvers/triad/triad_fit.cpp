@@ -29,6 +29,7 @@ OptionTable TriadFitOptions::table() {
       .text("surface_solver", &surface_solver, "RBF solver of the RBF surfaces (sequential fit, joint start)")
       .choice("surface_input", &surface_input, {"smoothed", "measured"}, "the rate the surfaces are fitted at: smoothed = each output with its white noise averaged down where the reference holds still (surface_window); measured = the recorded outputs, noise included (errors in variables)")
       .integer("surface_window", &surface_window, 0, 100000, "surface_input=smoothed: half-width (samples) of the centred window")
+      .choice("sequential_scale", &sequential_scale, {"triad", "surface"}, "sequential classical surfaces: triad = the second stage re-estimates M_ii (against the reference rate) and b with the surfaces, off-diagonals and G held - the joint fit's parametrisation; surface = the surface fitter's own constant scale factor on the measured output (its residual is then (1 - s_0) times the output residual)")
       .choice("rbf_joint", &rbf_joint, {"weights", "nodes"}, "joint rbf surfaces: weights moves the weights of the sequential fit's nodes (its centres and widths held: its cost can only fall); nodes moves centres and widths too")
       .passthrough("nls.", &solver_options, "an option of the least-squares back-end (listed by --options-of triad)")
       .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver");
@@ -41,7 +42,8 @@ ClassicalOptions classical_surface_options(const OptionMap& map) {
   ClassicalOptions o;  // the thesis's orders; the bias polynomial is the triad's own
   OptionTable t("triad classical surface");
   t.integer("sf_temperature_order", &o.sf_temperature_order, 0, 6, "scale-factor polynomial order in temperature")
-      .integer("sf_rate_order", &o.sf_rate_order, 0, 10, "scale-factor polynomial order in rate");
+      .integer("sf_rate_order", &o.sf_rate_order, 0, 10, "scale-factor polynomial order in rate")
+      .integer("sf_cross_order", &o.sf_cross_order, 0, 4, "temperature order of the rate shape's coefficients (0: separable)");
   t.apply(map);
   return o;
 }
@@ -91,10 +93,21 @@ void hold_node_shapes(NlsProblem& p, const TriadLayout& layout) {
   }
 }
 
+// hold_cross_axis: M's off-diagonal entries and G held at the spec's start values (the sequential fit's second
+// stage, classical surfaces).
 Stage run_stage(const TriadData& d, const TriadRows& rows, const TriadProblemSpec& spec, const TriadFitOptions& o,
-                const std::vector<GravityTurn>* turns = nullptr) {
+                const std::vector<GravityTurn>* turns = nullptr, bool hold_cross_axis = false) {
   Stage s;
   s.problem = build_triad_problem(d, rows, spec, s.layout);
+  if (hold_cross_axis) {
+    for (int i = 0; i < 3; ++i) {
+      const auto ai = static_cast<std::size_t>(i);
+      for (int j = 0; j < 3; ++j) {
+        if (j != i) s.problem.fix(s.layout.misalignment[ai], j);
+        if (s.layout.g_sensitivity[ai] >= 0) s.problem.fix(s.layout.g_sensitivity[ai], j);
+      }
+    }
+  }
   if (turns) add_gravity_turns(s.problem, d, *turns, spec, s.layout, 3);  // group 3: the turns' own noise level
   if (o.rbf_joint == "weights") hold_node_shapes(s.problem, s.layout);
   const auto free = s.problem.free_entries();  // copy: fixing changes the free set
@@ -182,6 +195,41 @@ TriadUncertainty uncertainty_of(const Stage& s, bool g_sensitivity, double max_s
       }
       u.g_sensitivity_known[ai][static_cast<std::size_t>(j)] = known;
     }
+  }
+  return u;
+}
+
+// The sequential classical fit's uncertainty: M_ii, b and the surfaces from its second stage, M's off-diagonals
+// and G (held there) from the first, where they were estimated; an entry the first stage left undetermined is
+// compensated with 0 and noted, as uncertainty_of does.
+TriadUncertainty sequential_uncertainty(const Stage& first, const Stage& second, bool g_sensitivity, double max_sigma, TriadModel& model,
+                                        std::vector<std::string>& notes) {
+  TriadModel scratch = model;
+  std::vector<std::string> first_notes;
+  const TriadUncertainty u1 = uncertainty_of(first, g_sensitivity, max_sigma, scratch, first_notes);
+  TriadUncertainty u = uncertainty_of(second, g_sensitivity, max_sigma, model, notes);
+  for (int i = 0; i < 3; ++i) {
+    const auto ai = static_cast<std::size_t>(i);
+    for (int j = 0; j < 3; ++j) {
+      const auto aj = static_cast<std::size_t>(j);
+      if (j != i) {
+        u.misalignment_sigma(i, j) = u1.misalignment_sigma(i, j);
+        u.misalignment_inflation(i, j) = u1.misalignment_inflation(i, j);
+        u.misalignment_known[ai][aj] = u1.misalignment_known[ai][aj];
+        if (!u1.misalignment_known[ai][aj]) model.misalignment(i, j) = 0.0;
+      }
+      if (g_sensitivity) {
+        (*u.g_sensitivity_sigma)(i, j) = (*u1.g_sensitivity_sigma)(i, j);
+        u.g_sensitivity_known[ai][aj] = u1.g_sensitivity_known[ai][aj];
+        if (!u1.g_sensitivity_known[ai][aj]) (*model.g_sensitivity)(i, j) = 0.0;
+      }
+    }
+  }
+  for (const auto& n : first_notes) {
+    if (n.rfind("G_", 0) == 0 || (n.rfind("M_", 0) == 0 && n[2] != n[3])) notes.push_back(n);
+  }
+  for (const auto& name : first.undetermined) {
+    if (name.rfind("G_", 0) == 0 || (name.rfind("M_", 0) == 0 && name[2] != name[3])) notes.push_back(name + ": not determined by the data - held at its nominal value");
   }
   return u;
 }
@@ -381,20 +429,26 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   }
   const Eigen::MatrixX3d surface_rate = smoothed ? smoothed_outputs(d, spec.start, o.surface_window) : d.gyro;
   spec.surface_rate = &surface_rate;
+  // Sequential classical surfaces with sequential_scale=triad: the second stage is the triad problem with M's
+  // off-diagonals and G held at the first stage's - M_ii, b and the surfaces in the joint fit's parametrisation.
+  const bool triad_scale = o.surfaces == "classical" && o.estimation == "sequential" && o.sequential_scale == "triad";
   std::array<std::shared_ptr<const CalibrationModel>, 3> sequential_surfaces;
-  if (o.surfaces != "none" && (o.estimation == "sequential" || o.surfaces == "rbf")) {
+  if (o.surfaces != "none" && (o.estimation == "sequential" || o.surfaces == "rbf") && !triad_scale) {
     sequential_surfaces = fit_surfaces(d, spec.start, o, bias_order, surface_rate, stages);
   }
   std::array<std::unique_ptr<SurfaceTerm>, 3> terms;
-  if (o.estimation == "joint" && o.surfaces != "none") {
+  Stage first;
+  if ((o.estimation == "joint" || triad_scale) && o.surfaces != "none") {
     joint_terms(d, o, bias_order, surface_rate, sequential_surfaces, stages, spec, terms, fit.notes);
-    stage = run_stage(d, rows, spec, o);
-    stages.push_back({{"stage", "joint"}, {"summary", stage.summary}});
+    if (triad_scale) first = std::move(stage);
+    stage = run_stage(d, rows, spec, o, nullptr, triad_scale);
+    stages.push_back({{"stage", triad_scale ? "surfaces with M_ii and b (off-diagonals and G held)" : "joint"}, {"summary", stage.summary}});
   }
   fit.model = triad_model_of(stage.problem, stage.layout, spec);
-  if (o.estimation == "sequential") fit.model.surfaces = sequential_surfaces;
+  if (o.estimation == "sequential" && !triad_scale) fit.model.surfaces = sequential_surfaces;
   if (!stage.covariance.ok) fit.notes.push_back("covariance: " + stage.covariance.message);
-  fit.uncertainty = uncertainty_of(stage, o.g_sensitivity, o.max_sigma, fit.model, fit.notes);
+  fit.uncertainty = triad_scale ? sequential_uncertainty(first, stage, o.g_sensitivity, o.max_sigma, fit.model, fit.notes)
+                                : uncertainty_of(stage, o.g_sensitivity, o.max_sigma, fit.model, fit.notes);
   finish(fit, stage, d, rows);
   fit.summary = stage.summary;
   fit.summary.details["stages"] = stages;

@@ -14,6 +14,17 @@
 //               long flight (experiments/triad_misalignment/README.md).
 //   sequential  M, b(T), G first without surfaces; then each gyro's surface fitted to what they leave, by
 //               the surface kind's own fitter (solvers/calibrate.h: classical, greybox, rbf with any solver).
+//               Classical surfaces (sequential_scale=triad, default): the second stage is the triad problem
+//               with M's off-diagonals and G held at the first stage's and M_ii, b and the surface's
+//               coefficients free - the joint fit's parametrisation, M_ii carrying the whole constant scale
+//               factor against the reference rate. The classical fitter's own form (sequential_scale=surface)
+//               puts a constant scale factor s_0 on the *measured* output beside the first stage's M_ii: its
+//               residual is (1 - s_0) times the output residual, so it minimises (1 - s_0)^2 |r|^2, not |r|^2,
+//               and moves along the direction where M_ii trades with the odd rate powers (M_ii's joint sigma
+//               10-18 ppm, inflation 14) by about N sigma_M^2 (1.6 ppm noise-free on the rate-nonlinear FOG,
+//               predicted 1.7): the two fits then differ where the training does not tell them apart.
+//               With the same parametrisation the two differ only by the off-diagonals (and G) and agree
+//               exactly where the design separates them from the surfaces (Frisch-Waugh-Lovell).
 //
 // The surfaces' rate input while fitting (surface_input). Fitted at the *recorded* output (measured), every
 // surface column carries the very noise its row fits: errors in variables. A rate polynomial then spends its
@@ -59,6 +70,7 @@ struct TriadFitOptions {
                                       // at nominal (it would inflate their sigmas ~1/collinearity)
   std::string surface_solver = "ols"; // rbf surfaces: the RBF solver of the sequential fit / joint start
   std::string rbf_joint = "weights";  // joint rbf: weights (centres, widths held) | nodes (everything moves)
+  std::string sequential_scale = "triad";  // sequential classical: who carries the constant scale factor (below)
   std::string surface_input = "smoothed";  // the rate the surfaces are fitted at: smoothed | measured (below)
   int surface_window = 30;                  // smoothed: half-width of the centred window, samples
   OptionMap surface_options;          // surface.<key>=<value>: options of the surface kind or its solver

@@ -13,6 +13,7 @@ std::string ClassicalOptions::validate() const {
   if (bias_order < 0 || bias_order > 8) return str_cat("bias_order = ", bias_order, " must be in [0, 8]");
   if (sf_temperature_order < 0 || sf_temperature_order > 6) return str_cat("sf_temperature_order = ", sf_temperature_order, " must be in [0, 6]");
   if (sf_rate_order < 0 || sf_rate_order > 10) return str_cat("sf_rate_order = ", sf_rate_order, " must be in [0, 10]");
+  if (sf_cross_order < 0 || sf_cross_order > 4) return str_cat("sf_cross_order = ", sf_cross_order, " must be in [0, 4]");
   return "";
 }
 
@@ -37,16 +38,29 @@ Eigen::VectorXd from_vector(const std::vector<double>& v) {
 double ClassicalModel::predict(const double* x) const {
   const double w = x[0];
   const double u = w / rate_scale, v = (x[1] - temperature_reference) / temperature_scale;
-  return horner(bias, v) + (horner(sf_temperature, v) + horner(sf_rate, u)) * w;
+  double cross = 0.0, vp = 1.0;
+  for (Eigen::Index i = 0; i < sf_cross.rows(); ++i) {
+    vp *= v;
+    double up = 1.0, row = 0.0;
+    for (Eigen::Index k = 0; k < sf_cross.cols(); ++k) row += sf_cross(i, k) * (up *= u);
+    cross += vp * row;
+  }
+  return horner(bias, v) + (horner(sf_temperature, v) + horner(sf_rate, u) + cross) * w;
 }
 
 nlohmann::json ClassicalModel::parameters_json() const {
-  return {{"rate_scale_radps", rate_scale},
+  nlohmann::json j = {{"rate_scale_radps", rate_scale},
           {"temperature_reference_c", temperature_reference},
           {"temperature_scale_c", temperature_scale},
           {"bias_radps", to_vector(bias)},
           {"sf_temperature", to_vector(sf_temperature)},
           {"sf_rate", to_vector(sf_rate)}};
+  if (sf_cross.size() > 0) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (Eigen::Index i = 0; i < sf_cross.rows(); ++i) rows.push_back(to_vector(sf_cross.row(i).transpose()));
+    j["sf_cross"] = rows;
+  }
+  return j;
 }
 
 std::unique_ptr<ClassicalModel> ClassicalModel::from_json(const nlohmann::json& j, std::vector<std::string> features,
@@ -61,6 +75,15 @@ std::unique_ptr<ClassicalModel> ClassicalModel::from_json(const nlohmann::json& 
   m->bias = from_vector(j.at("bias_radps").get<std::vector<double>>());
   m->sf_temperature = from_vector(j.at("sf_temperature").get<std::vector<double>>());
   m->sf_rate = from_vector(j.at("sf_rate").get<std::vector<double>>());
+  if (j.contains("sf_cross")) {  // optional: absent in separable models (and in files before it existed)
+    const auto rows = j.at("sf_cross").get<std::vector<std::vector<double>>>();
+    const std::size_t cols = rows.empty() ? 0 : rows[0].size();
+    m->sf_cross = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(cols));
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      if (rows[i].size() != cols) fail("classical model: sf_cross rows must have equal lengths");
+      for (std::size_t k = 0; k < cols; ++k) m->sf_cross(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = rows[i][k];
+    }
+  }
   if (!(m->rate_scale > 0 && m->temperature_scale > 0)) fail("classical model: scales must be positive");
   return m;
 }
@@ -69,6 +92,10 @@ void ClassicalModel::export_c_body(CExport& out) const {
   out.array("bias", bias.data(), static_cast<std::size_t>(bias.size()));
   out.array("sf_temperature", sf_temperature.data(), static_cast<std::size_t>(sf_temperature.size()));
   out.array("sf_rate", sf_rate.data(), static_cast<std::size_t>(sf_rate.size()));
+  std::vector<double> cross;  // row-major gamma_ik
+  for (Eigen::Index i = 0; i < sf_cross.rows(); ++i)
+    for (Eigen::Index k = 0; k < sf_cross.cols(); ++k) cross.push_back(sf_cross(i, k));
+  if (!cross.empty()) out.array("sf_cross", cross.data(), cross.size());
   const std::string p = out.prefix;
   out.source << "\nstatic double " << p << "_horner(const double* c, int n, double x) {\n"
              << "  double v = 0.0;\n  int i;\n  for (i = n - 1; i >= 0; --i) v = v * x + c[i];\n  return v;\n}\n\n"
@@ -77,17 +104,24 @@ void ClassicalModel::export_c_body(CExport& out) const {
              << "  const double w = x[0];\n"
              << "  const double u = w / " << std::hexfloat << rate_scale << ";\n"
              << "  const double v = (x[1] - " << temperature_reference << ") / " << temperature_scale << ";\n"
-             << std::defaultfloat
-             << "  return " << p << "_horner(" << p << "_bias, " << bias.size() << ", v) + (" << p << "_horner(" << p
+             << std::defaultfloat;
+  std::string cross_term;
+  if (!cross.empty()) {  // s_wT = sum_i v^i u sum_k gamma_ik u^(k-1)
+    out.source << "  double cross = 0.0, vp = 1.0;\n  int i;\n"
+               << "  for (i = 0; i < " << sf_cross.rows() << "; ++i) {\n    vp *= v;\n"
+               << "    cross += vp * u * " << p << "_horner(" << p << "_sf_cross + i * " << sf_cross.cols() << ", " << sf_cross.cols() << ", u);\n  }\n";
+    cross_term = " + cross";
+  }
+  out.source << "  return " << p << "_horner(" << p << "_bias, " << bias.size() << ", v) + (" << p << "_horner(" << p
              << "_sf_temperature, " << sf_temperature.size() << ", v) + " << p << "_horner(" << p << "_sf_rate, "
-             << sf_rate.size() << ", u)) * w;\n}\n";
+             << sf_rate.size() << ", u)" << cross_term << ") * w;\n}\n";
 }
 
 // Columns of the additive separable model: v^0..v^nb | v^1..v^nt w | u^0..u^nw w.
 Eigen::MatrixXd classical_columns(const ClassicalModel& m, const ClassicalOptions& o, const Eigen::VectorXd& w,
                                   const Eigen::VectorXd& temp) {
-  const int nb = o.bias_order, nt = o.sf_temperature_order, nw = o.sf_rate_order;
-  Eigen::MatrixXd a(w.size(), (nb + 1) + nt + (nw + 1));
+  const int nb = o.bias_order, nt = o.sf_temperature_order, nw = o.sf_rate_order, nc = o.sf_cross_order;
+  Eigen::MatrixXd a(w.size(), (nb + 1) + nt + (nw + 1) + nc * nw);
   for (Eigen::Index i = 0; i < w.size(); ++i) {
     const double u = w(i) / m.rate_scale, v = (temp(i) - m.temperature_reference) / m.temperature_scale;
     Eigen::Index c = 0;
@@ -97,6 +131,12 @@ Eigen::MatrixXd classical_columns(const ClassicalModel& m, const ClassicalOption
     for (int k = 1; k <= nt; ++k, vp *= v) a(i, c++) = vp * w(i);
     double up = 1.0;
     for (int k = 0; k <= nw; ++k, up *= u) a(i, c++) = up * w(i);
+    vp = 1.0;
+    for (int j = 1; j <= nc; ++j) {
+      vp *= v;
+      up = 1.0;
+      for (int k = 1; k <= nw; ++k) a(i, c++) = vp * (up *= u) * w(i);
+    }
   }
   return a;
 }
@@ -125,7 +165,9 @@ std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const Classic
     model->bias = coeff.head(nb + 1);
     model->sf_temperature = Eigen::VectorXd::Zero(nt + 1);
     model->sf_temperature.tail(nt) = coeff.segment(nb + 1, nt);
-    model->sf_rate = coeff.tail(nw + 1);
+    model->sf_rate = coeff.segment(nb + 1 + nt, nw + 1);
+    const int nc = o.sf_cross_order;
+    model->sf_cross = Eigen::Map<const Eigen::MatrixXd>(coeff.tail(nc * nw).data(), nw, nc).transpose();
     const double rss = (a * coeff - data.target).squaredNorm();
     monitor.iteration(0.5 * rss);
     const auto diag = qr.matrixR().diagonal().cwiseAbs();

@@ -8,6 +8,12 @@
 // with u = w / w_s, v = (T - T_0) / T_s scaled for conditioning, w the measured rate. The thesis's averaging
 // of the soak data over rate and over temperature is the least-squares fit of this additive separable model;
 // it is solved by column-pivoted Householder QR (no normal equations).
+//
+// Optional (sf_cross_order nc > 0, default 0 = the thesis's model): the rate shape's coefficients move with
+// temperature, s_wT(w, T) = sum_{i=1..nc} sum_{k=1..nw} gamma_ik v^i u^k, added to the bracket. An open-loop FOG's
+// scale factor falls with rate^2 more steeply when hot (configs/sensors/open_loop_fog.yaml: -(650 + 5 dT +
+// 0.04 dT^2) u^2 ppm); the separable form cannot hold that, and what it leaves (7 deg/h rms at 0..100 deg/s over
+// -40..80 C, noise-free) is placed differently by fits that weight rates differently.
 #pragma once
 
 #include "core/solve_summary.h"
@@ -19,6 +25,7 @@ struct ClassicalOptions {
   int bias_order = 3;           // thesis fig 3.7
   int sf_temperature_order = 2; // thesis fig 3.3
   int sf_rate_order = 6;        // thesis fig 3.4
+  int sf_cross_order = 0;       // temperature order of the rate shape's coefficients (0: separable, the thesis)
   std::string validate() const;
 };
 
@@ -39,10 +46,12 @@ class ClassicalModel : public CalibrationModel {
   Eigen::VectorXd bias;           // beta_0..beta_nb, rad/s
   Eigen::VectorXd sf_temperature; // tau_1..tau_nt (index 0 unused, kept 0)
   Eigen::VectorXd sf_rate;        // sigma_0..sigma_nw
+  Eigen::MatrixXd sf_cross;       // gamma_ik, row i-1 (v^i), column k-1 (u^k); empty: separable
 };
 
-// The model's regression columns at measured rates w and temperatures temp (N x (nb+1 + nt + nw+1)):
-// v^0..v^nb | v^1..v^nt w | u^0..u^nw w, with the model's rate and temperature scaling.
+// The model's regression columns at measured rates w and temperatures temp (N x (nb+1 + nt + nw+1 + nc nw)):
+// v^0..v^nb | v^1..v^nt w | u^0..u^nw w | v^i u^k w (i = 1..nc outer, k = 1..nw inner), with the model's rate
+// and temperature scaling.
 Eigen::MatrixXd classical_columns(const ClassicalModel& model, const ClassicalOptions& options, const Eigen::VectorXd& w,
                                   const Eigen::VectorXd& temp);
 

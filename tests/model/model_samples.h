@@ -40,6 +40,7 @@ inline std::unique_ptr<CalibrationModel> sample_classical() {
   m->bias = Eigen::Vector4d(-7e-5, 1e-5, -3e-6, 2e-7);
   m->sf_temperature = Eigen::Vector3d(0, 1e-4, -2e-5);
   m->sf_rate = Eigen::Vector4d(1e-4, 2e-5, -7e-4, 3e-5);
+  m->sf_cross = (Eigen::MatrixXd(2, 3) << 3e-5, -2e-4, 1e-5, -1e-5, 5e-5, 0.0).finished();  // v^i u^k w, i = 1, 2
   return m;
 }
 
