@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 
 #include "core/error.h"
@@ -43,14 +44,33 @@ ClassicalOptions classical_surface_options(const OptionMap& map) {
   OptionTable t("triad classical surface");
   t.integer("sf_temperature_order", &o.sf_temperature_order, 0, 6, "scale-factor polynomial order in temperature")
       .integer("sf_rate_order", &o.sf_rate_order, 0, 10, "scale-factor polynomial order in rate")
-      .integer("sf_cross_order", &o.sf_cross_order, 0, 4, "temperature order of the rate shape's coefficients (0: separable)");
+      .integer("sf_cross_order", &o.sf_cross_order, 0, 4, "temperature order of the rate shape's coefficients (0: separable; auto: 0..3 by BIC, fit_triad)");
   t.apply(map);
   return o;
 }
 
 }  // namespace
 
+namespace {
+// surface.sf_cross_order=auto (classical surfaces): the order chosen by BIC (fit_triad below).
+constexpr int kMaxAutoCrossOrder = 3;
+bool cross_order_auto(const OptionMap& surface_options) {
+  const auto it = surface_options.find("sf_cross_order");
+  return it != surface_options.end() && it->second == "auto";
+}
+OptionMap with_cross_order(OptionMap map, int order) {
+  map["sf_cross_order"] = std::to_string(order);
+  return map;
+}
+}  // namespace
+
 std::string TriadFitOptions::validate() const {
+  if (cross_order_auto(surface_options)) {
+    if (surfaces != "classical") return "surface.sf_cross_order=auto needs surfaces=classical";
+    TriadFitOptions fixed = *this;
+    fixed.surface_options = with_cross_order(surface_options, 0);
+    return fixed.validate();
+  }
   try {
     make_nls_solver(solver, solver_options);
     if (surfaces == "greybox" && estimation == "joint") {
@@ -388,8 +408,47 @@ void finish(TriadFit& fit, const Stage& s, const TriadData& d, const TriadRows& 
 
 }  // namespace
 
+namespace {
+TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata);
+
+// BIC of a fit: each gyro's rows Gaussian with their own variance (its residual rms), every free parameter
+// counted once: sum_i R ln(rms_i^2) + k ln(3 R), R rows per gyro.
+double bic(const TriadFit& f) {
+  const double rows = f.summary.details.value("residuals", 0.0) / 3.0;
+  const double k = f.summary.details.value("free_parameters", 0.0);
+  double sum = 0.0;
+  for (double rms : f.residual_rms_dph) sum += rows * std::log(std::max(rms * rms, 1e-300));
+  return sum + k * std::log(3.0 * rows);
+}
+}  // namespace
+
+// surface.sf_cross_order=auto: the classical surfaces' cross order (0 = the thesis's separable form ..
+// kMaxAutoCrossOrder) chosen by the Bayesian information criterion of the fit in the mode asked for (joint or
+// sequential, each by its own final problem), so that neither mode is handed a family the data reject or
+// denied one they call for. The criteria are kept in the summary's details and a note.
 TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata) {
   if (auto p = o.validate(); !p.empty()) fail("triad: ", p);
+  if (!cross_order_auto(o.surface_options)) return fit_triad_once(d, o, reference_metadata);
+  std::optional<TriadFit> best;
+  double best_bic = INFINITY;
+  nlohmann::json criteria = nlohmann::json::object();
+  for (int order = 0; order <= kMaxAutoCrossOrder; ++order) {
+    TriadFitOptions oc = o;
+    oc.surface_options = with_cross_order(o.surface_options, order);
+    TriadFit f = fit_triad_once(d, oc, reference_metadata);
+    const double b = bic(f);
+    criteria[std::to_string(order)] = b;
+    if (b < best_bic) best_bic = b, best = std::move(f);
+  }
+  best->options = o;
+  const int chosen = std::stoi(best->summary.details.value("surface_sf_cross_order", std::string("0")));
+  best->notes.push_back(str_cat("surface.sf_cross_order=auto: order ", chosen, " chosen by BIC (", criteria.dump(), ")"));
+  best->summary.details["sf_cross_order_bic"] = criteria;
+  return *best;
+}
+
+namespace {
+TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata) {
   if (d.size() < 4) fail("triad: ", d.size(), " samples are too few");
   TriadFit fit;
   fit.options = o;
@@ -454,7 +513,12 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   fit.summary.details["stages"] = stages;
   fit.summary.details["estimation"] = o.estimation;
   fit.summary.details["surfaces"] = o.surfaces;
+  if (o.surfaces == "classical") {
+    const auto it = o.surface_options.find("sf_cross_order");
+    fit.summary.details["surface_sf_cross_order"] = it == o.surface_options.end() ? std::string("0") : it->second;
+  }
   return fit;
 }
+}  // namespace
 
 }  // namespace gyrosid

@@ -570,6 +570,34 @@ TEST(TriadFit, JointRecoversTheTriadOnAnUnbalancedDesignWhenTheSurfaceFamilyHold
   EXPECT_GT(error_dph(sequential0), 1.0);
 }
 
+// surface.sf_cross_order=auto: the order chosen by BIC in either mode - the cross term where the planted rate
+// shape moves with temperature, the separable form where it does not (10 deg/h white noise, seeded).
+TEST(TriadFit, CrossOrderAutoTakesTheCrossTermOnlyWhenTheSensorHasOne) {
+  auto chosen = [](bool cross, const std::string& estimation) {
+    TriadModel m = planted_with_cross_terms();
+    if (!cross)
+      for (auto& s : m.surfaces) std::const_pointer_cast<ClassicalModel>(std::dynamic_pointer_cast<const ClassicalModel>(s))->sf_cross.resize(0, 0);
+    TriadData d = outputs_of(m, {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}});
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> noise(0.0, dph_to_radps(10.0));
+    for (Eigen::Index k = 0; k < d.gyro.size(); ++k) d.gyro(k) += noise(rng);
+    TriadFitOptions o = classical_options(0);
+    o.surface_options["sf_cross_order"] = "auto";
+    o.estimation = estimation;
+    const TriadFit f = fit_triad(d, o);
+    EXPECT_EQ(f.summary.details["sf_cross_order_bic"].size(), 4u);
+    return std::stoi(f.summary.details["surface_sf_cross_order"].get<std::string>());
+  };
+  for (const std::string estimation : {"joint", "sequential"}) {
+    EXPECT_GE(chosen(true, estimation), 1) << estimation;
+    EXPECT_EQ(chosen(false, estimation), 0) << estimation;
+  }
+  TriadFitOptions rbf;
+  rbf.surfaces = "rbf";
+  rbf.surface_options = {{"sf_cross_order", "auto"}};
+  EXPECT_NE(rbf.validate().find("needs surfaces=classical"), std::string::npos);
+}
+
 TEST(TriadFit, HandTurnsKnownByGravityRecoverThePlantedMatrix) {
   Eigen::Matrix3d m;
   m << 2e-3, -1e-3, 3e-3, 8e-4, -5e-3, 1.4e-3, 4e-4, -1e-3, 1e-2;
