@@ -46,6 +46,32 @@ PAIRED_COLUMNS = ["training", "sensor", "surfaces", "quantity", "noise_free_rati
                   "joint_wins", "sign_p"]
 
 
+def fit_bic(fit):
+    """The fit's BIC as gyrosid's surface.sf_cross_order=auto computes it (solvers/triad/triad_fit.cpp): each gyro's
+    rows Gaussian with their own variance, every free parameter of the final problem counted once."""
+    d = fit["summary"]["details"]
+    rows, k = d["residuals"] / 3.0, d["free_parameters"]
+    return sum(rows * math.log(math.radians(r / 3600.0) ** 2) for r in fit["residual_rms_dph"]) + k * math.log(3.0 * rows)
+
+
+def evidence_kinds(rows):
+    """Per training and sensor, the classical surface kind (separable or with cross terms) whose noisy fits have the
+    lower median BIC, and in how many seeds each mode's own BIC chose it."""
+    out = {}
+    groups = {(r["training"], r["sensor"]) for r in rows if r.get("bic") not in (None, "")}
+    for train, sensor in sorted(groups):
+        pick = [r for r in rows if (r["training"], r["sensor"]) == (train, sensor) and r["surfaces"].startswith("classical") and int(r["seed"]) > 0]
+        kinds = sorted({r["surfaces"] for r in pick})
+        med = {k: float(np.median([float(r["bic"]) for r in pick if r["surfaces"] == k])) for k in kinds}
+        best = min(kinds, key=lambda k: med[k])
+        per_seed = {}
+        for r in pick:
+            per_seed.setdefault((r["estimation"], int(r["seed"])), {})[r["surfaces"]] = float(r["bic"])
+        agree = sum(1 for v in per_seed.values() if len(v) == len(kinds) and min(v, key=v.get) == best)
+        out[(train, sensor)] = (best, agree, len(per_seed))
+    return out
+
+
 def sign_test_p(wins, n):
     """Two-sided sign test: P(a split at least as uneven as wins/n) under a fair coin."""
     k = min(wins, n - wins)
@@ -83,6 +109,7 @@ class Experiment:
         self.jobs = args.jobs
         self.out = args.out
         self.kinds = args.kinds.split(",") if getattr(args, "kinds", None) else []
+        self.seeds = getattr(args, "seeds", 0)
 
     def sensor(self, path):
         return path if path.startswith("builtin:") else os.path.join(HERE, path)
@@ -170,7 +197,7 @@ class Experiment:
         trainings = c["trainings"]
         jobs = [(train, sname, kind, est, seed) for train in trainings for sname in c["sensors"]
                 for kind in trainings[train]["kinds"] if not self.kinds or kind in self.kinds
-                for est in ("joint", "sequential") for seed in [0] + c["seeds"]]
+                for est in ("joint", "sequential") for seed in [0] + c["seeds"][:self.seeds or None]]
 
         def one(job):
             train, sname, kind, est, seed = job
@@ -185,7 +212,7 @@ class Experiment:
             err = np.sqrt(np.nanmean([(m[i, j] - planted[i, j]) ** 2 for (i, j) in OFF])) * 1e6
             model = self.run.path("models", tag, "seed%d.json" % seed)
             row = {"training": train, "sensor": sname, "surfaces": kind, "estimation": est, "seed": seed, "offdiag_rms_err_urad": err,
-                   "train_rms_dph": float(np.mean(fit["residual_rms_dph"])), "time_s": fit["summary"]["time_s"]}
+                   "train_rms_dph": float(np.mean(fit["residual_rms_dph"])), "bic": fit_bic(fit), "time_s": fit["summary"]["time_s"]}
             for flight in c["flights"]:
                 row[flight + "_m"] = self.cof(model, sensor, flight)
             return row
@@ -201,7 +228,7 @@ class Experiment:
                         r[k] = int(r[k]) if k == "seed" else float(r[k])
             rows = keep + rows
         cols = ["training", "sensor", "surfaces", "estimation", "seed", "offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in c["flights"]]
-        write_csv(os.path.join(self.out, "compare.csv"), rows, cols + ["time_s"])
+        write_csv(os.path.join(self.out, "compare.csv"), rows, cols + ["bic", "time_s"])
         text = "# Joint against sequential estimation\n\nTraining trajectories: %s. Criterion of fit (end error; long flight after 1 h; noise-free flights) on %s. " \
                "Per group: the noise-free fit (seed 0), then the %d noisy seeds (10 deg/h) paired by seed: median of joint/sequential with a 95 %% " \
                "bootstrap interval of that median, runs where joint <= sequential, and the two-sided sign-test p of those wins.\n\n" % (
@@ -488,6 +515,16 @@ class Experiment:
                 elif g["quantity"].endswith("_m"):
                     lines.append("  %s flight %s [%s], %s, p %s - %s;" % (g["quantity"][:-2], fmt(g["median_ratio"], 5), g["ratio_ci95"], g["joint_wins"], fmt(g["sign_p"], 2), word))
                     verdicts.setdefault((g["training"], g["sensor"], g["surfaces"]), []).append(word)
+            chosen = evidence_kinds(cmp)
+            if chosen:
+                ev = {(t, sn): verdicts.get((t, sn, kind), []) for (t, sn), (kind, _, _) in chosen.items()}
+                lines.append("* With the classical surface family the evidence chooses (lower BIC, as `surface.sf_cross_order=auto` does): %s." % "; ".join(
+                    "%s/%s: %s (BIC's choice in %d/%d fits) - %s" % (t, sn, chosen[(t, sn)][0], chosen[(t, sn)][1], chosen[(t, sn)][2],
+                                                                   ", ".join("%s %s" % (f, w) for f, w in zip(flights, v))) for (t, sn), v in ev.items()))
+                worse_ev = [k for k, v in ev.items() if "worse" in v]
+                lines.append("  Joint at least as good on every flight: %s; strictly better on every flight when rate-nonlinear: %s." % (
+                    verdict(not worse_ev) + ("" if not worse_ev else " (worse: %s)" % ", ".join("/".join(k) for k in worse_ev)),
+                    verdict(all(w == "better" for k, v in ev.items() if k[1] == "rate_nonlinear" for w in v))))
             worse = [k for k, v in verdicts.items() if "worse" in v]
             nonlinear = {k: v for k, v in verdicts.items() if k[1] == "rate_nonlinear"}
             lines.append("* Joint at least as good as sequential on every flight (no flight's interval above 1): %s - %s." % (
@@ -535,6 +572,7 @@ def main():
     p.add_argument("--out", default=os.path.join(HERE, "results"))
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--force", action="store_true")
+    p.add_argument("--seeds", type=int, default=0, help="compare: only the first N noisy seeds of config.yaml (0: all)")
     p.add_argument("--kinds", default="", help="compare: refit only these surface kinds (comma-separated), keep the others' rows")
     args = p.parse_args()
     e = Experiment(args)
