@@ -116,7 +116,7 @@ void hold_node_shapes(NlsProblem& p, const TriadLayout& layout) {
 // hold_cross_axis: M's off-diagonal entries and G held at the spec's start values (the sequential fit's second
 // stage, classical surfaces).
 Stage run_stage(const TriadData& d, const TriadRows& rows, const TriadProblemSpec& spec, const TriadFitOptions& o,
-                const std::vector<GravityTurn>* turns = nullptr, bool hold_cross_axis = false) {
+                const std::vector<GravityTurn>* turns = nullptr, bool hold_cross_axis = false, bool whiten_turns = true) {
   Stage s;
   s.problem = build_triad_problem(d, rows, spec, s.layout);
   if (hold_cross_axis) {
@@ -128,7 +128,7 @@ Stage run_stage(const TriadData& d, const TriadRows& rows, const TriadProblemSpe
       }
     }
   }
-  if (turns) add_gravity_turns(s.problem, d, *turns, spec, s.layout, 3);  // group 3: the turns' own noise level
+  if (turns) add_gravity_turns(s.problem, d, *turns, spec, s.layout, 3, whiten_turns);  // group 3: the turns' own noise level
   if (o.rbf_joint == "weights") hold_node_shapes(s.problem, s.layout);
   const auto free = s.problem.free_entries();  // copy: fixing changes the free set
   // M, b and G are the anchors: a linear surface coefficient within `collinearity` of their span (a rate shape
@@ -481,6 +481,14 @@ TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std:
   const bool smoothed = o.surfaces != "none" && o.surface_input == "smoothed";
   const bool linear_stage = o.surfaces == "none" || o.estimation == "sequential" || o.surfaces == "rbf" || smoothed;
   Stage stage;
+  if (mode == "gravity") {  // unweighted first, for the turns' misfit beyond the noise; then whitened (gravity_turns.h)
+    const Stage first = run_stage(d, rows, spec, o, &turns, false, false);
+    const TriadModel unweighted = triad_model_of(first.problem, first.layout, spec);
+    const double misfit = turn_misfit_variance(d, turns, unweighted, bias_order);
+    for (auto& t : turns) t.misfit_var = misfit;
+    stages.push_back({{"stage", "hand turns, unweighted"}, {"summary", first.summary}, {"turn_misfit_rad", std::sqrt(misfit)}});
+    spec.start = unweighted;
+  }
   if (linear_stage) {
     stage = run_stage(d, rows, spec, o, mode == "gravity" ? &turns : nullptr);
     stages.push_back({{"stage", "misalignment and bias"}, {"summary", stage.summary}});
