@@ -225,7 +225,7 @@ class Experiment:
                 r.setdefault("training", "rate_sweep")
                 for k in r:
                     if k not in ("training", "sensor", "surfaces", "estimation"):
-                        r[k] = int(r[k]) if k == "seed" else float(r[k])
+                        r[k] = int(r[k]) if k == "seed" else float(r[k]) if r[k] not in ("", None) else ""  # bic: none for rbf rows
             rows = keep + rows
         cols = ["training", "sensor", "surfaces", "estimation", "seed", "offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in c["flights"]]
         write_csv(os.path.join(self.out, "compare.csv"), rows, cols + ["bic", "time_s"])
