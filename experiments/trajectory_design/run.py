@@ -158,11 +158,12 @@ class Study:
 
 
 def design_name(spec):
-    """solver_budget[_minimax][_vs_REFERENCE][_post][_model]: the reference only when it is not design.reference;
-    _post: the reference's posterior statistic (--reference-statistic posterior)."""
+    """solver_budget[_minimax][_vs_REFERENCE][_post|_mse][_model]: the reference only when it is not design.reference;
+    _post: the reference's posterior statistic (--reference-statistic posterior), _mse: the predicted mean squared
+    criterion of fit of both (mse)."""
     return "%s_%s%s%s%s%s" % (spec["solver"], spec["budget"], "_minimax" if spec.get("criterion") == "cof_minimax" else "",
                               "_vs_" + spec["reference"].replace("classical_", "") if spec.get("reference") else "",
-                              "_post" if spec.get("reference_statistic") == "posterior" else "",
+                              {"posterior": "_post", "mse": "_mse"}.get(spec.get("reference_statistic"), ""),
                               "_" + spec["model"] if spec.get("model") else "")
 
 

@@ -124,9 +124,9 @@ void run_design(DesignCommand c) {
   if (!evaluating && !(c.budget_min > 0)) fail("--budget-min is required (a positive number of minutes) unless --evaluate is given");
   if (!evaluating && c.out.empty()) fail("--out DIR is required for a design");
   if (!evaluating) design::make_design_solver(c.solver, solver_options, c.seed);  // bad options fail before any work
-  if (c.reference_statistic != "auto" && c.reference_statistic != "posterior" && c.reference_statistic != "cof") {
-    fail("--reference-statistic: expected auto, posterior or cof, got '", c.reference_statistic, "'");
-  }
+  // auto: mse, the predicted mean squared criterion of fit of design and reference alike (assessment.h).
+  const auto statistic = c.reference_statistic == "auto" ? design::ReferenceStatistic::mse
+                                                         : parse_enum<design::ReferenceStatistic>(c.reference_statistic, "--reference-statistic");
 
   const SensorSpec sensor = load_sensor_file(c.sensor);
   auto envelope = std::make_shared<const design::Envelope>(design::load_envelope(settings.envelope, as_triad(sensor)));
@@ -147,8 +147,7 @@ void run_design(DesignCommand c) {
     const auto ref_context = std::make_unique<design::DesignContext>(sensor, envelope, parse_enum<design::ModelFamily>(model, "--reference-model"),
                                                                      settings.model, design::Criterion::cof, design::model_domain(space));
     const design::Prediction ref = design::evaluate_trajectory(*ref_context, spec);
-    const bool same_model = parse_enum<design::ModelFamily>(model, "--reference-model") == family;
-    context.set_reference(ref, c.reference_statistic == "posterior" || (c.reference_statistic == "auto" && same_model));
+    context.set_reference(ref, statistic);
     report.compared.emplace_back(str_cat(spec.profile.name, " (reference, ", model, ")"), ref);
     provenance["reference"] = {{"trajectory", path}, {"model", model}, {"predicted", prediction_json(ref)}};
   }
@@ -206,8 +205,9 @@ void register_design(CLI::App& app, Action& action) {
   cmd->add_option("--reference", c->reference, "cof_minimax: the trajectory to beat on every flight (default: the first --compare)");
   cmd->add_option("--reference-model", c->reference_model, "The reference's calibration model (default: --model)");
   cmd->add_option("--reference-statistic", c->reference_statistic,
-                  "cof_minimax: the reference's value per flight - posterior (sqrt tr S P S', the statistic the objective takes "
-                  "of the design), cof (its predicted criterion of fit) or auto (posterior when the reference's model is --model)")
+                  "cof_minimax: what design and reference are compared by per flight - mse (the predicted mean squared criterion "
+                  "of fit |m|^2 + tr S Sigma S' of both; auto), posterior (sqrt tr S P S' of both) or cof (the reference's predicted "
+                  "criterion of fit against the design's posterior statistic)")
       ->capture_default_str();
   cmd->add_option("--compare", c->compare, "Trajectories predicted beside the design in report.md")->capture_default_str();
   cmd->add_option("--evaluate", c->evaluate, "Predict the accuracy of these trajectory configs instead of designing");

@@ -1,5 +1,6 @@
 #include "design/assessment.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
@@ -47,7 +48,7 @@ Eigen::VectorXd prior_scales(const Regressor& r, ModelFamily family, const Model
     for (std::size_t j = 0; j < groups.size(); ++j) {
       if (groups[j] == g) power += a.col(static_cast<Eigen::Index>(j)).squaredNorm() / static_cast<double>(a.rows());
     }
-    const double target = is_learned(g) ? residual_rms : kappa * rms;
+    const double target = is_learned(g) ? o.network_prior_scale * residual_rms : kappa * rms;
     const double scale = target / (power > 0 ? std::sqrt(power) : 1.0);
     for (std::size_t j = 0; j < groups.size(); ++j) {
       if (groups[j] == g) s(static_cast<Eigen::Index>(j)) = scale;
@@ -118,20 +119,48 @@ DesignContext::DesignContext(const SensorSpec& sensor, std::shared_ptr<const Env
     scaled_sensitivity_.push_back(f.sensitivity * prior_.root);
     add_moment(f.surface_columns, 1.0 / static_cast<double>(lin_.flights.size()));
   }
+  // The anchor of the linearised model-class error: the model's least-squares fit to the sensor's error on a
+  // steady grid over the domain (a tiny ridge in prior units keeps undetermined directions at the prior mean),
+  // and its exact position error per flight.
+  if (!envelope_->flights.empty()) {
+    const SteadyGrid grid = steady_grid(model_domain_, gyro().errors);
+    const Eigen::MatrixXd al = regressor_->columns(grid.inputs) * prior_.root;
+    Eigen::MatrixXd normal = al.transpose() * al;
+    normal.diagonal().array() += 1e-9 * normal.trace() / static_cast<double>(p);
+    anchor_z_ = normal.ldlt().solve(al.transpose() * grid.true_error);
+    const Eigen::VectorXd theta_a = prior_.mean + prior_.root * anchor_z_;
+    for (const auto& f : envelope_->flights) anchor_error_.push_back(f.position_error(*regressor_, theta_a));
+  }
 }
 
 std::unique_ptr<DesignContext> DesignContext::with_domain(const Domain& d) const {
   auto c = std::make_unique<DesignContext>(sensor_, envelope_, family_, model_, criterion_, d);
   c->log_reference_ = log_reference_;
+  c->statistic_ = statistic_;
   return c;
 }
 
-void DesignContext::set_reference(const Prediction& reference, bool like_for_like) {
+void DesignContext::set_reference(const Prediction& reference, ReferenceStatistic statistic) {
   if (reference.flights.size() != envelope_->flights.size()) fail("design: the reference was predicted for other flights");
+  statistic_ = statistic;
   log_reference_.clear();
   for (const auto& f : reference.flights) {
-    log_reference_.push_back(2.0 * std::log(std::max(like_for_like ? f.cof_posterior_m : f.cof_m, 1e-300)));
+    double r2 = 0.0;
+    switch (statistic) {
+      case ReferenceStatistic::mse: r2 = f.cof_bias_m * f.cof_bias_m + f.cof_noise_m * f.cof_noise_m; break;
+      case ReferenceStatistic::posterior: r2 = f.cof_posterior_m * f.cof_posterior_m; break;
+      case ReferenceStatistic::cof: r2 = f.cof_m * f.cof_m; break;
+    }
+    log_reference_.push_back(std::log(std::max(r2, 1e-300)));
   }
+}
+
+double DesignContext::flight_mse(std::size_t flight, const LinearEstimate& e) const {
+  if (e.expected.size() != prior_.size()) fail("design: the mean squared criterion needs the estimate's expected value (estimate with its target)");
+  if (flight >= anchor_error_.size()) fail("design: no flight ", flight, " in the envelope");
+  const Eigen::MatrixXd& s = scaled_sensitivity_[flight];
+  const Eigen::Vector3d m = anchor_error_[flight] + s * (e.expected - anchor_z_);
+  return m.squaredNorm() + (s * e.estimator * s.transpose()).trace();
 }
 
 LinearEstimate DesignContext::estimate(const Observations& o, bool with_target) const {
@@ -158,7 +187,8 @@ double DesignContext::objective(const LinearEstimate& e) const {
       std::vector<double> x;
       for (std::size_t f = 0; f < scaled_sensitivity_.size(); ++f) {
         const auto& s = scaled_sensitivity_[f];
-        x.push_back(std::log((s * e.posterior * s.transpose()).trace()) - log_reference_[f]);
+        const double statistic = statistic_ == ReferenceStatistic::mse ? flight_mse(f, e) : (s * e.posterior * s.transpose()).trace();
+        x.push_back(std::log(statistic) - log_reference_[f]);
         worst = std::max(worst, x.back());
       }
       double sum = 0.0;

@@ -37,7 +37,9 @@ void ModelOptions::bind(OptionTable& t) {
       .integer("model.classical_sf_temperature_order", &classical_sf_temperature_order, 0, 6, "classical: scale-factor order in temperature")
       .integer("model.classical_sf_rate_order", &classical_sf_rate_order, 0, 10, "classical: scale-factor order in rate")
       .integer("model.hybrid_sf_temperature_order", &hybrid_sf_temperature_order, 0, 6, "hybrid: physics scale factor w dT^i u^j, i up to this")
-      .integer("model.hybrid_sf_rate_order", &hybrid_sf_rate_order, 0, 8, "hybrid: ... and j up to this");
+      .integer("model.hybrid_sf_rate_order", &hybrid_sf_rate_order, 0, 8, "hybrid: ... and j up to this")
+      .real("model.network_prior_scale", &network_prior_scale, 0.0, 1e6,
+            "hybrid: the network's prior sd as a multiple of what the physics leaves of the sensor's error", true);
 }
 
 namespace {

@@ -65,6 +65,9 @@ struct ModelOptions {
   // hybrid: its physics' scale-factor orders (solvers/bayes/hybrid_fit.h; bias: bias_order) and the network
   // from the rbf options
   int hybrid_sf_temperature_order = 2, hybrid_sf_rate_order = 3;
+  // hybrid: the network's prior standard deviation as a multiple of what the physics leaves of the sensor's
+  // error over the domain (assessment.cpp, prior_scales)
+  double network_prior_scale = 1.0;
   void bind(OptionTable& table);  // keys model.<name>
   std::string validate() const;
 };

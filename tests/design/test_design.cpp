@@ -533,13 +533,92 @@ TEST(DesignCriteria, CofMinimaxAgainstItsOwnPredictionIsTheSmoothMaximumsOffset)
     EXPECT_GT(f.cof_posterior_m, 0.0) << f.flight;
   }
   const LinearEstimate e = minimax.context.estimate(o, false);
-  minimax.context.set_reference(own, true);
+  minimax.context.set_reference(own, ReferenceStatistic::posterior);
+  EXPECT_FALSE(minimax.context.objective_needs_target());
   EXPECT_NEAR(minimax.context.objective(e), std::log(2.0) / 8.0, 1e-9);
-  minimax.context.set_reference(own, false);
+  minimax.context.set_reference(own, ReferenceStatistic::cof);
   const double x0 = 2.0 * std::log(own.flights[0].cof_posterior_m / own.flights[0].cof_m);
   const double x1 = 2.0 * std::log(own.flights[1].cof_posterior_m / own.flights[1].cof_m);
   const double top = std::max(x0, x1);
   EXPECT_NEAR(minimax.context.objective(e), top + std::log(std::exp(8.0 * (x0 - top)) + std::exp(8.0 * (x1 - top))) / 8.0, 1e-9);
+}
+
+TEST(DesignCriteria, TheMeanSquaredCriterionIsThePredictionsOwnBiasAndNoise) {
+  // cof_minimax's mse statistic linearises the model-class error m about an anchor fit (one INS run per
+  // flight) instead of running the INS per evaluation. Against the prediction's exact m (an INS run at the
+  // expected estimate) and its tr(S Sigma S'), on two trajectories as different as a 20-min programme and the
+  // dual scan (-60..80 C): equal within 2 % - and a trajectory against its own prediction scores the
+  // log-sum-exp's offset, like for like.
+  for (const char* which : {"programme", "dual_scan"}) {
+    const SmallProblem cof(ModelFamily::hybrid, Criterion::cof);
+    SmallProblem minimax(ModelFamily::hybrid, Criterion::cof_minimax);
+    const TrajectorySpec t = std::string(which) == "programme" ? small_programme() : load_trajectory_file("builtin:trajectories/dual_scan.yaml");
+    const Observations o = observe_trajectory(cof.context, t);
+    // The dual scan leaves the small problem's domain: the prediction widens it, as `design --evaluate` does.
+    Domain d = cof.context.model_domain();
+    d.temp_min_c = std::min(d.temp_min_c, o.inputs.temp_c.minCoeff()), d.temp_max_c = std::max(d.temp_max_c, o.inputs.temp_c.maxCoeff());
+    const auto wide = cof.context.with_domain(d);
+    const Prediction own = wide->predict(o);
+    const LinearEstimate e = wide->estimate(o, true);
+    for (std::size_t f = 0; f < own.flights.size(); ++f) {
+      const FlightPrediction& p = own.flights[f];
+      const double exact = p.cof_bias_m * p.cof_bias_m + p.cof_noise_m * p.cof_noise_m;
+      EXPECT_NEAR(wide->flight_mse(f, e), exact, 0.02 * exact) << which << " " << p.flight;
+      // the bias is a real part of it here (the test would not see a wrong m otherwise)
+      EXPECT_GT(p.cof_bias_m, 0.05 * p.cof_noise_m) << which << " " << p.flight;
+    }
+    minimax.context.set_reference(own, ReferenceStatistic::mse);
+    const auto wide_minimax = minimax.context.with_domain(d);  // keeps the reference and its statistic
+    EXPECT_TRUE(wide_minimax->objective_needs_target());
+    EXPECT_NEAR(wide_minimax->objective(wide_minimax->estimate(o, true)), std::log(2.0) / 8.0, 0.02) << which;
+    EXPECT_THAT(error_of([&] { (void)wide_minimax->objective(wide_minimax->estimate(o, false)); }), ::testing::HasSubstr("expected value"));
+  }
+}
+
+TEST(DesignCriteria, CofMinimaxIsTheSameInAnyUnitOfAFlightsError) {
+  // Per flight the objective is a log ratio to the reference's own value: a flight scored in kilometres (the
+  // long flight after 1 h) and one in metres (the short flight after 10 s) weigh alike. Scaling one flight's
+  // reference by c (its unit) and its design statistic by the same c leaves the objective unchanged; scaling
+  // the reference alone by c moves that flight's log ratio by -2 log c (here: it stops binding).
+  SmallProblem minimax(ModelFamily::hybrid, Criterion::cof_minimax);
+  const Observations o = observe_trajectory(minimax.context, small_programme());
+  const LinearEstimate e = minimax.context.estimate(o, true);
+  Prediction ref = SmallProblem(ModelFamily::hybrid, Criterion::cof).context.predict(observe_trajectory(minimax.context, small_programme(30.0)));
+  minimax.context.set_reference(ref, ReferenceStatistic::mse);
+  const double base = minimax.context.objective(e);
+  const double x0 = std::log(minimax.context.flight_mse(0, e)) - std::log(std::pow(ref.flights[0].cof_bias_m, 2) + std::pow(ref.flights[0].cof_noise_m, 2));
+  const double x1 = std::log(minimax.context.flight_mse(1, e)) - std::log(std::pow(ref.flights[1].cof_bias_m, 2) + std::pow(ref.flights[1].cof_noise_m, 2));
+  const double top = std::max(x0, x1);
+  EXPECT_NEAR(base, top + std::log(std::exp(8.0 * (x0 - top)) + std::exp(8.0 * (x1 - top))) / 8.0, 1e-9);
+  // A longer reference programme (30 min) is better on both flights: the 20-min design loses (ratio > 1).
+  EXPECT_GT(x0, 0.0);
+  EXPECT_GT(x1, 0.0);
+  // The binding flight's reference scaled 1000x (metres -> millimetres): the other flight binds now.
+  const std::size_t binding = x0 > x1 ? 0 : 1;
+  ref.flights[binding].cof_bias_m *= 1000.0, ref.flights[binding].cof_noise_m *= 1000.0;
+  minimax.context.set_reference(ref, ReferenceStatistic::mse);
+  EXPECT_NEAR(minimax.context.objective(e), (binding == 0 ? x1 : x0), 1e-6);
+}
+
+TEST(DesignInformation, AConstantBiasUnderWhiteNoiseHasTheVarianceNSquaredOverT) {
+  // The linearised covariance of the simplest model, a constant bias b, from observations of white rate noise
+  // of density N over T seconds (any spacing, any weights summing to T): Var b = N^2 / T (the mean of T / dt
+  // samples of variance N^2 / dt). With a prior of sd s: the posterior 1 / (T / N^2 + 1 / s^2) and the
+  // estimator's sandwich (T / N^2) / (T / N^2 + 1 / s^2)^2. Uneven spacing and repeated times included.
+  const double n = dph_to_radps(10.0), s = dph_to_radps(5.0);
+  std::vector<double> t{0.0, 0.5, 0.5, 2.0, 7.0, 7.25, 30.0};
+  Eigen::VectorXd w(7);
+  w << 0.5, 0.25, 0.25, 5.0, 0.25, 22.75, 1.0;  // T = 30 s
+  NoiseSpec white;
+  white.white_psd = n * n;
+  const Eigen::MatrixXd a = Eigen::MatrixXd::Ones(7, 1);
+  const LinearEstimate e = linear_estimate(whiten(a, t, w, white), Prior::independent(Eigen::VectorXd::Constant(1, s)), false);
+  const double info = 30.0 / (n * n), prior = 1.0 / (s * s);
+  EXPECT_NEAR(e.posterior_covariance()(0, 0), 1.0 / (info + prior), 1e-12 / (info + prior));
+  EXPECT_NEAR(e.estimator_covariance()(0, 0), info / std::pow(info + prior, 2), 1e-12 * info / std::pow(info + prior, 2));
+  // a prior a million times wider: the flat-prior limit N^2 / T
+  const LinearEstimate flat = linear_estimate(whiten(a, t, w, white), Prior::independent(Eigen::VectorXd::Constant(1, 1e6 * s)), false);
+  EXPECT_NEAR(flat.estimator_covariance()(0, 0), n * n / 30.0, 1e-9 * n * n / 30.0);
 }
 
 TEST(DesignCriteria, ADesignSeparatesShupeFromHysteresisWhereASingleScanCannot) {
