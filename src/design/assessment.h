@@ -46,7 +46,9 @@ enum class Criterion { cof, cof_minimax, surface, d_optimal, a_optimal, effects 
 //              `cof_m` approximates. m is linear in the expected estimate (m(theta) = m(theta_a) + S (theta -
 //              theta_a), the INS being linear in the residual at these magnitudes, envelope.h), so the objective
 //              needs one exact INS run per flight, at an anchor theta_a (the model's fit to the sensor's error
-//              over the domain), not one per evaluation.
+//              over the domain), not one per evaluation. Consistent with the prediction, but measured worse than
+//              posterior against the dual scan (experiments/trajectory_design, 2026-11-24: 0.82x / 1.70x / 1.04x
+//              on 5 seeds): the proxy over-predicts the dual scan's own m 3-8x. Not the CLI's default.
 //   posterior  sqrt(tr S P S') of both, P the posterior covariance (noise plus the prior's share of the
 //              directions the data leave open). Blind to a design's own model-class error where the prior is
 //              narrower than the residual it stands for: experiments/trajectory_design (2026-11-24) found the
