@@ -15,14 +15,18 @@ NoiseLikelihood::NoiseLikelihood(std::vector<Eigen::Index> rows, const std::vect
   gm_tau_s_ = std::clamp(gm_tau_s_, 2.0 * start_.dt_s, std::exp(max_log_tau_));
 }
 
-double NoiseLikelihood::negative(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::array<double, 3>& v) const {
+NoiseModel NoiseLikelihood::model(const Optimum& at) const {
   NoiseModel m;
   m.dt_s = start_.dt_s;
   m.white_var = 1.0;
-  m.rw_q = std::exp(v[0]);
-  m.gm_var = std::exp(v[1]);
-  m.gm_tau_s = std::exp(v[2]);
-  const Whitener w(m, rows_, t_s_);
+  m.rw_q = std::exp(at.log_ratios[0]);
+  m.gm_var = std::exp(at.log_ratios[1]);
+  m.gm_tau_s = std::exp(at.log_ratios[2]);
+  return m;
+}
+
+double NoiseLikelihood::negative(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::array<double, 3>& v) const {
+  const Whitener w(model({0.0, v}), rows_, t_s_);
   const double n = static_cast<double>(rows_.size());
   return 0.5 * n * std::log(whitened_rss(w.apply(x), w.apply(y)) / n) + 0.5 * w.log_determinant();
 }
@@ -34,9 +38,10 @@ NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, con
   return maximise(x, y, from);
 }
 
-NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Optimum& from) const {
+NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Optimum& from, double radius) const {
   BoundedSearchOptions bobyqa;
-  bobyqa.xtol_abs = 1e-3;
+  bobyqa.xtol_abs = radius > 0 ? 1e-2 : 1e-3;
+  bobyqa.initial_step = radius;
   bobyqa.max_evaluations = 120;
   const double min_log_tau = std::log(2.0 * start_.dt_s);
   const BoundedSearchResult r = minimize_bounded([&](const std::vector<double>& v) { return negative(x, y, {v[0], v[1], v[2]}); },

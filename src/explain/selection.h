@@ -13,10 +13,11 @@
 //   4. its p-value comes from a circular block bootstrap of r - the same maximisation over the parameter
 //      grid on every resample, so a lag search is not judged by a plain chi-square;
 //   5. Holm's step-down procedure over the candidates controls the family-wise error at alpha;
-//   6. the significant candidate with the largest dBIC whose dBIC stays positive when the noise model (its
-//      random-walk and Gauss-Markov variances) is re-estimated by maximum likelihood with and without it -
-//      coloured noise can mimic a trend, but a wander is not explained better by one - is added; every
-//      other candidate within
+//   6. the significant candidates are re-scored against the noise the null's likelihood chose (each one's
+//      nonlinear parameter scanned again there), the best `likelihood_tries` of them are judged with the
+//      noise model (its random-walk and Gauss-Markov variances and time constant) re-estimated by maximum
+//      likelihood with and without them - coloured noise can mimic a trend, but a wander is not explained
+//      better by one - and the one with the largest positive dBIC there is added; every other candidate within
 //      `ambiguity_bic` of it that it makes redundant - and that makes it redundant - is reported as an
 //      alternative the data cannot tell apart.
 #pragma once
@@ -54,6 +55,7 @@ struct SelectionOptions {
   int bootstrap = 999;
   int max_effects = 6;
   double ambiguity_bic = 10.0;  // Kass & Raftery: 2 ln BF above 10 is very strong evidence
+  int likelihood_tries = 4;     // candidates per step the likelihood gate maximises (the best by their dBIC at the null's noise)
   std::uint64_t seed = 1;
   NoiseModelSource noise_model = NoiseModelSource::full;
   std::string validate() const;
