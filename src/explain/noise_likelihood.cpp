@@ -38,10 +38,9 @@ NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, con
   return maximise(x, y, from);
 }
 
-NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Optimum& from, double radius) const {
+NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Optimum& from) const {
   BoundedSearchOptions bobyqa;
-  bobyqa.xtol_abs = radius > 0 ? 1e-2 : 1e-3;
-  bobyqa.initial_step = radius;
+  bobyqa.xtol_abs = 1e-3;
   bobyqa.max_evaluations = 120;
   const double min_log_tau = std::log(2.0 * start_.dt_s);
   const BoundedSearchResult r = minimize_bounded([&](const std::vector<double>& v) { return negative(x, y, {v[0], v[1], v[2]}); },

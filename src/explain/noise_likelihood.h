@@ -31,9 +31,7 @@ class NoiseLikelihood {
   // Maximised from the start model's ratios, or from `from` (a nested model's optimum: the larger model's
   // maximum is then never below the smaller's).
   Optimum maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) const;
-  // `radius`: the search's first trust radius in the log ratios (0: NLopt's, from the bounds) - a nested
-  // model's optimum is near its parent's, and a small first radius saves most of the evaluations there.
-  Optimum maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Optimum& from, double radius = 0.0) const;
+  Optimum maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Optimum& from) const;
   std::size_t samples() const { return rows_.size(); }
   // The noise model at an optimum's ratios, the white variance 1 (a whitener's residual is then in units of it).
   NoiseModel model(const Optimum& at) const;

@@ -278,7 +278,7 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
   for (std::size_t k = 0; k < order.size() && k < static_cast<std::size_t>(tries); ++k) {
     const std::size_t i = order[k];
     const ModelSpec with = with_effect(c.model, open[i], ev[i].score.tau_s);
-    const NoiseLikelihood::Optimum l1 = likelihood.maximise(model_columns(with, c.in.signals, c.sc), c.y, l0, 0.5);
+    const NoiseLikelihood::Optimum l1 = likelihood.maximise(model_columns(with, c.in.signals, c.sc), c.y, l0);
     const double penalty = (ev[i].score.columns + open[i].bic_parameters()) * std::log(n);
     ev[i].score.ml_delta_bic = 2.0 * (l1.log_likelihood - l0.log_likelihood) - penalty;
     if (ev[i].score.ml_delta_bic > 0 && (best.index < 0 || ev[i].score.ml_delta_bic > ev[static_cast<std::size_t>(best.index)].score.ml_delta_bic)) {
