@@ -268,10 +268,15 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
   for (std::size_t i : order) {
     Candidate at = open[i];
     if (at.nonlinear != NonlinearParameter::none) {
-      at.tau_grid_s = {refine_parameter(open[i], evaluate(open[i], c.model, c.in, c.sc, w0, fit0).score.tau_s, s0)};
-      ev[i].score.tau_s = at.tau_grid_s.front();
+      // Its parameter refined under the step's whitening and under the null's noise; the one the null's
+      // noise scores higher is kept (a change time the near-white scan placed well can be lost in the
+      // coloured scan's coarser optimum, a hysteresis width the other way round).
+      at.tau_grid_s = {refine_parameter(open[i], ev[i].score.tau_s, c),
+                       refine_parameter(open[i], evaluate(open[i], c.model, c.in, c.sc, w0, fit0).score.tau_s, s0)};
     }
-    held[i] = evaluate(at, c.model, c.in, c.sc, w0, fit0).score.delta_bic;
+    const Evaluated e = evaluate(at, c.model, c.in, c.sc, w0, fit0);
+    ev[i].score.tau_s = e.score.tau_s;
+    held[i] = e.score.delta_bic;
   }
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return held[a] > held[b]; });
   Gated best;
