@@ -8,8 +8,8 @@
 
 namespace gyrosid::explain {
 
-NoiseLikelihood::NoiseLikelihood(std::vector<Eigen::Index> rows, const std::vector<double>& t_s, const NoiseModel& start)
-    : rows_(std::move(rows)), t_s_(t_s), start_(start), gm_tau_s_(start.gm_var > 0 ? start.gm_tau_s : 100.0 * start.dt_s) {
+NoiseLikelihood::NoiseLikelihood(std::vector<Eigen::Index> rows, const std::vector<double>& t_s, const NoiseModel& start, double xtol)
+    : rows_(std::move(rows)), t_s_(t_s), start_(start), gm_tau_s_(start.gm_var > 0 ? start.gm_tau_s : 100.0 * start.dt_s), xtol_(xtol) {
   const double span = rows_.empty() ? 0.0 : t_s_[static_cast<std::size_t>(rows_.back())] - t_s_[static_cast<std::size_t>(rows_.front())];
   max_log_tau_ = std::log(std::max(100.0 * start_.dt_s, span / 3.0));
   gm_tau_s_ = std::clamp(gm_tau_s_, 2.0 * start_.dt_s, std::exp(max_log_tau_));
@@ -40,7 +40,7 @@ NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, con
 
 NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Optimum& from) const {
   BoundedSearchOptions bobyqa;
-  bobyqa.xtol_abs = 1e-3;
+  bobyqa.xtol_abs = xtol_;
   bobyqa.max_evaluations = 120;
   const double min_log_tau = std::log(2.0 * start_.dt_s);
   const BoundedSearchResult r = minimize_bounded([&](const std::vector<double>& v) { return negative(x, y, {v[0], v[1], v[2]}); },

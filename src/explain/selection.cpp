@@ -256,7 +256,7 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
     if (ev[i].score.significant && ev[i].score.delta_bic > 0) order.push_back(i);
   }
   if (order.empty()) return {};
-  const NoiseLikelihood likelihood(rows, c.in.signals.t_s, noise);
+  const NoiseLikelihood likelihood(rows, c.in.signals.t_s, noise, 1e-2);
   const NoiseLikelihood::Optimum l0 = current ? *current : likelihood.maximise(model_columns(c.model, c.in.signals, c.sc), c.y);
   const double n = static_cast<double>(c.yw.size());
   // Every significant candidate at the null's likelihood noise.
