@@ -256,8 +256,11 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
     if (ev[i].score.significant && ev[i].score.delta_bic > 0) order.push_back(i);
   }
   if (order.empty()) return {};
+  // The null's optimum to the default tolerance (its basin decides every candidate's score below); the
+  // nested models' from it to 1e-2 (log L within about 0.01, a fifth fewer evaluations).
   const NoiseLikelihood likelihood(rows, c.in.signals.t_s, noise, 1e-2);
-  const NoiseLikelihood::Optimum l0 = current ? *current : likelihood.maximise(model_columns(c.model, c.in.signals, c.sc), c.y);
+  const NoiseLikelihood::Optimum l0 =
+      current ? *current : NoiseLikelihood(rows, c.in.signals.t_s, noise).maximise(model_columns(c.model, c.in.signals, c.sc), c.y);
   const double n = static_cast<double>(c.yw.size());
   // Every significant candidate at the null's likelihood noise.
   const Whitener w0(likelihood.model(l0), rows, c.in.signals.t_s);
