@@ -511,6 +511,9 @@ TEST(Explain, OptionsAndInputsAreValidated) {
   o = fast();
   o.input.axis = "x";
   EXPECT_THROW(explain_recording(simulate_with("", 1), o), Error);  // not a triad
+  o = fast();
+  o.selection.likelihood_tries = 0;
+  EXPECT_NE(o.validate(), "");
 }
 
 }  // namespace
