@@ -178,7 +178,7 @@ void report_effects(const Accepted& accepted, std::size_t base_terms, const Refi
       continue;
     }
     FoundEffect f{std::string(effect.id()), std::string(effect.description()), params, s.score.delta_bic, s.score.p_value,
-                  s.alternatives, s.weaker_alternatives, {}, j.stability, std::nullopt};
+                  s.alternatives, s.weaker_alternatives, {}, j.stability, std::nullopt, 0.0, std::nullopt};
     for (const auto* group : {&s.alternatives, &s.weaker_alternatives}) {
       for (const auto& a : *group) f.separating.push_back({a, separating_experiment(effect, find_effect(a))});
     }

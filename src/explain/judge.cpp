@@ -93,7 +93,8 @@ Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const 
   std::optional<ProfiledFit>& profiled_full = out.full;
   const BlockFits blocks = block_fits(in, y, sel.noise, x_full);
   for (const auto& selected : sel.effects) {
-    Judged j{selected, std::nullopt};
+    Judged j{};
+    j.effect = selected;
     const bool lag = selected.candidate.nonlinear == NonlinearParameter::coil_lag;
     // The selected model without this effect.
     ModelSpec minus = sel.model;
