@@ -440,16 +440,15 @@ NoiseByEvidence nested_noise_by_evidence(const BayesProblem& p, const Eigen::Mat
                                          const std::vector<Eigen::Index>& rows, const NoiseModel& start, const Precisions& warm, SolveMonitor& monitor) {
   const Eigen::MatrixXd phi = gaussian_columns(p.x, centres, widths);
   const NoiseByEvidence full = noise_by_evidence(p, phi, axis, rows, start, true, warm, monitor);
+  const double span = std::max(axis.t_s.back() - axis.t_s.front(), 10 * axis.dt_s);
   NoiseModel wander = start;
   if (!(wander.gm_var > 0)) {
-    const double span = std::max(axis.t_s.back() - axis.t_s.front(), 10 * axis.dt_s);
     wander.gm_var = wander.white_var, wander.gm_tau_s = 0.1 * span;
   }
   NoiseByEvidence stationary = noise_by_evidence(p, phi, axis, rows, wander, false, warm, monitor);
   if (full.model.rw_q > 0) {
     // Also from the walk the full search found, as the wander of the same intensity (q = 2 sigma^2 dt / tau,
     // the same spectrum above 1/(2 pi tau)) at a tenth of the span: a start on the ridge the walk lies on.
-    const double span = std::max(axis.t_s.back() - axis.t_s.front(), 10 * axis.dt_s);
     NoiseModel ridge = full.model;
     ridge.gm_tau_s = 0.1 * span, ridge.gm_var = full.model.rw_q * ridge.gm_tau_s / (2 * axis.dt_s), ridge.rw_q = 0.0;
     const NoiseByEvidence other = noise_by_evidence(p, phi, axis, rows, ridge, false, warm, monitor);
