@@ -111,6 +111,17 @@ class AllTurnsCost {
   Eigen::MatrixXd whitening_;
 };
 
+// The noise covariance (3 x 3) of one turn's residual u_after - R' u_before: the two holds' direction scatter
+// (each in the plane perpendicular to its direction, R' carrying the one before) and the gyro noise integrated
+// over the turn (perpendicular to R' u_before).
+Eigen::Matrix3d turn_noise_covariance(const GravityTurn& g) {
+  const Eigen::Matrix3d eye = Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d v = g.rotation.transpose() * g.before;
+  return g.after_var * (eye - g.after * g.after.transpose()) +
+         g.rotation.transpose() * (g.before_var * (eye - g.before * g.before.transpose())) * g.rotation +
+         g.angle_var * (eye - v * v.transpose());
+}
+
 // The stacked tangent-plane residuals' covariance (2T x 2T, block tridiagonal) and its whitening L^-1.
 Eigen::MatrixXd turn_whitening(const std::vector<GravityTurn>& turns, const std::vector<Eigen::Matrix<double, 3, 2>>& bases) {
   const auto t = static_cast<Eigen::Index>(turns.size());
@@ -119,11 +130,8 @@ Eigen::MatrixXd turn_whitening(const std::vector<GravityTurn>& turns, const std:
   for (Eigen::Index h = 0; h < t; ++h) {
     const GravityTurn& g = turns[static_cast<std::size_t>(h)];
     const Eigen::Matrix3d cov_after = g.after_var * (eye - g.after * g.after.transpose());
-    const Eigen::Matrix3d cov_before = g.before_var * (eye - g.before * g.before.transpose());
-    const Eigen::Vector3d v = g.rotation.transpose() * g.before;
-    const Eigen::Matrix3d block = cov_after + g.rotation.transpose() * cov_before * g.rotation + g.angle_var * (eye - v * v.transpose());
     const auto& b = bases[static_cast<std::size_t>(h)];
-    c.block<2, 2>(2 * h, 2 * h) = b.transpose() * block * b + g.misfit_var * Eigen::Matrix2d::Identity();
+    c.block<2, 2>(2 * h, 2 * h) = b.transpose() * turn_noise_covariance(g) * b + g.misfit_var * Eigen::Matrix2d::Identity();
     if (h + 1 < t) {  // the hold after turn h is the hold before turn h + 1: Cov(r_h, r_h+1) = -Sigma_u R_h+1
       const GravityTurn& next = turns[static_cast<std::size_t>(h + 1)];
       const Eigen::Matrix2d cross = b.transpose() * (-cov_after * next.rotation) * bases[static_cast<std::size_t>(h + 1)];
@@ -147,13 +155,8 @@ Eigen::MatrixXd turn_whitening(const std::vector<GravityTurn>& turns, const std:
 
 // The noise's variance of a turn's tangent-plane residual, per axis (half the 2 x 2 block's trace).
 double noise_variance(const GravityTurn& g) {
-  const Eigen::Matrix3d eye = Eigen::Matrix3d::Identity();
-  const Eigen::Vector3d v = g.rotation.transpose() * g.before;
-  const Eigen::Matrix3d block = g.after_var * (eye - g.after * g.after.transpose()) +
-                                g.rotation.transpose() * (g.before_var * (eye - g.before * g.before.transpose())) * g.rotation +
-                                g.angle_var * (eye - v * v.transpose());
   const auto b = tangent_basis(g.after);
-  return 0.5 * (b.transpose() * block * b).trace();
+  return 0.5 * (b.transpose() * turn_noise_covariance(g) * b).trace();
 }
 
 // R of a turn from outputs less `bias` (identity M): the weights' geometry.
