@@ -1,6 +1,5 @@
 #include "design/assessment.h"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
@@ -125,9 +124,14 @@ DesignContext::DesignContext(const SensorSpec& sensor, std::shared_ptr<const Env
   if (!envelope_->flights.empty()) {
     const SteadyGrid grid = steady_grid(model_domain_, gyro().errors);
     const Eigen::MatrixXd al = regressor_->columns(grid.inputs) * prior_.root;
-    Eigen::MatrixXd normal = al.transpose() * al;
-    normal.diagonal().array() += 1e-9 * normal.trace() / static_cast<double>(p);
-    anchor_z_ = normal.ldlt().solve(al.transpose() * grid.true_error);
+    // Ridge least squares by QR of the stacked system [A L; sqrt(lambda) I] z = [e; 0], not its normal equations.
+    const auto np = static_cast<Eigen::Index>(p);
+    const double lambda = 1e-9 * al.squaredNorm() / static_cast<double>(p);
+    Eigen::MatrixXd stacked(al.rows() + np, np);
+    stacked << al, std::sqrt(lambda) * Eigen::MatrixXd::Identity(np, np);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(al.rows() + np);
+    rhs.head(al.rows()) = grid.true_error;
+    anchor_z_ = stacked.colPivHouseholderQr().solve(rhs);
     const Eigen::VectorXd theta_a = prior_.mean + prior_.root * anchor_z_;
     for (const auto& f : envelope_->flights) anchor_error_.push_back(f.position_error(*regressor_, theta_a));
   }

@@ -137,7 +137,7 @@ class DesignContext {
   std::vector<Eigen::MatrixXd> scaled_sensitivity_;  // S_f L per flight
   Eigen::MatrixXd scaled_surface_moment_;            // L' M L, M = mean a a' over the envelope
   std::vector<double> log_reference_;                // log R_f^2 per flight
-  ReferenceStatistic statistic_ = ReferenceStatistic::mse;
+  ReferenceStatistic statistic_ = ReferenceStatistic::posterior;  // the CLI's auto for a reference of the same model
   Eigen::VectorXd anchor_z_;                         // the anchor theta_a in prior units
   std::vector<Eigen::Vector3d> anchor_error_;        // m(theta_a) per flight, exact (one INS run each)
 };
