@@ -219,6 +219,14 @@ TriadUncertainty uncertainty_of(const Stage& s, bool g_sensitivity, double max_s
   return u;
 }
 
+std::string undetermined_note(const std::string& name) { return name + ": not determined by the data - held at its nominal value"; }
+
+// Whether an entry's name (M_xy, G_xy, ...) is one the sequential classical fit holds in its second stage: M's
+// off-diagonals and G.
+bool held_in_second_stage(const std::string& name) {
+  return name.rfind("G_", 0) == 0 || (name.rfind("M_", 0) == 0 && name.size() > 3 && name[2] != name[3]);
+}
+
 // The sequential classical fit's uncertainty: M_ii, b and the surfaces from its second stage, M's off-diagonals
 // and G (held there) from the first, where they were estimated; an entry the first stage left undetermined is
 // compensated with 0 and noted, as uncertainty_of does.
@@ -246,10 +254,10 @@ TriadUncertainty sequential_uncertainty(const Stage& first, const Stage& second,
     }
   }
   for (const auto& n : first_notes) {
-    if (n.rfind("G_", 0) == 0 || (n.rfind("M_", 0) == 0 && n[2] != n[3])) notes.push_back(n);
+    if (held_in_second_stage(n)) notes.push_back(n);
   }
   for (const auto& name : first.undetermined) {
-    if (name.rfind("G_", 0) == 0 || (name.rfind("M_", 0) == 0 && name[2] != name[3])) notes.push_back(name + ": not determined by the data - held at its nominal value");
+    if (held_in_second_stage(name)) notes.push_back(undetermined_note(name));
   }
   return u;
 }
@@ -388,7 +396,7 @@ void finish(TriadFit& fit, const Stage& s, const TriadData& d, const TriadRows& 
   const double dt = median_sample_interval(d.t_s);
   fit.sample_rate_hz = 1.0 / dt;
   for (std::size_t a = 0; a < 3; ++a) fit.noise_density[a] = fit.uncertainty.noise_radps[a] * std::sqrt(dt);
-  for (const auto& name : s.undetermined) fit.notes.push_back(name + ": not determined by the data - held at its nominal value");
+  for (const auto& name : s.undetermined) fit.notes.push_back(undetermined_note(name));
   fit.angles = analyse_angles(fit.uncertainty.misalignment_known);
   // Residual rms per gyro over the problem's rows, from the model as it will be used.
   const Eigen::MatrixX3d left = fit.model.predict_outputs(d) - d.gyro;

@@ -117,7 +117,8 @@ void ClassicalModel::export_c_body(CExport& out) const {
              << sf_rate.size() << ", u)" << cross_term << ") * w;\n}\n";
 }
 
-// Columns of the additive separable model: v^0..v^nb | v^1..v^nt w | u^0..u^nw w.
+// Columns of the additive model: v^0..v^nb | v^1..v^nt w | u^0..u^nw w, then the cross terms v^i u^k w (i = 1..nc
+// outer, k = 1..nw inner; none for the separable model).
 Eigen::MatrixXd classical_columns(const ClassicalModel& m, const ClassicalOptions& o, const Eigen::VectorXd& w,
                                   const Eigen::VectorXd& temp) {
   const int nb = o.bias_order, nt = o.sf_temperature_order, nw = o.sf_rate_order, nc = o.sf_cross_order;
