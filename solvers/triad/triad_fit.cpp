@@ -49,9 +49,6 @@ ClassicalOptions classical_surface_options(const OptionMap& map) {
   return o;
 }
 
-}  // namespace
-
-namespace {
 // surface.sf_cross_order=auto (classical surfaces): the order chosen by BIC (fit_triad below).
 constexpr int kMaxAutoCrossOrder = 3;
 bool cross_order_auto(const OptionMap& surface_options) {
@@ -414,11 +411,6 @@ void finish(TriadFit& fit, const Stage& s, const TriadData& d, const TriadRows& 
   fit.reference = rows.description;
 }
 
-}  // namespace
-
-namespace {
-TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata);
-
 // BIC of a fit: each gyro's rows Gaussian with their own variance (its residual rms), every free parameter
 // counted once: sum_i R ln(rms_i^2) + k ln(3 R), R rows per gyro.
 double bic(const TriadFit& f) {
@@ -428,34 +420,7 @@ double bic(const TriadFit& f) {
   for (double rms : f.residual_rms_dph) sum += rows * std::log(std::max(rms * rms, 1e-300));
   return sum + k * std::log(3.0 * rows);
 }
-}  // namespace
 
-// surface.sf_cross_order=auto: the classical surfaces' cross order (0 = the thesis's separable form ..
-// kMaxAutoCrossOrder) chosen by the Bayesian information criterion of the fit in the mode asked for (joint or
-// sequential, each by its own final problem), so that neither mode is handed a family the data reject or
-// denied one they call for. The criteria are kept in the summary's details and a note.
-TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata) {
-  if (auto p = o.validate(); !p.empty()) fail("triad: ", p);
-  if (!cross_order_auto(o.surface_options)) return fit_triad_once(d, o, reference_metadata);
-  std::optional<TriadFit> best;
-  double best_bic = INFINITY;
-  nlohmann::json criteria = nlohmann::json::object();
-  for (int order = 0; order <= kMaxAutoCrossOrder; ++order) {
-    TriadFitOptions oc = o;
-    oc.surface_options = with_cross_order(o.surface_options, order);
-    TriadFit f = fit_triad_once(d, oc, reference_metadata);
-    const double b = bic(f);
-    criteria[std::to_string(order)] = b;
-    if (b < best_bic) best_bic = b, best = std::move(f);
-  }
-  best->options = o;
-  const int chosen = std::stoi(best->summary.details.value("surface_sf_cross_order", std::string("0")));
-  best->notes.push_back(str_cat("surface.sf_cross_order=auto: order ", chosen, " chosen by BIC (", criteria.dump(), ")"));
-  best->summary.details["sf_cross_order_bic"] = criteria;
-  return *best;
-}
-
-namespace {
 TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata) {
   if (d.size() < 4) fail("triad: ", d.size(), " samples are too few");
   TriadFit fit;
@@ -535,6 +500,32 @@ TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std:
   }
   return fit;
 }
+
 }  // namespace
+
+// surface.sf_cross_order=auto: the classical surfaces' cross order (0 = the thesis's separable form ..
+// kMaxAutoCrossOrder) chosen by the Bayesian information criterion of the fit in the mode asked for (joint or
+// sequential, each by its own final problem), so that neither mode is handed a family the data reject or
+// denied one they call for. The criteria are kept in the summary's details and a note.
+TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata) {
+  if (auto p = o.validate(); !p.empty()) fail("triad: ", p);
+  if (!cross_order_auto(o.surface_options)) return fit_triad_once(d, o, reference_metadata);
+  std::optional<TriadFit> best;
+  double best_bic = INFINITY;
+  nlohmann::json criteria = nlohmann::json::object();
+  for (int order = 0; order <= kMaxAutoCrossOrder; ++order) {
+    TriadFitOptions oc = o;
+    oc.surface_options = with_cross_order(o.surface_options, order);
+    TriadFit f = fit_triad_once(d, oc, reference_metadata);
+    const double b = bic(f);
+    criteria[std::to_string(order)] = b;
+    if (b < best_bic) best_bic = b, best = std::move(f);
+  }
+  best->options = o;
+  const int chosen = std::stoi(best->summary.details.value("surface_sf_cross_order", std::string("0")));
+  best->notes.push_back(str_cat("surface.sf_cross_order=auto: order ", chosen, " chosen by BIC (", criteria.dump(), ")"));
+  best->summary.details["sf_cross_order_bic"] = criteria;
+  return *best;
+}
 
 }  // namespace gyrosid
