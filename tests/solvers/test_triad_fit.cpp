@@ -7,7 +7,6 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
-#include <iostream>
 #include <random>
 
 #include "core/error.h"
@@ -643,10 +642,17 @@ TriadData hand_turn_session(const Eigen::Matrix3d& m, const Eigen::Vector3d& bia
   return d;
 }
 
-TEST(TriadFit, HandTurnsKnownByGravityRecoverThePlantedMatrix) {
+// The planted triad of the hand-turn tests: M (scale factors -5e-3..1e-2, misalignments up to 3 mrad) and biases.
+Eigen::Matrix3d hand_turn_misalignment() {
   Eigen::Matrix3d m;
   m << 2e-3, -1e-3, 3e-3, 8e-4, -5e-3, 1.4e-3, 4e-4, -1e-3, 1e-2;
-  const Eigen::Vector3d bias(dph_to_radps(-15.0), dph_to_radps(7.0), dph_to_radps(22.0));
+  return m;
+}
+Eigen::Vector3d hand_turn_bias() { return {dph_to_radps(-15.0), dph_to_radps(7.0), dph_to_radps(22.0)}; }
+
+TEST(TriadFit, HandTurnsKnownByGravityRecoverThePlantedMatrix) {
+  const Eigen::Matrix3d m = hand_turn_misalignment();
+  const Eigen::Vector3d bias = hand_turn_bias();
   const TriadData d = hand_turn_session(m, bias, 11, 0.0, 0.0);
   TriadFitOptions o;
   o.bias_order = 0;
@@ -680,9 +686,8 @@ TEST(TriadFit, HandTurnsKnownByGravityRecoverThePlantedMatrix) {
 // entries spread as their sigmas say (measured: 0.86, 77 % inside 1 sigma; the tangent plane without the
 // weights 0.92). Three residuals per turn, one of them ~0, made each sigma ~1/sqrt(2/3) = 1.22x too small.
 TEST(TriadFit, HandTurnsKnownByGravityReportSigmasTheErrorsFollow) {
-  Eigen::Matrix3d m;
-  m << 2e-3, -1e-3, 3e-3, 8e-4, -5e-3, 1.4e-3, 4e-4, -1e-3, 1e-2;
-  const Eigen::Vector3d bias(dph_to_radps(-15.0), dph_to_radps(7.0), dph_to_radps(22.0));
+  const Eigen::Matrix3d m = hand_turn_misalignment();
+  const Eigen::Vector3d bias = hand_turn_bias();
   TriadFitOptions o;
   o.bias_order = 0;
   o.reference = "gravity";
