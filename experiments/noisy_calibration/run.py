@@ -327,7 +327,7 @@ def main():
     ap.add_argument("--part", choices=["reference", "sensor_c", "scaling", "all"], default="all")
     ap.add_argument("--summary-only", action="store_true", help="summarise what is cached, compute nothing")
     ap.add_argument("--methods", help="comma-separated: rerun only these methods (with --keep-rows for the others)")
-    ap.add_argument("--keep-rows", help="rows.csv of an earlier run: its rows for recordings and methods this run did not produce are kept")
+    ap.add_argument("--keep-rows", help="rows.csv of an earlier run: every row (recording and method) this run did not produce is kept")
     args = ap.parse_args()
     cfg = yaml.safe_load(open(args.config))
     e = Experiment(args, cfg)
@@ -350,7 +350,9 @@ def main():
         key = lambda r: tuple(str(r[k]) for k in ("sensor", "trajectory", "noise", "seed", "method"))
         produced = {key(r) for r in e.rows}
         with open(args.keep_rows) as f:
-            kept = [r for r in csv.DictReader(f) if key(r) not in produced and not e.wanted(r["method"])]
+            # every earlier row this run did not reproduce: also rows of --methods on recordings, parts or
+            # seeds the run did not reach (a --part, a budget cut) - they are dropped only when replaced
+            kept = [r for r in csv.DictReader(f) if key(r) not in produced]
         e.rows += [{k: _number(v) for k, v in r.items()} for r in kept]
     write_csv(os.path.join(e.out, "rows.csv"), e.rows, COLUMNS)
     import summarise  # noqa: E402
