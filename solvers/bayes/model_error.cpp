@@ -35,31 +35,11 @@ std::vector<int> folds_of(const Eigen::MatrixXd& x, int& count, std::string& kin
   return fold;
 }
 
-// Variance of the mean of the noise over samples rows[b..e) (white + Gauss-Markov, y units^2).
-double run_noise_variance(const std::vector<Eigen::Index>& rows, std::size_t b, std::size_t e, const NoiseModel& m,
-                          const std::vector<double>& t_s) {
-  const double n = static_cast<double>(e - b);
-  double sum = n * (m.white_var + m.gm_var);
-  if (m.gm_var > 0) {
-    for (std::size_t i = b; i < e; ++i)
-      for (std::size_t j = b; j < i; ++j) {
-        const double dt = t_s[static_cast<std::size_t>(rows[i])] - t_s[static_cast<std::size_t>(rows[j])];
-        sum += 2.0 * m.gm_var * std::exp(-std::abs(dt) / m.gm_tau_s);
-      }
-  }
-  return sum / (n * n);
-}
-
-struct FoldExcess {
-  double value = 0.0;
-  bool valid = false;
-};
-
-// The weighted mean excess e_r^2 - a_r - v_r over the runs of one fold (model_error.h).
-FoldExcess fold_excess(const std::vector<Eigen::Index>& rows, const Eigen::VectorXd& e, const Eigen::MatrixXd& h,
-                       const Eigen::LLT<Eigen::MatrixXd>& a, const Eigen::MatrixXd& x, const Eigen::RowVectorXd& widths,
-                       const NoiseModel& noise, const std::vector<double>& t_s) {
-  double num = 0.0, den = 0.0;
+// The runs of one fold: consecutive samples over which the inputs move less than half a width (the misfit is
+// nearly constant over a run while the noise averages down), as [begin, end) into the fold's rows.
+std::vector<std::pair<std::size_t, std::size_t>> runs_of(const std::vector<Eigen::Index>& rows, const Eigen::MatrixXd& x,
+                                                         const Eigen::RowVectorXd& widths) {
+  std::vector<std::pair<std::size_t, std::size_t>> runs;
   std::size_t b = 0;
   while (b < rows.size()) {
     std::size_t end = b + 1;
@@ -67,16 +47,83 @@ FoldExcess fold_excess(const std::vector<Eigen::Index>& rows, const Eigen::Vecto
            ((x.row(rows[end]) - x.row(rows[b])).cwiseAbs().array() <= 0.5 * widths.array()).all()) {
       ++end;
     }
-    const double n = static_cast<double>(end - b);
-    const Eigen::VectorXd hbar = h.middleRows(static_cast<Eigen::Index>(b), static_cast<Eigen::Index>(end - b)).colwise().sum().transpose() / n;
-    const double ebar = e.segment(static_cast<Eigen::Index>(b), static_cast<Eigen::Index>(end - b)).sum() / n;
-    const double var_estimate = hbar.dot(a.solve(hbar));
-    const double var_noise = run_noise_variance(rows, b, end, noise, t_s);
-    const double w = 1.0 / std::pow(var_estimate + var_noise, 2);
-    num += w * (ebar * ebar - var_estimate - var_noise), den += w;
+    runs.emplace_back(b, end);
     b = end;
   }
-  return {den > 0 ? num / den : 0.0, den > 0};
+  return runs;
+}
+
+// Covariance of the run means of the noise (white + Gauss-Markov, y units^2; a random walk's level is pinned
+// by the neighbouring samples and left out). Runs are disjoint and in time order, so between runs r < s the
+// Gauss-Markov sum factorises: sum_ij exp(-(t_j - t_i)/tau) = a_r exp(-(t_s0 - t_r1)/tau) b_s, with
+// a_r = sum_i exp(-(t_r1 - t_i)/tau) and b_s = sum_j exp(-(t_j - t_s0)/tau) (t_r1: the run's last sample,
+// t_s0: the next run's first) - O(R^2 + n) for R runs of n samples, no n x n matrix.
+Eigen::MatrixXd run_noise_covariance(const std::vector<Eigen::Index>& rows, const std::vector<std::pair<std::size_t, std::size_t>>& runs,
+                                     const NoiseModel& m, const std::vector<double>& t_s) {
+  const Eigen::Index nr = static_cast<Eigen::Index>(runs.size());
+  Eigen::MatrixXd v = Eigen::MatrixXd::Zero(nr, nr);
+  auto t = [&](std::size_t i) { return t_s[static_cast<std::size_t>(rows[i])]; };
+  Eigen::VectorXd a(nr), b(nr), first(nr), last(nr), count(nr);
+  for (Eigen::Index r = 0; r < nr; ++r) {
+    const auto [rb, re] = runs[static_cast<std::size_t>(r)];
+    const double n = static_cast<double>(re - rb);
+    count(r) = n, first(r) = t(rb), last(r) = t(re - 1);
+    double within = n * (m.white_var + m.gm_var);
+    a(r) = b(r) = 0.0;
+    if (m.gm_var > 0) {
+      for (std::size_t i = rb; i < re; ++i) {
+        a(r) += std::exp(-(last(r) - t(i)) / m.gm_tau_s), b(r) += std::exp(-(t(i) - first(r)) / m.gm_tau_s);
+        for (std::size_t j = rb; j < i; ++j) within += 2.0 * m.gm_var * std::exp(-std::abs(t(i) - t(j)) / m.gm_tau_s);
+      }
+    }
+    v(r, r) = within / (n * n);
+  }
+  if (m.gm_var > 0) {
+    for (Eigen::Index r = 0; r < nr; ++r)
+      for (Eigen::Index s = r + 1; s < nr; ++s) {
+        const double gap = first(s) - last(r);
+        if (gap > 40.0 * m.gm_tau_s) break;  // runs are in time order: every later one is farther
+        v(r, s) = v(s, r) = m.gm_var * a(r) * std::exp(-gap / m.gm_tau_s) * b(s) / (count(r) * count(s));
+      }
+  }
+  return v;
+}
+
+struct FoldExcess {
+  double value = 0.0;
+  double null_variance = 0.0;  // the variance of `value` were the model class right
+  bool valid = false;
+};
+
+// The weighted mean excess e_r^2 - c_rr over the runs of one fold (model_error.h), c_rr the run mean's
+// variance were the model class right: the estimate's h_r' A_k^-1 h_r plus the noise's. Its variance under
+// that hypothesis, from the run means' joint covariance C = H A_k^-1 H' + V (Gaussian: cov(e_r^2, e_s^2) =
+// 2 c_rs^2), is 2 sum_rs w_r w_s c_rs^2 / (sum w)^2. (The spread of the excess over folds is no measure of
+// its null variance: a real misfit differs from fold to fold, e.g. a ripple that grows with the rate.)
+FoldExcess fold_excess(const std::vector<Eigen::Index>& rows, const Eigen::VectorXd& e, const Eigen::MatrixXd& h,
+                       const Eigen::LLT<Eigen::MatrixXd>& a, const Eigen::MatrixXd& x, const Eigen::RowVectorXd& widths,
+                       const NoiseModel& noise, const std::vector<double>& t_s) {
+  const auto runs = runs_of(rows, x, widths);
+  const Eigen::Index nr = static_cast<Eigen::Index>(runs.size());
+  if (nr == 0) return {};
+  Eigen::MatrixXd hbar(nr, h.cols());
+  Eigen::VectorXd ebar(nr);
+  for (Eigen::Index r = 0; r < nr; ++r) {
+    const auto [b, end] = runs[static_cast<std::size_t>(r)];
+    const Eigen::Index len = static_cast<Eigen::Index>(end - b);
+    hbar.row(r) = h.middleRows(static_cast<Eigen::Index>(b), len).colwise().sum() / static_cast<double>(len);
+    ebar(r) = e.segment(static_cast<Eigen::Index>(b), len).sum() / static_cast<double>(len);
+  }
+  const Eigen::MatrixXd g = a.matrixL().solve(hbar.transpose());  // (M+P) x R: C_estimate = g' g
+  Eigen::MatrixXd c = g.transpose() * g;
+  c += run_noise_covariance(rows, runs, noise, t_s);
+  const Eigen::VectorXd w = c.diagonal().array().square().inverse().matrix();
+  const double sw = w.sum();
+  FoldExcess out;
+  out.value = w.dot((ebar.array().square() - c.diagonal().array()).matrix()) / sw;
+  out.null_variance = 2.0 * w.dot(c.array().square().matrix() * w) / (sw * sw);
+  out.valid = sw > 0 && std::isfinite(out.value);
+  return out;
 }
 
 }  // namespace
@@ -115,7 +162,9 @@ ModelErrorEstimate model_error_by_cv(const BayesProblem& p, const BayesFit& fit,
   prior.tail(q).setConstant(1e-10);  // targets have unit RMS, so the data's precision is far above it
 
   const std::vector<int> fold = folds_of(p.x, out.folds, out.fold_kind);
+  const bool level_folds = out.fold_kind != "time blocks";
   std::vector<double> excess;
+  double null_variance = 0.0;
   for (int k = 0; k < out.folds; ++k) {
     std::vector<Eigen::Index> rows;
     for (Eigen::Index i = 0; i < n; ++i)
@@ -151,17 +200,20 @@ ModelErrorEstimate model_error_by_cv(const BayesProblem& p, const BayesFit& fit,
       ek(static_cast<Eigen::Index>(r)) = p.y(rows[r]) - h.row(rows[r]).dot(mean);
     }
     const FoldExcess f = fold_excess(rows, ek, hk, llt, p.x, fit.widths, noise, t_s);
-    if (f.valid) excess.push_back(f.value);
+    if (f.valid) excess.push_back(f.value), null_variance += f.null_variance;
   }
   if (excess.size() < 2) return out;
   const double k = static_cast<double>(excess.size());
-  double mean = 0.0, sq = 0.0;
+  double mean = 0.0;
   for (const double v : excess) mean += v / k;
-  for (const double v : excess) sq += (v - mean) * (v - mean);
   out.mean_excess = mean;
-  out.standard_error = std::sqrt(sq / (k - 1) / k);
-  out.variance = mean > 2.0 * out.standard_error ? mean : 0.0;
-  return out;
+  out.standard_error = std::sqrt(null_variance) / k;  // folds taken as independent
+  // A left-out level is predicted at one level spacing from the nearest level kept; between levels a point is
+  // at most half a spacing from one. The misfit's variance at half the distance is taken as a quarter: its
+  // rms grows linearly with the distance (a smooth misfit grows faster near the data, so this errs large).
+  const double reach = level_folds ? 0.25 : 1.0;
+  out.variance = mean > 2.0 * out.standard_error ? reach * mean : 0.0;
+    return out;
 }
 
 }  // namespace gyrosid

@@ -10,14 +10,22 @@
 //          Gram matrix minus the fold's, O(N (M+P)^2) once; coloured: the other samples whitened anew by
 //          the Kalman filter across the gap, O(N (M+P)^2) per fold; no N x N matrix);
 //   runs: the fold's samples split into runs over which the inputs move less than half a width (the misfit
-//          is nearly constant over a run while white noise averages down), with mean residual e_r,
-//          the estimate's variance a_r = h_r' A_k^-1 h_r and the noise variance of the run mean v_r
-//          (white + Gauss-Markov; a random walk's level is pinned by the neighbouring samples and left out);
-//   s_m^2 = mean over folds of the weighted mean of e_r^2 - a_r - v_r (weights 1/(a_r + v_r)^2), kept when
-//          it exceeds twice its standard error over the folds, else 0.
+//          is nearly constant over a run while white noise averages down), with mean residual e_r and
+//          c_rr = h_r' A_k^-1 h_r + v_r, the variance of e_r were the model class right (the estimate's plus
+//          the noise's run mean, white + Gauss-Markov; a random walk's level is pinned by the neighbouring
+//          samples and left out);
+//   excess: per fold the weighted mean of e_r^2 - c_rr (weights 1/c_rr^2), averaged over the folds;
+//   test:   kept when it exceeds twice its standard error were the model class right, from the run means'
+//          joint covariance C = H A_k^-1 H' + V (cov(e_r^2, e_s^2) = 2 c_rs^2 for Gaussian e). The spread of
+//          the excess over the folds is no such measure: a real misfit differs from fold to fold (sensor C's
+//          scale-factor ripple grows with the rate: 726 +- 366 (deg/h)^2 over its staircase's 13 levels at
+//          1 deg/h white noise, 1.98 spreads, was discarded, and the band covered none of the held-out errors);
+//   s_m^2:  the excess; over level folds a quarter of it - a left-out level is predicted one spacing from
+//          the nearest level kept, a point between levels is at most half a spacing from one, and a misfit
+//          whose rms grows linearly with that distance has a quarter of the variance there (a smooth misfit
+//          grows faster, so this errs large).
 //
-// The predictive variance becomes h' P h + s_m^2 (model/weight_posterior.h). A level fold interpolates
-// over twice the level spacing, so on a staircase the estimate errs on the large side.
+// The predictive variance becomes h' P h + s_m^2 (model/weight_posterior.h).
 #pragma once
 
 #include <string>
@@ -30,7 +38,7 @@ namespace gyrosid {
 struct ModelErrorEstimate {
   double variance = 0.0;        // s_m^2, y units^2 (0 when not significant)
   double mean_excess = 0.0;     // the estimate before the significance test
-  double standard_error = 0.0;  // its standard error over the folds
+  double standard_error = 0.0;  // its standard error were the model class right
   int folds = 0;
   std::string fold_kind;        // "levels of input k" or "time blocks"
   std::string describe(double to_dph) const;
