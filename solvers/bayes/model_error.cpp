@@ -53,42 +53,6 @@ std::vector<std::pair<std::size_t, std::size_t>> runs_of(const std::vector<Eigen
   return runs;
 }
 
-// Covariance of the run means of the noise (white + Gauss-Markov, y units^2; a random walk's level is pinned
-// by the neighbouring samples and left out). Runs are disjoint and in time order, so between runs r < s the
-// Gauss-Markov sum factorises: sum_ij exp(-(t_j - t_i)/tau) = a_r exp(-(t_s0 - t_r1)/tau) b_s, with
-// a_r = sum_i exp(-(t_r1 - t_i)/tau) and b_s = sum_j exp(-(t_j - t_s0)/tau) (t_r1: the run's last sample,
-// t_s0: the next run's first) - O(R^2 + n) for R runs of n samples, no n x n matrix.
-Eigen::MatrixXd run_noise_covariance(const std::vector<Eigen::Index>& rows, const std::vector<std::pair<std::size_t, std::size_t>>& runs,
-                                     const NoiseModel& m, const std::vector<double>& t_s) {
-  const Eigen::Index nr = static_cast<Eigen::Index>(runs.size());
-  Eigen::MatrixXd v = Eigen::MatrixXd::Zero(nr, nr);
-  auto t = [&](std::size_t i) { return t_s[static_cast<std::size_t>(rows[i])]; };
-  Eigen::VectorXd a(nr), b(nr), first(nr), last(nr), count(nr);
-  for (Eigen::Index r = 0; r < nr; ++r) {
-    const auto [rb, re] = runs[static_cast<std::size_t>(r)];
-    const double n = static_cast<double>(re - rb);
-    count(r) = n, first(r) = t(rb), last(r) = t(re - 1);
-    double within = n * (m.white_var + m.gm_var);
-    a(r) = b(r) = 0.0;
-    if (m.gm_var > 0) {
-      for (std::size_t i = rb; i < re; ++i) {
-        a(r) += std::exp(-(last(r) - t(i)) / m.gm_tau_s), b(r) += std::exp(-(t(i) - first(r)) / m.gm_tau_s);
-        for (std::size_t j = rb; j < i; ++j) within += 2.0 * m.gm_var * std::exp(-std::abs(t(i) - t(j)) / m.gm_tau_s);
-      }
-    }
-    v(r, r) = within / (n * n);
-  }
-  if (m.gm_var > 0) {
-    for (Eigen::Index r = 0; r < nr; ++r)
-      for (Eigen::Index s = r + 1; s < nr; ++s) {
-        const double gap = first(s) - last(r);
-        if (gap > 40.0 * m.gm_tau_s) break;  // runs are in time order: every later one is farther
-        v(r, s) = v(s, r) = m.gm_var * a(r) * std::exp(-gap / m.gm_tau_s) * b(s) / (count(r) * count(s));
-      }
-  }
-  return v;
-}
-
 struct FoldExcess {
   double value = 0.0;
   double null_variance = 0.0;  // the variance of `value` were the model class right
@@ -116,7 +80,12 @@ FoldExcess fold_excess(const std::vector<Eigen::Index>& rows, const Eigen::Vecto
   }
   const Eigen::MatrixXd g = a.matrixL().solve(hbar.transpose());  // (M+P) x R: C_estimate = g' g
   Eigen::MatrixXd c = g.transpose() * g;
-  c += run_noise_covariance(rows, runs, noise, t_s);
+  std::vector<std::vector<double>> run_times;
+  for (const auto& [b, end] : runs) {
+    run_times.emplace_back();
+    for (std::size_t i = b; i < end; ++i) run_times.back().push_back(t_s[static_cast<std::size_t>(rows[i])]);
+  }
+  c += run_mean_noise_covariance(run_times, noise);
   const Eigen::VectorXd w = c.diagonal().array().square().inverse().matrix();
   const double sw = w.sum();
   FoldExcess out;
@@ -127,6 +96,34 @@ FoldExcess fold_excess(const std::vector<Eigen::Index>& rows, const Eigen::Vecto
 }
 
 }  // namespace
+
+Eigen::MatrixXd run_mean_noise_covariance(const std::vector<std::vector<double>>& runs, const NoiseModel& m) {
+  const Eigen::Index nr = static_cast<Eigen::Index>(runs.size());
+  Eigen::MatrixXd v = Eigen::MatrixXd::Zero(nr, nr);
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(nr), b = Eigen::VectorXd::Zero(nr);
+  for (Eigen::Index r = 0; r < nr; ++r) {
+    const std::vector<double>& t = runs[static_cast<std::size_t>(r)];
+    const double n = static_cast<double>(t.size());
+    double within = n * (m.white_var + m.gm_var);
+    if (m.gm_var > 0) {
+      for (std::size_t i = 0; i < t.size(); ++i) {
+        a(r) += std::exp(-(t.back() - t[i]) / m.gm_tau_s), b(r) += std::exp(-(t[i] - t.front()) / m.gm_tau_s);
+        for (std::size_t j = 0; j < i; ++j) within += 2.0 * m.gm_var * std::exp(-std::abs(t[i] - t[j]) / m.gm_tau_s);
+      }
+    }
+    v(r, r) = within / (n * n);
+  }
+  if (!(m.gm_var > 0)) return v;
+  for (Eigen::Index r = 0; r < nr; ++r)
+    for (Eigen::Index s = r + 1; s < nr; ++s) {
+      const auto& tr = runs[static_cast<std::size_t>(r)];
+      const auto& ts = runs[static_cast<std::size_t>(s)];
+      const double gap = ts.front() - tr.back();
+      if (gap > 40.0 * m.gm_tau_s) break;  // runs are in time order: every later one is farther
+      v(r, s) = v(s, r) = m.gm_var * a(r) * std::exp(-gap / m.gm_tau_s) * b(s) / (static_cast<double>(tr.size()) * static_cast<double>(ts.size()));
+    }
+  return v;
+}
 
 std::string ModelErrorEstimate::describe(double to_dph) const {
   const auto dph = [&](double v) { return format_significant(std::sqrt(std::max(0.0, v)) * to_dph, 3); };

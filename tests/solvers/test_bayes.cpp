@@ -14,6 +14,7 @@
 #include "sensor/noise_model.h"
 #include "solvers/bayes/bayes_fit.h"
 #include "solvers/bayes/evidence.h"
+#include "solvers/bayes/model_error.h"
 #include "solvers/common/candidates.h"
 
 namespace gyrosid {
@@ -518,6 +519,91 @@ TEST(BayesFit, ModelErrorBetweenLevelsIsCoveredByCrossValidation) {
   }
   EXPECT_GT(with_cv.value(), 0.90);
   EXPECT_LT(posterior_only.value(), 0.80);  // the misfit the test plants is real: without the estimate the band misses it
+}
+
+TEST(BayesModelError, RunMeanNoiseCovarianceEqualsTheBruteForceDoubleSum) {
+  // Runs of uneven length with gaps between them, white + Gauss-Markov: the factorised sums against
+  // cov(mean_r, mean_s) = 1/(n_r n_s) sum_ij (white delta_ij + gm exp(-|t_i - t_j|/tau)) written out.
+  NoiseModel m;
+  m.dt_s = 0.5, m.white_var = 0.3, m.gm_var = 0.7, m.gm_tau_s = 4.0;
+  const std::vector<std::vector<double>> runs = {{0.0, 0.5, 1.0}, {3.0}, {3.5, 4.0, 4.5, 5.0, 5.5}, {12.0, 12.5}, {200.0, 200.5}};
+  const Eigen::MatrixXd v = run_mean_noise_covariance(runs, m);
+  for (std::size_t r = 0; r < runs.size(); ++r)
+    for (std::size_t q = 0; q < runs.size(); ++q) {
+      double sum = 0.0;
+      for (std::size_t i = 0; i < runs[r].size(); ++i)
+        for (std::size_t j = 0; j < runs[q].size(); ++j)
+          sum += (r == q && i == j ? m.white_var : 0.0) + m.gm_var * std::exp(-std::abs(runs[r][i] - runs[q][j]) / m.gm_tau_s);
+      const double expected = sum / static_cast<double>(runs[r].size() * runs[q].size());
+      EXPECT_NEAR(v(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(q)), expected, 1e-12 + 1e-12 * std::abs(expected)) << r << ", " << q;
+    }
+  m.gm_var = 0.0;  // white: the run means are independent, variance white / n
+  const Eigen::MatrixXd w = run_mean_noise_covariance(runs, m);
+  EXPECT_NEAR(w(2, 2), 0.3 / 5, 1e-15);
+  EXPECT_EQ(w(0, 1), 0.0);
+}
+
+TEST(BayesFit, ModelErrorGrowingAcrossLevelsIsJudgedByItsNullVarianceNotItsSpread) {
+  // Physics alone (no RBF part: flat-prior polynomial columns, cubic in input 0, quadratic in input 1), input
+  // 0 on 9 levels 0.25 apart, input 1 a ramp, small noise. The truth adds a ripple of period 0.55 in input 0
+  // (0.45 cycles per level) whose amplitude grows as input 0 to the 4th (sensor C's scale-factor ripple grows
+  // with the rate on its staircase): the excess differs from level to level by far more than its null
+  // variance. The old test - the mean over 2 spreads over the folds - discards it on every seed (excess 0.12
+  // +- 0.065; coverage 0.04), as it did on sensor C's staircase at 1 deg/h (coverage 0.0). Between the
+  // levels the band must cover the truth and not be grossly wide (rms under 2x the rms error there: a
+  // left-out level is predicted at twice the distance). Without the ripple nothing is added.
+  auto truth = [](const Eigen::MatrixXd& x, double ripple) {
+    return (0.8 * x.col(0).array() + 0.3 * x.col(0).array().cube() + 0.4 * x.col(1).array().square() +
+            ripple * x.col(0).array().pow(4) * (2 * M_PI * x.col(0).array() / 0.55).cos()).matrix().eval();
+  };
+  auto physics = [](const Eigen::MatrixXd& x) {
+    Eigen::MatrixXd f(x.rows(), 6);
+    f.col(0).setOnes();
+    f.col(1) = x.col(0), f.col(2) = x.col(0).array().square(), f.col(3) = x.col(0).array().cube();
+    f.col(4) = x.col(1), f.col(5) = x.col(1).array().square();
+    return f;
+  };
+  // Held-out points between the levels (1/8 .. 7/8 of the spacing), as a held-out trajectory crosses them.
+  Eigen::MatrixXd mid(8 * 7 * 11, 2);
+  for (Eigen::Index i = 0, row = 0; i < 8; ++i)
+    for (Eigen::Index k = 1; k < 8; ++k)
+      for (Eigen::Index j = 0; j < 11; ++j, ++row) mid(row, 0) = -1 + 0.25 * static_cast<double>(i) + 0.25 * static_cast<double>(k) / 8, mid(row, 1) = -1 + 0.2 * static_cast<double>(j);
+  Coverage c;
+  double sigma2 = 0.0, error2 = 0.0;
+  int added_without_ripple = 0;
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    for (const double ripple : {0.6, 0.0}) {
+      const Eigen::Index n = 2400;
+      BayesProblem p;
+      p.x.resize(n, 2);
+      RandomStream r(seed, "levels-growing-model-error");
+      for (Eigen::Index i = 0; i < n; ++i) {
+        p.x(i, 0) = -1 + 0.25 * static_cast<double>(((i / 20) * 5) % 9);
+        p.x(i, 1) = -1 + 2 * static_cast<double>(i) / static_cast<double>(n - 1);
+      }
+      p.y = truth(p.x, ripple);
+      for (Eigen::Index i = 0; i < n; ++i) p.y(i) += 0.02 * r.normal();
+      p.fixed = physics(p.x), p.t_s = unit_times(n);
+      BayesFitOptions o;
+      o.nodes = 0, o.noise = "white";
+      SolveMonitor monitor;
+      const BayesFit fit = fit_bayes(p, o, monitor);
+      if (ripple == 0.0) {
+        added_without_ripple += fit.model_error_var > 0;
+        continue;
+      }
+      EXPECT_GT(fit.model_error_var, 0.0) << fit.model_error_note;
+      const Eigen::MatrixXd h = physics(mid);
+      const Eigen::VectorXd error = h * fit.fixed_weights - truth(mid, ripple);
+      const Eigen::VectorXd var = (h * fit.covariance).cwiseProduct(h).rowwise().sum().array() + fit.model_error_var;
+      for (Eigen::Index i = 0; i < mid.rows(); ++i, ++c.total) c.inside += std::abs(error(i)) <= 1.96 * std::sqrt(var(i));
+      error2 += error.squaredNorm(), sigma2 += var.sum();
+    }
+  }
+  EXPECT_GT(c.value(), 0.85);  // 0.87: a constant s_m^2 under-covers the outer levels, over-covers the inner
+  EXPECT_LT(c.value(), 0.99);  // 1.0 with the level fold's full excess (band rms 2.1x the error)
+  EXPECT_LT(std::sqrt(sigma2 / error2), 2.0);
+  EXPECT_LE(added_without_ripple, 1);
 }
 
 TEST(BayesFit, ModelErrorIsNotAddedWhenTheModelClassIsRight) {
