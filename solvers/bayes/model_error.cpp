@@ -15,6 +15,9 @@ namespace {
 
 constexpr int kTimeBlocks = 10;
 constexpr int kMinLevels = 4;  // fewer levels: leaving one out removes too much of the input's range
+// At most this many runs per fold: the null variance needs the runs' R x R covariance (32 MB at 2000), which a
+// fast trajectory would otherwise make N / K on a side (every sample its own run).
+constexpr std::size_t kMaxRuns = 2000;
 
 // Fold index of every sample: the levels of the levelled input with the widest spacing, else time blocks.
 std::vector<int> folds_of(const Eigen::MatrixXd& x, int& count, std::string& kind) {
@@ -36,7 +39,8 @@ std::vector<int> folds_of(const Eigen::MatrixXd& x, int& count, std::string& kin
 }
 
 // The runs of one fold: consecutive samples over which the inputs move less than half a width (the misfit is
-// nearly constant over a run while the noise averages down), as [begin, end) into the fold's rows.
+// nearly constant over a run while the noise averages down), as [begin, end) into the fold's rows; at most
+// kMaxRuns.
 std::vector<std::pair<std::size_t, std::size_t>> runs_of(const std::vector<Eigen::Index>& rows, const Eigen::MatrixXd& x,
                                                          const Eigen::RowVectorXd& widths) {
   std::vector<std::pair<std::size_t, std::size_t>> runs;
@@ -50,7 +54,13 @@ std::vector<std::pair<std::size_t, std::size_t>> runs_of(const std::vector<Eigen
     runs.emplace_back(b, end);
     b = end;
   }
-  return runs;
+  if (runs.size() <= kMaxRuns) return runs;
+  // Too many: groups of consecutive runs become one (their mean averages some misfit away - a weaker test,
+  // still a valid one, as the null covariance is that of the same groups).
+  const std::size_t group = (runs.size() + kMaxRuns - 1) / kMaxRuns;
+  std::vector<std::pair<std::size_t, std::size_t>> merged;
+  for (std::size_t i = 0; i < runs.size(); i += group) merged.emplace_back(runs[i].first, runs[std::min(i + group, runs.size()) - 1].second);
+  return merged;
 }
 
 struct FoldExcess {
