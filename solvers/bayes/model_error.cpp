@@ -220,7 +220,7 @@ ModelErrorEstimate model_error_by_cv(const BayesProblem& p, const BayesFit& fit,
   // rms grows linearly with the distance (a smooth misfit grows faster near the data, so this errs large).
   const double reach = level_folds ? 0.25 : 1.0;
   out.variance = mean > 2.0 * out.standard_error ? reach * mean : 0.0;
-    return out;
+  return out;
 }
 
 }  // namespace gyrosid
