@@ -73,7 +73,8 @@ struct TriadFitOptions {
   std::string sequential_scale = "triad";  // sequential classical: who carries the constant scale factor (below)
   std::string surface_input = "smoothed";  // the rate the surfaces are fitted at: smoothed | measured (below)
   int surface_window = 30;                  // smoothed: half-width of the centred window, samples
-  OptionMap surface_options;          // surface.<key>=<value>: options of the surface kind or its solver
+  OptionMap surface_options;          // surface.<key>=<value>: options of the surface kind or its solver;
+                                      // classical surfaces without sf_cross_order: auto (fit_triad)
   OptionTable table();
   std::string validate() const;
 };
@@ -89,6 +90,22 @@ struct TriadUncertainty {
   std::array<double, 3> noise_radps{};  // each gyro's residual standard deviation (per row)
 };
 
+// The fit's Bayesian information criterion (Schwarz), one definition for surface.sf_cross_order=auto and for the
+// model file (summary.details.information_criterion): each gyro's R rows Gaussian with their own variance at its
+// maximum-likelihood value rss_i / R, k the parameters the fit estimated,
+//   BIC = sum_i R ln(rss_i / R) + k ln(3 R),   rss_i in (rad/s)^2,
+// i.e. -2 ln L + k ln n up to a constant that depends on R only. k counts the free entries of the final problem,
+// plus, for the sequential classical fit, the off-diagonals and G its first stage estimated and its second held,
+// and a classical surface fitted by its own fitter (sequential_scale=surface) by its coefficients. NaN where the
+// fit's parameters are not all counted that way (greybox or rbf surfaces fitted by their own fitter) or where
+// not every residual is a row (reference=gravity: the turns' residuals).
+struct TriadInformationCriterion {
+  int rows_per_gyro = 0;              // R
+  int parameters = 0;                 // k
+  std::array<double, 3> rss_radps2{}; // per gyro, over its rows (weighted as the rows are)
+  double bic = NAN;
+};
+
 struct TriadFit {
   TriadModel model;
   TriadUncertainty uncertainty;
@@ -98,7 +115,9 @@ struct TriadFit {
   std::array<double, 3> residual_rms_dph{};  // per gyro, of the final fit's rows
   std::array<double, 3> noise_density{};     // white-noise density rad/s/sqrt(Hz) (= N, ARW) from the residuals
   double sample_rate_hz = 0.0;               // median sampling rate of the recording
-  SolveSummary summary;             // the final solve; details["stages"] holds every stage's summary
+  TriadInformationCriterion criterion;
+  SolveSummary summary;             // the final solve; details["stages"] holds every stage's summary,
+                                    // details["information_criterion"] the criterion above
   TriadFitOptions options;
 };
 

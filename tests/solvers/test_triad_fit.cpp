@@ -365,7 +365,7 @@ TEST(TriadFit, SurfacesFittedAtSmoothedOutputsAgreeJointAndSequentialWhereThePro
     o.surfaces = "classical";
     o.bias_order = 2;
     o.surface_input = input;
-    o.surface_options = {{"sf_temperature_order", "1"}, {"sf_rate_order", "6"}};
+    o.surface_options = {{"sf_temperature_order", "1"}, {"sf_rate_order", "6"}, {"sf_cross_order", "0"}};  // the figures below are the separable form's
     o.sequential_scale = "surface";  // the classical fitter's own columns: a noisy g column beside M_ii (see below)
     const auto [joint, sequential] = fit_both_ways(d, o);
     return radps_to_dph((joint.model.compensate(probe) - sequential.model.compensate(probe)).cwiseAbs().maxCoeff());
@@ -595,6 +595,81 @@ TEST(TriadFit, CrossOrderAutoTakesTheCrossTermOnlyWhenTheSensorHasOne) {
   rbf.surfaces = "rbf";
   rbf.surface_options = {{"sf_cross_order", "auto"}};
   EXPECT_NE(rbf.validate().find("needs surfaces=classical"), std::string::npos);
+}
+
+// The planted cross-term triad on the one-diagonal design with 10 deg/h white noise (seeded).
+TriadData noisy_outputs_of_planted_cross_triad(std::uint64_t seed) {
+  TriadData d = outputs_of(planted_with_cross_terms(), {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}});
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, dph_to_radps(10.0));
+  for (Eigen::Index k = 0; k < d.gyro.size(); ++k) d.gyro(k) += noise(rng);
+  return d;
+}
+
+// The triad's classical surfaces choose their cross order by BIC unless told (surface.sf_cross_order absent =
+// auto), in either mode; the single-gyro classical model keeps the thesis's separable form as its default.
+TEST(TriadFit, ClassicalSurfacesChooseTheirCrossOrderByDefault) {
+  EXPECT_EQ(ClassicalOptions{}.sf_cross_order, 0);
+  const TriadData d = noisy_outputs_of_planted_cross_triad(7);
+  for (const std::string estimation : {"joint", "sequential"}) {
+    TriadFitOptions unset = classical_options(0);
+    unset.surface_options.erase("sf_cross_order");
+    unset.estimation = estimation;
+    TriadFitOptions given = unset;
+    given.surface_options["sf_cross_order"] = "auto";
+    const TriadFit by_default = fit_triad(d, unset), by_auto = fit_triad(d, given);
+    ASSERT_TRUE(by_default.summary.details.contains("sf_cross_order_bic")) << estimation;
+    EXPECT_EQ(by_default.summary.details["sf_cross_order_bic"], by_auto.summary.details["sf_cross_order_bic"]) << estimation;
+    EXPECT_GE(std::stoi(by_default.summary.details["surface_sf_cross_order"].get<std::string>()), 1) << estimation;  // the planted v u^2
+    EXPECT_EQ((by_default.model.misalignment - by_auto.model.misalignment).cwiseAbs().maxCoeff(), 0.0) << estimation;
+  }
+  // The classical fitter's own form (sequential_scale=surface) refuses a cross order the three temperatures
+  // cannot determine (v^3): that order is no candidate, the others are compared.
+  TriadFitOptions own = classical_options(0);
+  own.surface_options.erase("sf_cross_order");
+  own.estimation = "sequential";
+  own.sequential_scale = "surface";
+  const TriadFit own_fit = fit_triad(d, own);
+  EXPECT_TRUE(own_fit.summary.details["sf_cross_order_bic"]["3"].is_string());
+  EXPECT_GE(std::stoi(own_fit.summary.details["surface_sf_cross_order"].get<std::string>()), 1);
+  // The thesis's form when asked for.
+  const TriadFit separable = fit_triad(d, classical_options(0));
+  EXPECT_FALSE(separable.summary.details.contains("sf_cross_order_bic"));
+  EXPECT_EQ(separable.summary.details["surface_sf_cross_order"], "0");
+}
+
+// The information criterion every triad fit writes (triad_fit.h): BIC = sum_i R ln(rss_i / R) + k ln(3 R),
+// recomputed here from the fitted model's own residuals at the samples (rate rows: one per sample, weight 1) and
+// the parameters the fit estimated, counted from the options: M (9) and b (3 x 2) without surfaces; plus the
+// classical term's 7 columns per gyro jointly (v w | u w, u^2 w, u^3 w | v u w, v u^2 w, v u^3 w); sequentially
+// the same 36 (the 6 off-diagonals estimated in the first stage, held in the second, counted once), and with the
+// surface fitter's own form 15 + 3 x 10 (its bias 2, v w 1, u^0..u^3 w 4, cross 3).
+TEST(TriadFit, EveryFitWritesItsInformationCriterionAsDefined) {
+  const TriadData d = noisy_outputs_of_planted_cross_triad(11);
+  struct Case {
+    std::string surfaces, estimation, scale;
+    int parameters;
+  };
+  for (const Case& c : {Case{"none", "joint", "triad", 15}, Case{"classical", "joint", "triad", 36}, Case{"classical", "sequential", "triad", 36},
+                        Case{"classical", "sequential", "surface", 45}}) {
+    TriadFitOptions o = classical_options(1);
+    o.surfaces = c.surfaces;
+    if (c.surfaces == "none") o.surface_options.clear();
+    o.estimation = c.estimation;
+    o.sequential_scale = c.scale;
+    const TriadFit f = fit_triad(d, o);
+    const std::string label = c.surfaces + " " + c.estimation + " " + c.scale;
+    const Eigen::MatrixX3d residual = f.model.predict_outputs(d) - d.gyro;
+    const double rows = static_cast<double>(d.size());
+    double bic = c.parameters * std::log(3.0 * rows);
+    for (int a = 0; a < 3; ++a) bic += rows * std::log(residual.col(a).squaredNorm() / rows);
+    const nlohmann::json ic = triad_fit_json(f, {})["summary"]["details"]["information_criterion"];
+    EXPECT_EQ(ic["rows_per_gyro"].get<int>(), d.size()) << label;
+    EXPECT_EQ(ic["parameters"].get<int>(), c.parameters) << label;
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(ic["rss_radps2"][a].get<double>(), residual.col(a).squaredNorm(), 1e-9 * residual.col(a).squaredNorm()) << label;
+    EXPECT_NEAR(ic["bic"].get<double>(), bic, 1e-9 * std::abs(bic)) << label;
+    EXPECT_EQ(ic["bic"].get<double>(), f.criterion.bic) << label;
+  }
 }
 
 // A hand-turned session (reference=gravity): 14 holds of 1 s at random attitudes (Earth rate neglected,
