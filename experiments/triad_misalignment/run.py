@@ -3,9 +3,9 @@
 biases and per-gyro surfaces - its statistics, joint against sequential, triads from an independent
 generator, and real sessions against imucal's own result.
 
-    experiments/triad_misalignment/run.py [mc|compare|independent|real|summary|all] [--gyrosid build/gyrosid]
+    experiments/triad_misalignment/run.py [mc|compare|more|independent|real|summary|all] [--gyrosid build/gyrosid]
                                           [--out experiments/triad_misalignment/results] [--jobs 2] [--force]
-                                          [--kinds rbf]
+                                          [--kinds rbf] [--seeds N] [--cells training/sensor/kind,...]
 
 Each part writes results/<part>.md (+ .csv); intermediates (recordings, models) stay under results/data/
 and results/models/ and are reused on a rerun. See README.md for what each part answers.
@@ -97,6 +97,7 @@ class Experiment:
         self.out = args.out
         self.kinds = args.kinds.split(",") if getattr(args, "kinds", None) else []
         self.seeds = getattr(args, "seeds", 0)
+        self.cells = getattr(args, "cells", "")
 
     def sensor(self, path):
         return path if path.startswith("builtin:") else os.path.join(HERE, path)
@@ -186,26 +187,7 @@ class Experiment:
                 for kind in trainings[train]["kinds"] if not self.kinds or kind in self.kinds
                 for est in ("joint", "sequential") for seed in [0] + c["seeds"][:self.seeds or None]]
 
-        def one(job):
-            train, sname, kind, est, seed = job
-            sensor = c["sensors"][sname]
-            sensor_cfg = yaml.safe_load(open(self.sensor(sensor))) if not sensor.startswith("builtin:") else \
-                yaml.safe_load(open(os.path.join(HERE, "..", "..", "configs", sensor[len("builtin:"):])))
-            planted, _ = first_order_m(sensor_cfg["misalignment_mrad"])
-            folder = "compare" if train == "rate_sweep" else "compare_" + train  # rate_sweep: the original paths
-            tag = "%s/%s_%s_%s" % (folder, sname, kind, est)
-            fit = self.simulate_and_fit_tagged(sensor, self.sensor(trainings[train]["trajectory"]), seed, c["fits"][kind] + ["--" + est], tag, folder + "/" + sname)
-            m = matrix(fit)
-            err = np.sqrt(np.nanmean([(m[i, j] - planted[i, j]) ** 2 for (i, j) in OFF])) * 1e6
-            model = self.run.path("models", tag, "seed%d.json" % seed)
-            row = {"training": train, "sensor": sname, "surfaces": kind, "estimation": est, "seed": seed, "offdiag_rms_err_urad": err,
-                   "train_rms_dph": float(np.mean(fit["residual_rms_dph"])), "bic": fit_bic(fit), "cross_order": cross_order(fit),
-                   "time_s": fit["summary"]["time_s"]}
-            for flight in c["flights"]:
-                row[flight + "_m"] = self.cof(model, sensor, flight)
-            return row
-
-        rows = self.parallel(one, jobs)
+        rows = self.parallel(self.compare_row, jobs)
         if self.kinds:  # the other surface kinds' rows kept from the last full run
             import csv
             keep = [r for r in csv.DictReader(open(os.path.join(self.out, "compare.csv"))) if r["surfaces"] not in self.kinds]
@@ -225,6 +207,58 @@ class Experiment:
         text += markdown_table(table, PAIRED_COLUMNS)
         write_text(os.path.join(self.out, "compare.md"), text)
         print(text)
+
+    def more(self):
+        """More paired seeds for chosen compare cells (--cells training/sensor/kind,...; --seeds N: seeds 1..N, the
+        compare's 20 included and reused): is a cell's joint/sequential offset real or a draw of 20 seeds?"""
+        cells = [tuple(x.split("/")) for x in self.cells.split(",") if x]
+        seeds = list(range(1, (self.seeds or 60) + 1))
+        jobs = [(t, sn, k, est, seed) for (t, sn, k) in cells for est in ("joint", "sequential") for seed in [0] + seeds]
+        rows = self.parallel(self.compare_row, jobs)
+        flights = self.cfg["compare"]["flights"]
+        cols = ["training", "sensor", "surfaces", "estimation", "seed", "offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in flights]
+        write_csv(os.path.join(self.out, "compare_more.csv"), rows, cols + ["bic", "cross_order", "time_s"])
+        out = []
+        for g in paired_summary(rows, flights, seeds):
+            if not g["quantity"].endswith("_m") and g["quantity"] != "offdiag_rms_err_urad":
+                continue
+            pick = lambda est: {int(r["seed"]): float(r[g["quantity"]]) for r in rows if (r["training"], r["sensor"], r["surfaces"], r["estimation"]) ==
+                                (g["training"], g["sensor"], g["surfaces"], est) and int(r["seed"]) > 0}
+            j, q = pick("joint"), pick("sequential")
+            d = np.array([j[s] - q[s] for s in seeds])
+            g = dict(g, mean_diff=float(d.mean()), diff_se=float(d.std(ddof=1) / math.sqrt(len(d))), t=float(d.mean() / (d.std(ddof=1) / math.sqrt(len(d)))),
+                     seq_sd=float(np.std([q[s] for s in seeds], ddof=1)))
+            out.append(g)
+        cols = ["training", "sensor", "surfaces", "quantity", "noise_free_ratio", "median_ratio", "ratio_ci95", "joint_wins", "sign_p", "mean_diff", "diff_se", "t", "seq_sd"]
+        text = ("# More paired seeds for chosen cells\n\n`run.py more --cells %s --seeds %d`: seeds 1..%d (the compare's 20 and more), joint against "
+                "sequential paired by seed. median_ratio [95 %% bootstrap interval of the median], joint wins, sign-test p; mean_diff = mean of "
+                "joint - sequential (m for flights, urad for the off-diagonals) with its standard error and t; seq_sd = the sequential criterion's "
+                "seed-to-seed standard deviation.\n\n" % (self.cells, len(seeds), len(seeds)))
+        text += markdown_table([dict(g, **{k: fmt(g[k], 5) for k in ("noise_free_ratio", "median_ratio")}) for g in out], cols)
+        write_text(os.path.join(self.out, "compare_more.md"), text)
+        print(text)
+
+    def compare_row(self, job):
+        """One fit of the compare (training, sensor, surface kind, estimation, seed) and its flights' criterion of fit."""
+        c = self.cfg["compare"]
+        trainings = c["trainings"]
+        train, sname, kind, est, seed = job
+        sensor = c["sensors"][sname]
+        sensor_cfg = yaml.safe_load(open(self.sensor(sensor))) if not sensor.startswith("builtin:") else \
+            yaml.safe_load(open(os.path.join(HERE, "..", "..", "configs", sensor[len("builtin:"):])))
+        planted, _ = first_order_m(sensor_cfg["misalignment_mrad"])
+        folder = "compare" if train == "rate_sweep" else "compare_" + train  # rate_sweep: the original paths
+        tag = "%s/%s_%s_%s" % (folder, sname, kind, est)
+        fit = self.simulate_and_fit_tagged(sensor, self.sensor(trainings[train]["trajectory"]), seed, c["fits"][kind] + ["--" + est], tag, folder + "/" + sname)
+        m = matrix(fit)
+        err = np.sqrt(np.nanmean([(m[i, j] - planted[i, j]) ** 2 for (i, j) in OFF])) * 1e6
+        model = self.run.path("models", tag, "seed%d.json" % seed)
+        row = {"training": train, "sensor": sname, "surfaces": kind, "estimation": est, "seed": seed, "offdiag_rms_err_urad": err,
+               "train_rms_dph": float(np.mean(fit["residual_rms_dph"])), "bic": fit_bic(fit), "cross_order": cross_order(fit),
+               "time_s": fit["summary"]["time_s"]}
+        for flight in c["flights"]:
+            row[flight + "_m"] = self.cof(model, sensor, flight)
+        return row
 
     def simulate_and_fit_tagged(self, sensor, trajectory, seed, calibrate, model_tag, data_tag):
         """simulate_and_fit with the recording shared between fits of the same sensor."""
@@ -564,18 +598,19 @@ class Experiment:
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("part", nargs="?", default="all", choices=["mc", "compare", "independent", "real", "summary", "all"])
+    p.add_argument("part", nargs="?", default="all", choices=["mc", "compare", "more", "independent", "real", "summary", "all"])
     add_gyrosid_argument(p)
     p.add_argument("--out", default=os.path.join(HERE, "results"))
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--force", action="store_true")
-    p.add_argument("--seeds", type=int, default=0, help="compare: only the first N noisy seeds of config.yaml (0: all)")
+    p.add_argument("--seeds", type=int, default=0, help="compare: only the first N noisy seeds of config.yaml (0: all); more: seeds 1..N (0: 60)")
     p.add_argument("--kinds", default="", help="compare: refit only these surface kinds (comma-separated), keep the others' rows")
+    p.add_argument("--cells", default="", help="more: compare cells training/sensor/kind, comma-separated")
     args = p.parse_args()
     e = Experiment(args)
-    parts = {"mc": e.monte_carlo, "compare": e.compare, "independent": e.independent, "real": e.real, "summary": e.summary}
+    parts = {"mc": e.monte_carlo, "compare": e.compare, "more": e.more, "independent": e.independent, "real": e.real, "summary": e.summary}
     for name, fn in parts.items():
-        if args.part in (name, "all"):
+        if args.part == name or (args.part == "all" and name != "more"):
             fn()
 
 
