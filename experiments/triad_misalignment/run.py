@@ -554,10 +554,10 @@ class Experiment:
             for label, groups in (("the CLI's default surfaces (classical = sf_cross_order auto, rbf)", default),
                                   ("every surface family fitted (also classical_separable, classical_cross2)", verdicts)):
                 worse = ["%s/%s/%s %s" % (k + (f,)) for k, v in sorted(groups.items()) for f, w in zip(flights, v) if w == "worse"]
-                above = ["%s/%s/%s %s %s" % (k + (f, fmt(m, 5))) for k, v in sorted(groups.items()) for f, m in zip(flights, medians[k]) if m > 1]
+                above = ["%s/%s/%s %s %s" % (k + (f, fmt(m, 6))) for k, v in sorted(groups.items()) for f, m in zip(flights, medians[k]) if m > 1]
                 nonlinear = {k: v for k, v in groups.items() if k[1] == "rate_nonlinear"}
                 not_better = ["%s/%s %s %s" % (k[0], k[2], f, w) for k, v in sorted(nonlinear.items()) for f, w in zip(flights, v) if w != "better"]
-                not_below = ["%s/%s %s %s" % (k[0], k[2], f, fmt(m, 5)) for k, v in sorted(nonlinear.items()) for f, m in zip(flights, medians[k]) if not m < 1]
+                not_below = ["%s/%s %s %s" % (k[0], k[2], f, fmt(m, 6)) for k, v in sorted(nonlinear.items()) for f, m in zip(flights, medians[k]) if not m < 1]
                 lines.append("* Joint at least as good as sequential on every flight, %s:" % label)
                 lines.append("  interval criterion (no flight's interval above 1): %s - %s;" % ("; ".join(worse) or "no flight worse", verdict(not worse)))
                 lines.append("  literal criterion (every median ratio <= 1): %s - %s." % ("; ".join(above) or "none above 1", verdict(not above)))
