@@ -564,6 +564,15 @@ class Experiment:
                 lines.append("* Strictly better when rate-nonlinear, %s:" % label)
                 lines.append("  interval criterion (every flight's interval below 1): not better: %s - %s;" % ("; ".join(not_better) or "none", verdict(not not_better)))
                 lines.append("  literal criterion (every median ratio < 1): not below 1: %s - %s." % ("; ".join(not_below) or "none", verdict(not not_below)))
+        more = read("compare_more.csv")
+        if more:
+            seeds = sorted({int(r["seed"]) for r in more if int(r["seed"]) > 0})
+            flights = [k[:-2] for k in more[0] if k.endswith("_m")]
+            for g in paired_summary(more, flights, seeds):
+                if g["quantity"].endswith("_m") and g["ci_lo"] > 1:
+                    lines.append("* More seeds (compare_more.md, seeds 1..%d): %s/%s/%s %s flight %s [%s], %s, sign-test p %s - still above 1 "
+                                 "beyond the paired interval." % (len(seeds), g["training"], g["sensor"], g["surfaces"], g["quantity"][:-2],
+                                                                  fmt(g["median_ratio"], 5), g["ratio_ci95"], g["joint_wins"], fmt(g["sign_p"], 2)))
         ind = read("independent.csv")
         if ind:
             err = {r["estimator"]: num(r["offdiag_rms_err_urad"]) for r in ind if r["case"] == "rate_nonlinear"}
