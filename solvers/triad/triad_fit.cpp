@@ -575,6 +575,7 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
     criteria[std::to_string(order)] = b;
     if (b < best_bic) best_bic = b, best = std::move(f);
   }
+  if (!best) fail("triad: surface.sf_cross_order=auto found no order with a finite BIC (", criteria.dump(), "); give the order");
   best->options = o;
   const int chosen = std::stoi(best->summary.details.value("surface_sf_cross_order", std::string("0")));
   best->notes.push_back(str_cat("surface.sf_cross_order=auto: order ", chosen, " chosen by BIC (", criteria.dump(), ")"));
