@@ -22,7 +22,7 @@ namespace {
 // network's prior on that residual. The named effects get their physical magnitudes (a plain fit has them
 // too, the grey-box fit with its effect terms switched on).
 Eigen::VectorXd prior_scales(const Regressor& r, ModelFamily family, const ModelOptions& o, const Domain& domain,
-                             const GyroErrorModel& truth) {
+                             const GyroErrorModel& truth, const NetworkNodes* network) {
   const SteadyGrid grid = steady_grid(domain, truth);
   const auto rms_of = [](const Eigen::VectorXd& v) { return std::sqrt(v.squaredNorm() / static_cast<double>(std::max<Eigen::Index>(1, v.size()))); };
   const double rms = std::max(rms_of(grid.true_error), units::dph_to_radps(1.0));
@@ -48,7 +48,8 @@ Eigen::VectorXd prior_scales(const Regressor& r, ModelFamily family, const Model
       if (groups[j] == g) power += a.col(static_cast<Eigen::Index>(j)).squaredNorm() / static_cast<double>(a.rows());
     }
     const double target = is_learned(g) ? o.network_prior_scale * residual_rms : kappa * rms;
-    const double scale = target / (power > 0 ? std::sqrt(power) : 1.0);
+    // A network chosen by the expected evidence brings its own prior: 1 / sqrt(alpha) on every weight.
+    const double scale = is_learned(g) && network ? network->prior_sd_radps : target / (power > 0 ? std::sqrt(power) : 1.0);
     for (std::size_t j = 0; j < groups.size(); ++j) {
       if (groups[j] == g) s(static_cast<Eigen::Index>(j)) = scale;
     }
@@ -94,18 +95,20 @@ double expected_norm(const Eigen::Vector3d& mean, const Eigen::Matrix3d& cov) {
 }
 
 DesignContext::DesignContext(const SensorSpec& sensor, std::shared_ptr<const Envelope> envelope, ModelFamily family,
-                             const ModelOptions& model, Criterion criterion, const Domain& model_domain)
+                             const ModelOptions& model, Criterion criterion, const Domain& model_domain,
+                             std::shared_ptr<const NetworkNodes> network)
     : sensor_(sensor), triad_(as_triad(sensor)), envelope_(std::move(envelope)), family_(family), model_(model),
-      criterion_(criterion), model_domain_(model_domain), noise_(NoiseSpec::of(triad_.gyros[2].noise)) {
+      criterion_(criterion), model_domain_(model_domain), noise_(NoiseSpec::of(triad_.gyros[2].noise)), network_(std::move(network)) {
   if (!noise_.any()) fail("design: sensor '", sensor_name(sensor), "' has no noise; a design minimises the noise-driven calibration error");
-  regressor_ = make_regressor(family, model, model_domain_, gyro().errors, thermal().coil_tau_s);
+  if (network_ && family != ModelFamily::hybrid) fail("design: a fitted network is for the hybrid model");
+  regressor_ = make_regressor(family, model, model_domain_, gyro().errors, thermal().coil_tau_s, network_.get());
   if ((criterion == Criterion::effects) && regressor_->effects().empty()) {
     fail("design: criterion 'effects' needs the greybox model with at least one of model.shupe, model.hysteresis, model.thermal_lag");
   }
   if ((criterion == Criterion::cof || criterion == Criterion::cof_minimax) && envelope_->flights.empty()) {
     fail("design: criterion '", to_string(criterion), "' needs flights in the envelope");
   }
-  prior_ = Prior::independent(prior_scales(*regressor_, family, model, model_domain_, gyro().errors));
+  prior_ = Prior::independent(prior_scales(*regressor_, family, model, model_domain_, gyro().errors, network_.get()));
   lin_ = linearise(*envelope_, *regressor_);
   const Eigen::Index p = regressor_->size();
   scaled_surface_moment_ = Eigen::MatrixXd::Zero(p, p);
@@ -118,27 +121,49 @@ DesignContext::DesignContext(const SensorSpec& sensor, std::shared_ptr<const Env
     scaled_sensitivity_.push_back(f.sensitivity * prior_.root);
     add_moment(f.surface_columns, 1.0 / static_cast<double>(lin_.flights.size()));
   }
+}
+
+const DesignContext::Anchor& DesignContext::anchor() const {
   // The anchor of the linearised model-class error: the model's least-squares fit to the sensor's error on a
   // steady grid over the domain (a tiny ridge in prior units keeps undetermined directions at the prior mean),
   // and its exact position error per flight.
-  if (!envelope_->flights.empty()) {
+  std::call_once(anchor_once_, [&] {
     const SteadyGrid grid = steady_grid(model_domain_, gyro().errors);
     const Eigen::MatrixXd al = regressor_->columns(grid.inputs) * prior_.root;
     // Ridge least squares by QR of the stacked system [A L; sqrt(lambda) I] z = [e; 0], not its normal equations.
-    const auto np = static_cast<Eigen::Index>(p);
-    const double lambda = 1e-9 * al.squaredNorm() / static_cast<double>(p);
+    const Eigen::Index np = prior_.size();
+    const double lambda = 1e-9 * al.squaredNorm() / static_cast<double>(np);
     Eigen::MatrixXd stacked(al.rows() + np, np);
     stacked << al, std::sqrt(lambda) * Eigen::MatrixXd::Identity(np, np);
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(al.rows() + np);
     rhs.head(al.rows()) = grid.true_error;
-    anchor_z_ = stacked.colPivHouseholderQr().solve(rhs);
-    const Eigen::VectorXd theta_a = prior_.mean + prior_.root * anchor_z_;
-    for (const auto& f : envelope_->flights) anchor_error_.push_back(f.position_error(*regressor_, theta_a));
-  }
+    anchor_.z = stacked.colPivHouseholderQr().solve(rhs);
+    const Eigen::VectorXd theta_a = prior_.mean + prior_.root * anchor_.z;
+    for (const auto& f : envelope_->flights) anchor_.error.push_back(f.position_error(*regressor_, theta_a));
+  });
+  return anchor_;
 }
 
 std::unique_ptr<DesignContext> DesignContext::with_domain(const Domain& d) const {
-  auto c = std::make_unique<DesignContext>(sensor_, envelope_, family_, model_, criterion_, d);
+  auto c = std::make_unique<DesignContext>(sensor_, envelope_, family_, model_, criterion_, d, network_);
+  c->log_reference_ = log_reference_;
+  c->statistic_ = statistic_;
+  return c;
+}
+
+std::unique_ptr<DesignContext> DesignContext::following(const Observations& o) const {
+  if (family_ != ModelFamily::hybrid || model_.network != "evidence") return nullptr;
+  // The physics' columns along o: the groups with a flat prior (the dictionary's group is the learned one).
+  const Eigen::MatrixXd a = regressor_->columns(o.inputs);
+  const std::vector<int> groups = regressor_->groups(), learned = regressor_->residual_groups();
+  std::vector<Eigen::Index> flat;
+  for (std::size_t j = 0; j < groups.size(); ++j) {
+    if (std::find(learned.begin(), learned.end(), groups[j]) == learned.end()) flat.push_back(static_cast<Eigen::Index>(j));
+  }
+  NetworkSearchOptions search;
+  search.nodes = model_.network_nodes;
+  auto nodes = std::make_shared<const NetworkNodes>(expected_evidence_network(o, a(Eigen::all, flat), noise_, search));
+  auto c = std::make_unique<DesignContext>(sensor_, envelope_, family_, model_, criterion_, model_domain_, std::move(nodes));
   c->log_reference_ = log_reference_;
   c->statistic_ = statistic_;
   return c;
@@ -161,9 +186,10 @@ void DesignContext::set_reference(const Prediction& reference, ReferenceStatisti
 
 double DesignContext::flight_mse(std::size_t flight, const LinearEstimate& e) const {
   if (e.expected.size() != prior_.size()) fail("design: the mean squared criterion needs the estimate's expected value (estimate with its target)");
-  if (flight >= anchor_error_.size()) fail("design: no flight ", flight, " in the envelope");
+  if (flight >= envelope_->flights.size()) fail("design: no flight ", flight, " in the envelope");
+  const Anchor& a = anchor();
   const Eigen::MatrixXd& s = scaled_sensitivity_[flight];
-  const Eigen::Vector3d m = anchor_error_[flight] + s * (e.expected - anchor_z_);
+  const Eigen::Vector3d m = a.error[flight] + s * (e.expected - a.z);
   return m.squaredNorm() + (s * e.estimator * s.transpose()).trace();
 }
 
@@ -214,6 +240,7 @@ double DesignContext::objective(const LinearEstimate& e) const {
 Prediction DesignContext::predict(const Observations& o) const {
   const LinearEstimate e = estimate(o, true);
   Prediction p;
+  if (network_) p.network = *network_;
   p.criterion = criterion_;
   p.objective = objective(e);
   p.observations = static_cast<std::size_t>(o.size());

@@ -23,6 +23,7 @@
 
 #include <array>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -78,6 +79,7 @@ struct EffectPrediction {
 
 struct Prediction {
   Criterion criterion = Criterion::cof;
+  std::optional<NetworkNodes> network;  // the network the prediction was made with (model.network=evidence)
   double objective = 0.0;
   double duration_min = 0.0;
   std::size_t observations = 0;
@@ -91,12 +93,20 @@ struct Prediction {
 // the model over `model_domain` (the region its grid or dictionary spans) and the criterion.
 class DesignContext {
  public:
+  // `network` (hybrid): the nodes the calibration would fit along one trajectory (evidence_network.h), with
+  // their own prior, instead of the fixed dictionary.
   DesignContext(const SensorSpec& sensor, std::shared_ptr<const Envelope> envelope, ModelFamily family,
-                const ModelOptions& model, Criterion criterion, const Domain& model_domain);
+                const ModelOptions& model, Criterion criterion, const Domain& model_domain,
+                std::shared_ptr<const NetworkNodes> network = nullptr);
   DesignContext(const DesignContext&) = delete;
   DesignContext& operator=(const DesignContext&) = delete;
   // The same context with the model spanning another domain (e.g. a trajectory's wider temperatures).
   std::unique_ptr<DesignContext> with_domain(const Domain& model_domain) const;
+  // The same context with the hybrid's network as the calibration would choose it on `observations` (their
+  // noise-free target and the sensor's noise: expected evidence, evidence_network.h); null when the model is
+  // not the hybrid or model.network is `dictionary`. Costs one width search and one linearisation.
+  std::unique_ptr<DesignContext> following(const Observations& observations) const;
+  const NetworkNodes* network() const { return network_.get(); }
 
   const GyroSensor& gyro() const { return triad_.gyros[2]; }
   const ThermalPath& thermal() const { return triad_.thermal; }
@@ -138,8 +148,16 @@ class DesignContext {
   Eigen::MatrixXd scaled_surface_moment_;            // L' M L, M = mean a a' over the envelope
   std::vector<double> log_reference_;                // log R_f^2 per flight
   ReferenceStatistic statistic_ = ReferenceStatistic::posterior;  // the CLI's auto for a reference of the same model
-  Eigen::VectorXd anchor_z_;                         // the anchor theta_a in prior units
-  std::vector<Eigen::Vector3d> anchor_error_;        // m(theta_a) per flight, exact (one INS run each)
+  std::shared_ptr<const NetworkNodes> network_;
+  // The mse statistic's anchor: theta_a in prior units and m(theta_a) per flight, exact (one INS run each);
+  // computed at the first flight_mse (only the mse statistic needs it).
+  struct Anchor {
+    Eigen::VectorXd z;
+    std::vector<Eigen::Vector3d> error;
+  };
+  const Anchor& anchor() const;
+  mutable std::once_flag anchor_once_;
+  mutable Anchor anchor_;
 };
 
 // E|m + z|, z ~ N(0, cov): Gauss-Hermite quadrature (16 points per principal axis), deterministic.

@@ -50,10 +50,21 @@ Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpe
   Domain d = context.model_domain();
   const double lo = o.inputs.temp_c.minCoeff(), hi = o.inputs.temp_c.maxCoeff();
   const double w = o.inputs.rate.cwiseAbs().maxCoeff();
-  if (lo >= d.temp_min_c && hi <= d.temp_max_c && w <= d.rate_max_radps * 1.05) return context.predict(o);
-  d.temp_min_c = std::min(d.temp_min_c, lo), d.temp_max_c = std::max(d.temp_max_c, hi);
-  d.rate_max_radps = std::max(d.rate_max_radps, w);
-  return context.with_domain(d)->predict(o);
+  std::unique_ptr<DesignContext> wide;
+  if (!(lo >= d.temp_min_c && hi <= d.temp_max_c && w <= d.rate_max_radps * 1.05)) {
+    d.temp_min_c = std::min(d.temp_min_c, lo), d.temp_max_c = std::max(d.temp_max_c, hi);
+    d.rate_max_radps = std::max(d.rate_max_radps, w);
+    wide = context.with_domain(d);
+  }
+  const DesignContext& c = wide ? *wide : context;
+  // The hybrid's network as the calibration would fit it along this trajectory (model.network=evidence).
+  // Its `objective` stays the optimiser's (the fixed dictionary's), so that designs and their reports compare.
+  if (const auto followed = c.following(o)) {
+    Prediction p = followed->predict(o);
+    p.objective = c.objective(c.estimate(o, c.objective_needs_target()));
+    return p;
+  }
+  return c.predict(o);
 }
 
 DesignResult design_trajectory(const DesignContext& context, const DesignRequest& request) {

@@ -39,7 +39,9 @@ void ModelOptions::bind(OptionTable& t) {
       .integer("model.hybrid_sf_temperature_order", &hybrid_sf_temperature_order, 0, 6, "hybrid: physics scale factor w dT^i u^j, i up to this")
       .integer("model.hybrid_sf_rate_order", &hybrid_sf_rate_order, 0, 8, "hybrid: ... and j up to this")
       .real("model.network_prior_scale", &network_prior_scale, 0.0, 1e6,
-            "hybrid: the network's prior sd as a multiple of what the physics leaves of the sensor's error", true);
+            "hybrid: the network's prior sd as a multiple of what the physics leaves of the sensor's error", true)
+      .text("model.network", &network, "hybrid: the network predictions are made with: evidence (as the calibration would choose it along the trajectory) or dictionary")
+      .integer("model.network_nodes", &network_nodes, 1, 2000, "hybrid, network=evidence: centres among the trajectory's inputs");
 }
 
 namespace {
@@ -60,6 +62,7 @@ std::vector<double> parse_list(const std::string& text, const char* key) {
 }  // namespace
 
 std::string ModelOptions::validate() const {
+  if (network != "evidence" && network != "dictionary") return "option 'model.network' must be evidence or dictionary";
   const auto rates = parse_list(grid_rates_dps, "model.grid_rates_dps");
   for (std::size_t i = 1; i < rates.size(); ++i) {
     if (!(rates[i] > rates[i - 1])) return "option 'model.grid_rates_dps' must be strictly increasing";
@@ -186,12 +189,32 @@ class RbfDictionary : public Regressor {
   Eigen::RowVectorXd width_;
 };
 
-// The hybrid: physics columns (flat prior) then the dictionary's nodes without its constant (the physics has
-// the bias), the nodes one group with a learned prior.
+// The network the calibration would fit along one trajectory (evidence_network.h): its nodes, no constant.
+class NetworkRegressor : public Regressor {
+ public:
+  explicit NetworkRegressor(NetworkNodes nodes) : nodes_(std::move(nodes)) {}
+  ModelFamily family() const override { return ModelFamily::rbf; }
+  std::vector<std::string> names() const override {
+    std::vector<std::string> out;
+    for (Eigen::Index j = 0; j < nodes_.centres.rows(); ++j) {
+      out.push_back(str_cat("node(", format_significant(nodes_.offset(1) + nodes_.scale(1) * nodes_.centres(j, 1), 3), " C, ",
+                            format_significant(units::radps_to_dps(nodes_.offset(0) + nodes_.scale(0) * nodes_.centres(j, 0)), 3), " dps)"));
+    }
+    return out;
+  }
+  std::vector<int> groups() const override { return std::vector<int>(static_cast<std::size_t>(nodes_.centres.rows()), 0); }
+  Eigen::MatrixXd columns(const Signals& s) const override { return nodes_.columns(s); }
+
+ private:
+  NetworkNodes nodes_;
+};
+
+// The hybrid: physics columns (flat prior) then the network's nodes - the dictionary's without its constant
+// (the physics has the bias), or the nodes the calibration would fit - one group with a learned prior.
 class HybridRegressor : public Regressor {
  public:
-  HybridRegressor(std::unique_ptr<Regressor> physics, std::unique_ptr<Regressor> rbf)
-      : physics_(std::move(physics)), rbf_(std::move(rbf)), nodes_(rbf_->size() - 1) {}
+  HybridRegressor(std::unique_ptr<Regressor> physics, std::unique_ptr<Regressor> rbf, bool rbf_has_constant)
+      : physics_(std::move(physics)), rbf_(std::move(rbf)), nodes_(rbf_->size() - (rbf_has_constant ? 1 : 0)) {}
   ModelFamily family() const override { return ModelFamily::hybrid; }
   std::vector<std::string> names() const override {
     std::vector<std::string> out = physics_->names();
@@ -327,7 +350,7 @@ std::string calibration_yaml(ModelFamily family, const ModelOptions& o, const Do
 }
 
 std::unique_ptr<Regressor> make_regressor(ModelFamily family, const ModelOptions& o, const Domain& d,
-                                          const GyroErrorModel& nominal, double coil_tau_s) {
+                                          const GyroErrorModel& nominal, double coil_tau_s, const NetworkNodes* network) {
   if (auto p = o.validate(); !p.empty()) fail("design model: ", p);
   if (auto p = d.validate(); !p.empty()) fail("design: ", p);
   switch (family) {
@@ -350,8 +373,9 @@ std::unique_ptr<Regressor> make_regressor(ModelFamily family, const ModelOptions
       for (int i = 0; i <= o.hybrid_sf_temperature_order; ++i)
         for (int j = 0; j <= o.hybrid_sf_rate_order; ++j) sf.push_back({i, j});
       terms.push_back(scale_factor_polynomial(sf));
-      return std::make_unique<HybridRegressor>(
-          std::make_unique<PhysicsRegressor>(family, terms, domain_scaling(d), 0.0, std::nullopt), std::make_unique<RbfDictionary>(o, d));
+      auto physics = std::make_unique<PhysicsRegressor>(family, terms, domain_scaling(d), 0.0, std::nullopt);
+      if (network) return std::make_unique<HybridRegressor>(std::move(physics), std::make_unique<NetworkRegressor>(*network), false);
+      return std::make_unique<HybridRegressor>(std::move(physics), std::make_unique<RbfDictionary>(o, d), true);
     }
     case ModelFamily::greybox: {
       // The grey-box fit's own structure (model/greybox_fit.h) with the grid over the domain, plus hysteresis.

@@ -14,7 +14,9 @@
 //              domain with the normalised width of configs/calibration/rbf_noisy.yaml
 //   hybrid     gyrosid's best noisy calibration (model/hybrid_model.h, configs/calibration/rbf_noisy.yaml):
 //              the physics b(T) cubic + w dT^i u^j (i <= 2, j <= 3) with a flat prior, plus the rbf dictionary
-//              (no constant) with a Gaussian prior - the Bayesian network on what the physics leaves
+//              (no constant) with a Gaussian prior - the Bayesian network on what the physics leaves; a
+//              prediction takes instead the nodes, widths and prior the calibration's evidence would choose
+//              along the trajectory (evidence_network.h; option model.network)
 //
 // Columns use the scaling of the design domain, not of the data, so every trajectory is judged in the same
 // parametrisation.
@@ -31,6 +33,7 @@
 #include <vector>
 
 #include "core/enum_names.h"
+#include "design/evidence_network.h"
 #include "design/information.h"
 #include "model/greybox_fit.h"
 #include "model/physics_terms.h"
@@ -68,6 +71,11 @@ struct ModelOptions {
   // hybrid: the network's prior standard deviation as a multiple of what the physics leaves of the sensor's
   // error over the domain (assessment.cpp, prior_scales)
   double network_prior_scale = 1.0;
+  // hybrid: the network a prediction (design.json's `predicted`, --evaluate) is made with: `evidence`, the
+  // nodes, widths and prior the calibration would choose along that trajectory (evidence_network.h), or
+  // `dictionary`, the fixed dictionary above (what the optimiser's objective uses in either case)
+  std::string network = "evidence";
+  int network_nodes = 200;  // evidence: centres among the trajectory's inputs (the calibration's `nodes`)
   void bind(OptionTable& table);  // keys model.<name>
   std::string validate() const;
 };
@@ -106,9 +114,10 @@ GreyboxOptions greybox_options(const ModelOptions& options, const Domain& domain
 std::string calibration_yaml(ModelFamily family, const ModelOptions& options, const Domain& domain, const NoiseSpec& noise);
 
 // `nominal` is the sensor's error model and `coil_tau_s` its probe-to-coil lag: the expansion point of the
-// grey-box thermal-lag column.
+// grey-box thermal-lag column. `network` (hybrid only): the nodes the calibration would fit along one
+// trajectory (evidence_network.h) instead of the fixed dictionary.
 std::unique_ptr<Regressor> make_regressor(ModelFamily family, const ModelOptions& options, const Domain& domain,
-                                          const GyroErrorModel& nominal, double coil_tau_s);
+                                          const GyroErrorModel& nominal, double coil_tau_s, const NetworkNodes* network = nullptr);
 
 }  // namespace gyrosid::design
 

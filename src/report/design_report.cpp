@@ -27,6 +27,17 @@ nlohmann::json prediction_json(const design::Prediction& p) {
                       {"observations", p.observations},
                       {"flights", flights}};
   if (p.uniform_surface_rms_dph) j["uniform"] = {{"surface_rms_dph", *p.uniform_surface_rms_dph}};
+  if (p.network) {
+    // The hybrid's network the prediction was made with: as the calibration's evidence would choose it along
+    // the trajectory (widths normalised by the trajectory's range, as in a model.json's summary).
+    const design::NetworkNodes& n = *p.network;
+    j["network"] = {{"nodes", n.centres.rows()},
+                    {"widths", {n.widths(0), n.widths(1)}},
+                    {"width_rate_dps", units::radps_to_dps(n.widths(0) * n.scale(0))},
+                    {"width_temperature_c", n.widths(1) * n.scale(1)},
+                    {"prior_sd_dph", units::radps_to_dph(n.prior_sd_radps)},
+                    {"effective_parameters", n.effective_parameters}};
+  }
   if (!p.effects.empty()) {
     nlohmann::json effects = nlohmann::json::object();
     for (std::size_t i = 0; i < p.effects.size(); ++i) {
