@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/units.h"
+#include "design/evidence_network.h"
 
 namespace gyrosid::design {
 namespace {
@@ -111,16 +112,39 @@ DesignContext::DesignContext(const SensorSpec& sensor, std::shared_ptr<const Env
   prior_ = Prior::independent(prior_scales(*regressor_, family, model, model_domain_, gyro().errors, network_.get()));
   lin_ = linearise(*envelope_, *regressor_);
   const Eigen::Index p = regressor_->size();
-  scaled_surface_moment_ = Eigen::MatrixXd::Zero(p, p);
+  surface_moment_ = Eigen::MatrixXd::Zero(p, p);
   auto add_moment = [&](const Eigen::MatrixXd& a, double weight) {
-    const Eigen::MatrixXd scaled = a * prior_.root;
-    scaled_surface_moment_ += weight * scaled.transpose() * scaled / static_cast<double>(a.rows());
+    surface_moment_ += weight * a.transpose() * a / static_cast<double>(a.rows());
   };
   if (envelope_->uniform_samples) add_moment(lin_.uniform_columns, 1.0);
-  for (const auto& f : lin_.flights) {
-    scaled_sensitivity_.push_back(f.sensitivity * prior_.root);
-    add_moment(f.surface_columns, 1.0 / static_cast<double>(lin_.flights.size()));
+  for (const auto& f : lin_.flights) add_moment(f.surface_columns, 1.0 / static_cast<double>(lin_.flights.size()));
+  if (model.network_prior != "residual" && model.network_prior != "evidence") fail("design: option 'model.network_prior' must be residual or evidence");
+  evidence_prior_ = family == ModelFamily::hybrid && !network_ && model.network_prior == "evidence";
+}
+
+Eigen::MatrixXd DesignContext::scaled_sensitivity(std::size_t flight, const LinearEstimate& e) const {
+  return lin_.flights[flight].sensitivity * e.prior.root;
+}
+
+Prior DesignContext::evidence_prior(const Eigen::MatrixXd& w) const {
+  // w = whiten([A | e]): the dictionary's prior precision alpha by the expected evidence of the noise-free
+  // target along these observations (evidence_network.h), the physics projected off (its prior is flat).
+  const std::vector<int> groups = regressor_->groups(), learned = regressor_->residual_groups();
+  std::vector<Eigen::Index> flat, nodes;
+  for (std::size_t j = 0; j < groups.size(); ++j) {
+    const bool is_learned = std::find(learned.begin(), learned.end(), groups[j]) != learned.end();
+    (is_learned ? nodes : flat).push_back(static_cast<Eigen::Index>(j));
   }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(w(Eigen::all, flat));
+  const Eigen::MatrixXd q = Eigen::MatrixXd(qr.householderQ()).leftCols(qr.rank());
+  Eigen::MatrixXd rest(w.rows(), static_cast<Eigen::Index>(nodes.size()) + 1);
+  rest << w(Eigen::all, nodes), w.col(w.cols() - 1);
+  rest -= q * (q.transpose() * rest);
+  const ExpectedEvidence ev(rest.leftCols(rest.cols() - 1), rest.col(rest.cols() - 1), static_cast<double>(w.rows() - qr.rank()));
+  Prior prior = prior_;
+  const double sd = std::exp(-0.5 * ev.best_log_alpha());
+  for (Eigen::Index j : nodes) prior.root(j, j) = sd;
+  return prior;
 }
 
 const DesignContext::Anchor& DesignContext::anchor() const {
@@ -137,9 +161,8 @@ const DesignContext::Anchor& DesignContext::anchor() const {
     stacked << al, std::sqrt(lambda) * Eigen::MatrixXd::Identity(np, np);
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(al.rows() + np);
     rhs.head(al.rows()) = grid.true_error;
-    anchor_.z = stacked.colPivHouseholderQr().solve(rhs);
-    const Eigen::VectorXd theta_a = prior_.mean + prior_.root * anchor_.z;
-    for (const auto& f : envelope_->flights) anchor_.error.push_back(f.position_error(*regressor_, theta_a));
+    anchor_.theta = prior_.mean + prior_.root * stacked.colPivHouseholderQr().solve(rhs);
+    for (const auto& f : envelope_->flights) anchor_.error.push_back(f.position_error(*regressor_, anchor_.theta));
   });
   return anchor_;
 }
@@ -188,35 +211,41 @@ double DesignContext::flight_mse(std::size_t flight, const LinearEstimate& e) co
   if (e.expected.size() != prior_.size()) fail("design: the mean squared criterion needs the estimate's expected value (estimate with its target)");
   if (flight >= envelope_->flights.size()) fail("design: no flight ", flight, " in the envelope");
   const Anchor& a = anchor();
-  const Eigen::MatrixXd& s = scaled_sensitivity_[flight];
-  const Eigen::Vector3d m = a.error[flight] + s * (e.expected - a.z);
+  const Eigen::MatrixXd s = scaled_sensitivity(flight, e);
+  const Eigen::Vector3d m = a.error[flight] + lin_.flights[flight].sensitivity * (e.expected_theta() - a.theta);
   return m.squaredNorm() + (s * e.estimator * s.transpose()).trace();
 }
 
 LinearEstimate DesignContext::estimate(const Observations& o, bool with_target) const {
   Eigen::MatrixXd a = regressor_->columns(o.inputs);
-  if (with_target) {
+  if (with_target || evidence_prior_) {
     a.conservativeResize(Eigen::NoChange, a.cols() + 1);
     a.col(a.cols() - 1) = o.true_error;
   }
-  return linear_estimate(whiten(a, o.inputs.t_s, o.weight_s, noise_), prior_, with_target);
+  const Eigen::MatrixXd w = whiten(a, o.inputs.t_s, o.weight_s, noise_);
+  if (!evidence_prior_) return linear_estimate(w, prior_, with_target);
+  const Prior prior = evidence_prior(w);
+  return with_target ? linear_estimate(w, prior, true) : linear_estimate(w.leftCols(w.cols() - 1), prior, false);
 }
 
 double DesignContext::objective(const LinearEstimate& e) const {
   switch (criterion_) {
     case Criterion::cof: {
       double sum = 0.0;
-      for (const auto& s : scaled_sensitivity_) sum += std::log((s * e.posterior * s.transpose()).trace());
-      return sum / static_cast<double>(scaled_sensitivity_.size());
+      for (std::size_t f = 0; f < lin_.flights.size(); ++f) {
+        const Eigen::MatrixXd s = scaled_sensitivity(f, e);
+        sum += std::log((s * e.posterior * s.transpose()).trace());
+      }
+      return sum / static_cast<double>(lin_.flights.size());
     }
     case Criterion::cof_minimax: {
-      if (log_reference_.size() != scaled_sensitivity_.size()) fail("design: criterion 'cof_minimax' needs a reference trajectory");
+      if (log_reference_.size() != lin_.flights.size()) fail("design: criterion 'cof_minimax' needs a reference trajectory");
       // log-sum-exp with sharpness k: within 1/k log(F) of the worst flight's log ratio, smooth.
       constexpr double k = 8.0;
       double worst = -INFINITY;
       std::vector<double> x;
-      for (std::size_t f = 0; f < scaled_sensitivity_.size(); ++f) {
-        const auto& s = scaled_sensitivity_[f];
+      for (std::size_t f = 0; f < lin_.flights.size(); ++f) {
+        const Eigen::MatrixXd s = scaled_sensitivity(f, e);
         const double statistic = statistic_ == ReferenceStatistic::mse ? flight_mse(f, e) : (s * e.posterior * s.transpose()).trace();
         x.push_back(std::log(statistic) - log_reference_[f]);
         worst = std::max(worst, x.back());
@@ -225,7 +254,7 @@ double DesignContext::objective(const LinearEstimate& e) const {
       for (double v : x) sum += std::exp(k * (v - worst));
       return worst + std::log(sum) / k;
     }
-    case Criterion::surface: return std::log((scaled_surface_moment_ * e.posterior).trace());
+    case Criterion::surface: return std::log((e.prior.root.transpose() * surface_moment_ * e.prior.root * e.posterior).trace());
     case Criterion::d_optimal: return -e.log_det_information;
     case Criterion::a_optimal: return std::log(e.posterior.trace());
     case Criterion::effects: {
@@ -266,7 +295,8 @@ Prediction DesignContext::predict(const Observations& o) const {
     fp.cof_noise_m = std::sqrt(c.trace());
     fp.cof_noise_mean_m = expected_norm(Eigen::Vector3d::Zero(), c);
     fp.cof_bias_m = m.norm();
-    fp.cof_posterior_m = std::sqrt((scaled_sensitivity_[i] * e.posterior * scaled_sensitivity_[i].transpose()).trace());
+    const Eigen::MatrixXd scaled = scaled_sensitivity(i, e);
+    fp.cof_posterior_m = std::sqrt((scaled * e.posterior * scaled.transpose()).trace());
     fp.surface_rms_dph = surface(lin.surface_columns, lin.surface_true_error, &fp.surface_bias_dph, &fp.surface_noise_dph);
     p.flights.push_back(fp);
   }

@@ -144,18 +144,20 @@ class DesignContext {
   std::unique_ptr<Regressor> regressor_;
   Prior prior_;
   Linearisation lin_;
-  std::vector<Eigen::MatrixXd> scaled_sensitivity_;  // S_f L per flight
-  Eigen::MatrixXd scaled_surface_moment_;            // L' M L, M = mean a a' over the envelope
+  Eigen::MatrixXd surface_moment_;                   // M = mean a a' over the envelope
+  bool evidence_prior_ = false;                      // model.network_prior=evidence: alpha per estimate
   std::vector<double> log_reference_;                // log R_f^2 per flight
   ReferenceStatistic statistic_ = ReferenceStatistic::posterior;  // the CLI's auto for a reference of the same model
   std::shared_ptr<const NetworkNodes> network_;
   // The mse statistic's anchor: theta_a in prior units and m(theta_a) per flight, exact (one INS run each);
   // computed at the first flight_mse (only the mse statistic needs it).
   struct Anchor {
-    Eigen::VectorXd z;
+    Eigen::VectorXd theta;
     std::vector<Eigen::Vector3d> error;
   };
   const Anchor& anchor() const;
+  Eigen::MatrixXd scaled_sensitivity(std::size_t flight, const LinearEstimate& e) const;  // S_f L, L the estimate's prior
+  Prior evidence_prior(const Eigen::MatrixXd& whitened_with_target) const;
   mutable std::once_flag anchor_once_;
   mutable Anchor anchor_;
 };

@@ -41,6 +41,7 @@ void ModelOptions::bind(OptionTable& t) {
       .real("model.network_prior_scale", &network_prior_scale, 0.0, 1e6,
             "hybrid: the network's prior sd as a multiple of what the physics leaves of the sensor's error", true)
       .text("model.network", &network, "hybrid: the network predictions are made with: evidence (as the calibration would choose it along the trajectory) or dictionary")
+      .text("model.network_prior", &network_prior, "hybrid: the dictionary's prior in the objective: residual (one scale over the domain) or evidence (alpha by the expected evidence on each candidate)")
       .integer("model.network_nodes", &network_nodes, 1, 2000, "hybrid, network=evidence: centres among the trajectory's inputs");
 }
 
@@ -63,6 +64,7 @@ std::vector<double> parse_list(const std::string& text, const char* key) {
 
 std::string ModelOptions::validate() const {
   if (network != "evidence" && network != "dictionary") return "option 'model.network' must be evidence or dictionary";
+  if (network_prior != "residual" && network_prior != "evidence") return "option 'model.network_prior' must be residual or evidence";
   const auto rates = parse_list(grid_rates_dps, "model.grid_rates_dps");
   for (std::size_t i = 1; i < rates.size(); ++i) {
     if (!(rates[i] > rates[i - 1])) return "option 'model.grid_rates_dps' must be strictly increasing";

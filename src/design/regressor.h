@@ -75,6 +75,11 @@ struct ModelOptions {
   // nodes, widths and prior the calibration would choose along that trajectory (evidence_network.h), or
   // `dictionary`, the fixed dictionary above (what the optimiser's objective uses in either case)
   std::string network = "evidence";
+  // hybrid: the dictionary's prior in the optimiser's objective: `residual`, one scale from what the physics
+  // leaves of the sensor's error over the domain (above), or `evidence`, the precision alpha the expected
+  // evidence gives the dictionary on each candidate's own noise-free target (evidence_network.h): the prior
+  // follows each trajectory, as the calibration's does
+  std::string network_prior = "residual";
   int network_nodes = 200;  // evidence: centres among the trajectory's inputs (the calibration's `nodes`)
   void bind(OptionTable& table);  // keys model.<name>
   std::string validate() const;

@@ -23,6 +23,7 @@
 #include "nav/criterion_of_fit.h"
 #include "sensor/sensor_config.h"
 #include "sim/simulate.h"
+#include "solvers/bayes/evidence.h"
 #include "solvers/bayes/hybrid_fit.h"
 #include "solvers/calibrate.h"
 #include "error_of.h"
@@ -573,6 +574,70 @@ TEST(DesignCriteria, TheMeanSquaredCriterionIsThePredictionsOwnBiasAndNoise) {
     EXPECT_NEAR(wide_minimax->objective(wide_minimax->estimate(o, true)), std::log(2.0) / 8.0, 0.02) << which;
     EXPECT_THAT(error_of([&] { (void)wide_minimax->objective(wide_minimax->estimate(o, false)); }), ::testing::HasSubstr("expected value"));
   }
+}
+
+TEST(DesignCriteria, TheEvidencePriorIsTheExpectedEvidencesOnTheCandidatesOwnTarget) {
+  // model.network_prior=evidence: the dictionary's prior sd on every node is 1/sqrt(alpha), alpha maximising
+  // the expected evidence of the candidate's noise-free target - recomputed here with the Bayes solver's own
+  // projection off the physics (solvers/bayes/evidence.h FixedPart) of the hand-whitened columns (white noise:
+  // rows times sqrt(w / N^2)). The physics keeps its flat prior; the residual prior stays one fixed scale.
+  ModelOptions options;
+  options.network_prior = "evidence";
+  const SmallProblem evidence(ModelFamily::hybrid, Criterion::cof, options);
+  const SmallProblem fixed(ModelFamily::hybrid, Criterion::cof);
+  ASSERT_TRUE(evidence.context.noise().markov.empty() && evidence.context.noise().rrw_psd == 0.0);
+  const Observations o = observe_trajectory(evidence.context, small_programme());
+  const Eigen::Index physics = 16;
+  const Eigen::Index p = evidence.context.regressor().size();
+  Eigen::MatrixXd a = evidence.context.regressor().columns(o.inputs);
+  Eigen::VectorXd y = o.true_error;
+  const Eigen::ArrayXd root = (o.weight_s.array() / evidence.context.noise().white_psd).sqrt();
+  a = (a.array().colwise() * root).matrix(), y = (y.array() * root).matrix();
+  const FixedPart projection(a.leftCols(physics), y, nullptr);
+  Eigen::MatrixXd nodes = a.rightCols(p - physics);
+  projection.project(nodes);
+  const double sd = std::exp(-0.5 * ExpectedEvidence(nodes, projection.y_projected(), static_cast<double>(o.size() - physics)).best_log_alpha());
+  const LinearEstimate e = evidence.context.estimate(o, false);
+  for (Eigen::Index j = physics; j < p; ++j) ASSERT_NEAR(e.prior.root(j, j) / sd, 1.0, 1e-6) << j;
+  for (Eigen::Index j = 0; j < physics; ++j) ASSERT_DOUBLE_EQ(e.prior.root(j, j), fixed.context.prior().root(j, j)) << j;
+  EXPECT_GT(std::abs(std::log(sd / fixed.context.prior().root(p - 1, p - 1))), 0.1);  // a different scale than the fixed one
+  // The objective uses that prior: the posterior statistic is the one of a fixed context with this prior.
+  const Prediction followed = evidence.context.predict(o), plain = fixed.context.predict(o);
+  EXPECT_NE(followed.flights[0].cof_posterior_m, plain.flights[0].cof_posterior_m);
+}
+
+TEST(DesignAssessment, APredictionTakesTheNetworkTheCalibrationWouldFitAlongTheTrajectory) {
+  // evaluate_trajectory for the hybrid (model.network=evidence) predicts with nodes among the trajectory's own
+  // inputs (range-normalised as the calibration does), their widths and prior chosen by the expected evidence;
+  // with model.network=dictionary it keeps the fixed dictionary, and the optimiser's objective is the same.
+  const SmallProblem small(ModelFamily::hybrid, Criterion::cof);
+  const TrajectorySpec t = small_programme();
+  const Observations o = observe_trajectory(small.context, t);
+  const auto followed = small.context.following(o);
+  ASSERT_TRUE(followed);
+  const NetworkNodes& n = *followed->network();
+  EXPECT_EQ(n.centres.rows(), 200);
+  EXPECT_LE(n.centres.cwiseAbs().maxCoeff(), 1.0 + 1e-12);  // centres are normalised inputs of the trajectory
+  EXPECT_NEAR(n.offset(1), 0.5 * (o.inputs.temp_c.maxCoeff() + o.inputs.temp_c.minCoeff()), 1e-12);
+  const Eigen::Index p = followed->regressor().size();
+  EXPECT_EQ(p, 16 + 200);
+  EXPECT_DOUBLE_EQ(followed->prior().root(p - 1, p - 1), n.prior_sd_radps);
+  const Prediction evaluated = evaluate_trajectory(small.context, t);
+  ASSERT_TRUE(evaluated.network);
+  EXPECT_DOUBLE_EQ(evaluated.network->widths(0), n.widths(0));
+  EXPECT_DOUBLE_EQ(evaluated.flights[0].cof_m, followed->predict(o).flights[0].cof_m);
+  EXPECT_DOUBLE_EQ(evaluated.objective, small.context.objective(small.context.estimate(o, false)));
+  ModelOptions dictionary;
+  dictionary.network = "dictionary";
+  const SmallProblem plain(ModelFamily::hybrid, Criterion::cof, dictionary);
+  EXPECT_FALSE(plain.context.following(o));
+  EXPECT_FALSE(evaluate_trajectory(plain.context, t).network);
+  EXPECT_THAT(error_of([] {
+                ModelOptions bad;
+                bad.network = "grid";
+                SmallProblem(ModelFamily::hybrid, Criterion::cof, bad);
+              }),
+              ::testing::HasSubstr("model.network"));
 }
 
 TEST(DesignCriteria, CofMinimaxIsTheSameInAnyUnitOfAFlightsError) {
