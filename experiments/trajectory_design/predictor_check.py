@@ -32,6 +32,8 @@ def main():
     ap.add_argument("--tag", default="reference")
     ap.add_argument("--calibration", default="best", help="best (rbf_noisy.yaml) or given (the design's calibration.yaml)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "predictor_check.json"))
+    ap.add_argument("--evaluation", default="evaluate", help="the cache directory of this binary's `design --evaluate` (check/NAME)")
+    ap.add_argument("--set", action="append", default=[], help="design option for the evaluation, e.g. model.network=dictionary")
     a = ap.parse_args()
     cfg = yaml.safe_load(open(os.path.join(HERE, "config.yaml")))
     st = run.Study(argparse.Namespace(gyrosid=a.gyrosid, out=os.path.join(HERE, "results"), force=False, max_minutes=600), cfg)
@@ -42,13 +44,14 @@ def main():
         path, _, cal = rest.partition(",")
         items.append((name, path, cal))
     given = next((c for _, _, c in items if c), None)
-    d = st.run.path(a.tag, "check", "evaluate", "x")[:-2]
+    d = st.run.path(a.tag, "check", a.evaluation, "x")[:-2]
+    sets = [x for kv in a.set for x in ("--set", kv)]
     st.gyrosid(["design", "--evaluate"] + [p for _, p, _ in items] + ["--model", "hybrid", "--envelope", cfg["design"]["envelope"],
-                                                                    "--sensor", sensor, "--out", d], os.path.join(d, "evaluation.json"))
+                                                                    "--sensor", sensor] + sets + ["--out", d], os.path.join(d, "evaluation.json"))
     ev = load_json(os.path.join(d, "evaluation.json"))["trajectories"]
     out = {}
     for name, path, _ in items:
-        row = {"predicted": {f: ev[path]["flights"][f] for f in FLIGHTS}}
+        row = {"predicted": {f: ev[path]["flights"][f] for f in FLIGHTS}, "network": ev[path].get("network")}
         # the model class's part, achieved: a noise-free recording, the calibration given the sensor's noise
         if given:
             rec = st.run.path(a.tag, "check", "%s_noise_free.csv" % name)
@@ -87,6 +90,9 @@ def main():
             sys.stderr.write("  %-6s achieved %.3g (|mean| %.3g, spread %.3g%s) predicted %.3g (bias %.3g, noise %.3g, posterior %.3g)\n" % (
                 f, ach[f]["mean_m"], ach[f]["mean_vector_norm_m"], ach[f]["spread_m"],
                 (", noise-free %.3g" % row["noise_free_m"][f]) if given else "", p["cof_m"], p["cof_bias_m"], p["cof_noise_m"], p["cof_posterior_m"]))
+    within = [(n, f, r["predicted"][f]["cof_m"] / r["achieved"][f]["mean_m"]) for n, r in out.items() for f in FLIGHTS]
+    sys.stderr.write("predicted / achieved mean: %s; within 1.5x: %d of %d\n" % (
+        ", ".join("%s %s %.2f" % w for w in within), sum(1 for w in within if 1 / 1.5 <= w[2] <= 1.5), len(within)))
     json.dump(out, open(a.out, "w"), indent=1)
 
 
