@@ -136,7 +136,7 @@ Prior DesignContext::evidence_prior(const Eigen::MatrixXd& w) const {
     (is_learned ? nodes : flat).push_back(static_cast<Eigen::Index>(j));
   }
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(w(Eigen::all, flat));
-  const Eigen::MatrixXd q = Eigen::MatrixXd(qr.householderQ()).leftCols(qr.rank());
+  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(w.rows(), qr.rank());  // thin Q, never N x N
   Eigen::MatrixXd rest(w.rows(), static_cast<Eigen::Index>(nodes.size()) + 1);
   rest << w(Eigen::all, nodes), w.col(w.cols() - 1);
   rest -= q * (q.transpose() * rest);

@@ -102,7 +102,7 @@ NetworkNodes expected_evidence_network(const Observations& o, const Eigen::Matri
   const Eigen::MatrixXd w = whiten(fy, o.inputs.t_s, o.weight_s, noise);
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(w.leftCols(physics.cols()));
   const Eigen::Index rank = qr.rank();
-  const Eigen::MatrixXd q = Eigen::MatrixXd(qr.householderQ()).leftCols(rank);
+  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, rank);  // thin Q: N x rank, never N x N
   auto project = [&](Eigen::MatrixXd& m) { m -= q * (q.transpose() * m); };
   Eigen::MatrixXd y = w.rightCols(1);
   project(y);
