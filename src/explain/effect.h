@@ -35,6 +35,9 @@ struct Candidate {
   std::optional<Term> term;          // the columns it adds; none for the coil lag
   NonlinearParameter nonlinear = NonlinearParameter::none;
   std::vector<double> tau_grid_s;    // values tried for the nonlinear parameter
+  // A further component of an effect with several time constants (a warm-up's second exponential): not
+  // selected on its own, but the rival of an effect selected after the first component (judge.h).
+  bool further_component = false;
   std::string_view id() const;
   int nonlinear_parameters() const { return nonlinear == NonlinearParameter::none ? 0 : 1; }
   // Its count in a BIC penalty beside its columns: a location searched over the record (a change point's

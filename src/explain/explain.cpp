@@ -73,6 +73,11 @@ struct Accepted {
 // Why a judged effect is not accepted.
 std::string demotion_reason(const Judged& j, double min_stability, double untested_bic) {
   if (j.stability < min_stability) return "unstable across training blocks";
+  if (j.rivalled_by_further_component(untested_bic)) {
+    return str_cat("an alternative of ", j.further->of, ": a second time constant of it (", format_significant(j.further->tau_s, 3),
+                   " s, the first refitted to ", format_significant(j.further->first_tau_s, 3), " s) explains the same (dBIC of ",
+                   j.effect.score.id, " over it ", format_significant(j.further->delta_bic, 3), " < ", format_significant(untested_bic, 3), ")");
+  }
   if (j.explained_by_others()) {
     return str_cat("explained by the other effects once their nonlinear parameters are refitted without it (profile dBIC ",
                    format_significant(*j.profiled_delta_bic, 3), ")");
@@ -89,6 +94,11 @@ Accepted accept(const std::vector<Judged>& judged, const ModelSpec& base, const 
   for (const auto& j : judged) {
     if (!j.accepted(min_stability, untested_bic)) {
       const auto z = j.heldout_testable ? std::optional<double>(j.heldout_z) : std::nullopt;
+      if (j.stability >= min_stability && j.rivalled_by_further_component(untested_bic)) {
+        for (Judged& other : a.effects) {
+          if (other.effect.score.id == j.further->of) other.effect.alternatives.push_back(j.effect.score.id);
+        }
+      }
       a.demoted.push_back({j.effect.score.id, j.effect.score.delta_bic, j.stability, j.heldout_gain, z, demotion_reason(j, min_stability, untested_bic)});
       continue;
     }
@@ -215,7 +225,7 @@ std::vector<AbsorbedAlternative> absorbed_alternatives(const std::vector<Candida
   std::vector<Candidate> open;
   for (const Candidate& c : candidates) {
     const bool found = std::any_of(accepted.effects.begin(), accepted.effects.end(), [&](const Judged& j) { return j.effect.candidate.id() == c.id(); });
-    if (!found && c.effect->is_physics()) open.push_back(c);
+    if (!found && c.effect->is_physics() && !c.further_component) open.push_back(c);
   }
   const std::vector<AbsorptionTest> tests = absorption_tests(open, accepted.model, core, in, y, scaling, w);
   for (std::size_t k = 0; k < open.size(); ++k) {
@@ -294,7 +304,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   clock.lap("candidates and selection");
 
   // 3. Stability and held-out confirmation of every selected effect; 4. the joint refit with intervals.
-  const Judgement judgement = judge_effects(in, y, base, sel, scaling, w);
+  const Judgement judgement = judge_effects(in, y, base, sel, scaling, w, candidates);
   const Accepted accepted = accept(judgement.effects, base, sel, o.min_stability, o.selection.ambiguity_bic);
   clock.lap("judging (stability, held-out, profiles)");
   const std::optional<ProfiledFit> profile = profiled_start(judgement, accepted);

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 
+#include "core/bounded_search.h"
 #include "explain/linear_fit.h"
 #include "explain/refit.h"
 
@@ -70,6 +72,42 @@ double stability(const BlockFits& blocks, const Eigen::MatrixXd& x_minus, int ex
   return blocks.whiteners.empty() ? 1.0 : static_cast<double>(kept) / static_cast<double>(blocks.whiteners.size());
 }
 
+// The selected model with `removed` (a term index) taken out and `further` (a further component of the
+// effect whose term is `first`) put in, both components' time constants re-optimised together within the
+// further component's grid (the effect's own range) by BOBYQA over their logarithms, every linear coefficient
+// solved inside: its whitened RSS and the two time constants.
+struct FurtherFit {
+  double rss = 0.0, tau = 0.0, first_tau = 0.0;
+};
+FurtherFit fit_with_further(const ExplainInput& in, const Eigen::VectorXd& yw, const ModelSpec& model, std::size_t removed, std::size_t first,
+                            const Candidate& further, const TermScaling& sc, const Whitener& w) {
+  ModelSpec alt = model;
+  alt.terms.erase(alt.terms.begin() + static_cast<std::ptrdiff_t>(removed));
+  const std::size_t f = first > removed ? first - 1 : first;
+  alt.terms.push_back(further.term->with_parameter(further.tau_grid_s.front()));
+  const auto rss = [&](double log_first, double log_tau) {
+    ModelSpec m = alt;
+    m.terms[f] = m.terms[f].with_parameter(std::exp(log_first));
+    m.terms.back() = m.terms.back().with_parameter(std::exp(log_tau));
+    return whitened_rss(w.apply(model_columns(m, in.signals, sc)), yw);
+  };
+  const double first0 = std::log(model.terms[first].parameter()->value);
+  // The second time constant started at the best of its grid (the first held), then both refined.
+  double start = std::log(further.tau_grid_s.front()), best = std::numeric_limits<double>::infinity();
+  for (double tau : further.tau_grid_s) {
+    const double r = rss(first0, std::log(tau));
+    if (r < best) best = r, start = std::log(tau);
+  }
+  const double lo = std::log(further.tau_grid_s.front()), hi = std::log(further.tau_grid_s.back());
+  BoundedSearchOptions bobyqa;
+  bobyqa.xtol_abs = 1e-2;  // tau to 1 %
+  bobyqa.max_evaluations = 60;
+  const BoundedSearchResult r = minimize_bounded([&](const std::vector<double>& v) { return rss(v[0], v[1]); },
+                                                 {std::clamp(first0, lo, hi), start}, {lo, lo}, {hi, hi}, bobyqa);
+  if (r.value < best) return {r.value, std::exp(r.x[1]), std::exp(r.x[0])};
+  return {best, std::exp(start), std::exp(first0)};
+}
+
 }  // namespace
 
 RowFit gls(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Whitener& w) {
@@ -78,7 +116,7 @@ RowFit gls(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Whitener& w
 }
 
 Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const SelectionResult& sel,
-                        const TermScaling& scaling, const Whitener& w) {
+                        const TermScaling& scaling, const Whitener& w, const std::vector<Candidate>& candidates) {
   const Eigen::MatrixXd x_full = model_columns(sel.model, in.signals, scaling);
   const RowFit fit_full = gls(x_full, y, w);
   const Eigen::VectorXd residual_full = y - x_full * fit_full.beta;
@@ -92,6 +130,14 @@ Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const 
   const bool lag_selected = sel.model.lag_tau_s != base.lag_tau_s;
   std::optional<ProfiledFit>& profiled_full = out.full;
   const BlockFits blocks = block_fits(in, y, sel.noise, x_full);
+  // Effects with a further component (a warm-up's second time constant) and their term in the selected model.
+  struct Rival {
+    const Candidate* further;
+    std::size_t term;
+    std::string id;
+  };
+  std::vector<Rival> rivals;
+  std::optional<Eigen::VectorXd> yw;
   for (const auto& selected : sel.effects) {
     Judged j{};
     j.effect = selected;
@@ -99,7 +145,21 @@ Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const 
     // The selected model without this effect.
     ModelSpec minus = sel.model;
     if (lag) minus.lag_tau_s = base.lag_tau_s;
-    else j.term = sel.model.terms[term], minus.terms.erase(minus.terms.begin() + static_cast<std::ptrdiff_t>(term++));
+    const std::size_t this_term = term;
+    if (!lag) j.term = sel.model.terms[term], minus.terms.erase(minus.terms.begin() + static_cast<std::ptrdiff_t>(term++));
+    if (!lag && selected.candidate.effect->is_physics()) {
+      for (const Rival& r : rivals) {
+        if (!yw) yw = w.apply(y);
+        const FurtherFit f = fit_with_further(in, *yw, sel.model, this_term, r.term, *r.further, scaling, w);
+        const double n = static_cast<double>(fit_full.n);
+        const int k = j.term->size() + selected.candidate.nonlinear_parameters() - (r.further->term->size() + 1);
+        const FurtherComponent c{r.id, f.tau, f.first_tau, n * std::log(f.rss / fit_full.rss) - k * std::log(n)};
+        if (!j.further || c.delta_bic < j.further->delta_bic) j.further = c;
+      }
+      for (const Candidate& c : candidates) {
+        if (c.further_component && c.effect == selected.candidate.effect) rivals.push_back({&c, this_term, std::string(c.id())});
+      }
+    }
     const Eigen::MatrixXd x_minus = model_columns(minus, in.signals, scaling);
     const Eigen::VectorXd residual_minus = y - x_minus * gls(x_minus, y, w).beta;
     j.heldout_rss_without = heldout_rss(residual_minus, in);

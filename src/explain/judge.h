@@ -12,6 +12,19 @@
 
 namespace gyrosid::explain {
 
+// An effect selected after one with several time constants (a warm-up), tested against that effect's further
+// component: the selected model without it and with the other's second time constant, the two time constants
+// refitted together. A one-exponential warm-up fitted to two leaves the slower one's tail, which an ageing
+// trend added later takes (the independent generator's 600 s + 2,400 s warm-up); when the second time
+// constant explains the same (dBIC of the effect over it below the ambiguity threshold), the effect is not
+// named with confidence but reported as an alternative of the other.
+struct FurtherComponent {
+  std::string of;          // the effect whose further component it was tested against
+  double tau_s = 0.0;      // that component's time constant at the optimum
+  double first_tau_s = 0.0;  // the first component's, refitted with it
+  double delta_bic = 0.0;  // the effect's dBIC over the model with the further component instead
+};
+
 struct Judged {
   SelectedEffect effect;
   std::optional<Term> term;      // the effect's term in the selected model; none for the coil lag
@@ -28,6 +41,9 @@ struct Judged {
   // The selected model without it, its nonlinear parameters at that profile's optimum (the refit's start
   // when it is the only effect demoted).
   std::optional<ProfiledFit> profiled_without;
+  std::optional<FurtherComponent> further;
+
+  bool rivalled_by_further_component(double ambiguity_bic) const { return further && further->delta_bic < ambiguity_bic; }
 
   bool explained_by_others() const { return profiled_delta_bic && *profiled_delta_bic <= 0; }
   // The held-out blocks cannot test it and its evidence against the coloured noise re-estimated by maximum
@@ -35,7 +51,8 @@ struct Judged {
   // evidence must be very strong - a slow wander the noise model misplaced passes a weak gate.
   bool weak_and_untested(double untested_bic) const { return !heldout_testable && !(effect.score.ml_delta_bic >= untested_bic); }
   bool accepted(double min_stability, double untested_bic) const {
-    return stability >= min_stability && (!heldout_testable || heldout_z > 2.0) && !explained_by_others() && !weak_and_untested(untested_bic);
+    return stability >= min_stability && (!heldout_testable || heldout_z > 2.0) && !explained_by_others() && !weak_and_untested(untested_bic) &&
+           !rivalled_by_further_component(untested_bic);
   }
 };
 
@@ -44,9 +61,10 @@ struct Judgement {
   std::optional<ProfiledFit> full;  // the selected model's profile, when a nonlinear parameter was re-optimised
 };
 
-// `y` in deg/h on every sample; `w` the training whitener of the selection's noise model.
+// `y` in deg/h on every sample; `w` the training whitener of the selection's noise model; `candidates` the
+// selection's (their further components are the rivals above).
 Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const SelectionResult& sel,
-                        const TermScaling& scaling, const Whitener& w);
+                        const TermScaling& scaling, const Whitener& w, const std::vector<Candidate>& candidates = {});
 
 // Generalised least squares on the rows a whitener covers: coefficients, RSS, count and rank.
 struct RowFit {

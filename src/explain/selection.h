@@ -72,6 +72,8 @@ struct CandidateScore {
   double delta_bic = 0.0;
   double p_value = 1.0;
   bool significant = false;   // after Holm
+  // dBIC at the noise the null's likelihood chose, the likelihood gate's ranking (NaN if not gated)
+  double held_delta_bic = std::numeric_limits<double>::quiet_NaN();
   // dBIC with the noise re-estimated by maximum likelihood with and without the candidate (NaN if not tried)
   double ml_delta_bic = std::numeric_limits<double>::quiet_NaN();
 };

@@ -107,6 +107,7 @@ Unexplained unexplained_of(const json& j) {
 json score_json(const CandidateScore& s) {
   json j = {{"id", s.id}, {"columns", s.columns}, {"delta_bic", s.columns ? json(s.delta_bic) : json()}, {"p_value", s.p_value},
             {"significant", s.significant}};
+  if (!std::isnan(s.held_delta_bic)) j["held_delta_bic"] = s.held_delta_bic;
   if (!std::isnan(s.ml_delta_bic)) j["ml_delta_bic"] = s.ml_delta_bic;
   if (!std::isnan(s.tau_s)) j["tau_s"] = s.tau_s;
   return j;
@@ -117,7 +118,7 @@ CandidateScore score_of(const json& j) {
   s.id = j.at("id").get<std::string>(), s.columns = j.at("columns").get<int>();
   s.delta_bic = j.at("delta_bic").is_null() ? -std::numeric_limits<double>::infinity() : j["delta_bic"].get<double>();
   s.p_value = j.at("p_value").get<double>(), s.significant = j.at("significant").get<bool>();
-  s.ml_delta_bic = j.value("ml_delta_bic", kNan), s.tau_s = j.value("tau_s", kNan);
+  s.held_delta_bic = j.value("held_delta_bic", kNan), s.ml_delta_bic = j.value("ml_delta_bic", kNan), s.tau_s = j.value("tau_s", kNan);
   return s;
 }
 
