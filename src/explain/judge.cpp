@@ -7,6 +7,7 @@
 
 #include "core/bounded_search.h"
 #include "explain/linear_fit.h"
+#include "explain/noise_likelihood.h"
 #include "explain/refit.h"
 
 namespace gyrosid::explain {
@@ -54,7 +55,7 @@ BlockFits block_fits(const ExplainInput& in, const Eigen::VectorXd& y, const Noi
       return !in.heldout[static_cast<std::size_t>(i)] && in.block[static_cast<std::size_t>(i)] != block;
     }));
     b.y.push_back(b.whiteners.back().apply(y));
-    b.full.push_back(whitened_rss_and_rank(b.whiteners.back().apply(x_full), b.y.back()));
+    b.full.push_back(whitened_rss_and_rank(whiten_columns(b.whiteners.back(), x_full), b.y.back()));
   }
   return b;
 }
@@ -64,7 +65,7 @@ double stability(const BlockFits& blocks, const Eigen::MatrixXd& x_minus, int ex
   int kept = 0;
   for (std::size_t k = 0; k < blocks.whiteners.size(); ++k) {
     const Whitener& wb = blocks.whiteners[k];
-    const RssAndRank f1 = blocks.full[k], f0 = whitened_rss_and_rank(wb.apply(x_minus), blocks.y[k]);
+    const RssAndRank f1 = blocks.full[k], f0 = whitened_rss_and_rank(whiten_columns(wb, x_minus), blocks.y[k]);
     const double n = static_cast<double>(wb.rows().size());
     const int q = std::max(1, f1.rank - f0.rank) + extra_parameters;
     kept += n * std::log(f0.rss / f1.rss) - q * std::log(n) > 0;
@@ -89,7 +90,7 @@ FurtherFit fit_with_further(const ExplainInput& in, const Eigen::VectorXd& yw, c
     ModelSpec m = alt;
     m.terms[f] = m.terms[f].with_parameter(std::exp(log_first));
     m.terms.back() = m.terms.back().with_parameter(std::exp(log_tau));
-    return whitened_rss(w.apply(model_columns(m, in.signals, sc)), yw);
+    return whitened_rss(whiten_columns(w, model_columns(m, in.signals, sc)), yw);
   };
   const double first0 = std::log(model.terms[first].parameter()->value);
   // The second time constant started at the best of its grid (the first held), then both refined.

@@ -11,6 +11,12 @@
 
 namespace gyrosid::explain {
 
+Eigen::MatrixXd whiten_columns(const Whitener& w, const Eigen::MatrixXd& x) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(w.rows().size()), x.cols());
+  parallel_for(x.cols(), [&](std::ptrdiff_t begin, std::ptrdiff_t end) { out.middleCols(begin, end - begin) = w.apply(x.middleCols(begin, end - begin)); }, 8);
+  return out;
+}
+
 NoiseLikelihood::NoiseLikelihood(std::vector<Eigen::Index> rows, const std::vector<double>& t_s, const NoiseModel& start, double xtol)
     : rows_(std::move(rows)), t_s_(t_s), start_(start), gm_tau_s_(start.gm_var > 0 ? start.gm_tau_s : 100.0 * start.dt_s), xtol_(xtol) {
   const double span = rows_.empty() ? 0.0 : t_s_[static_cast<std::size_t>(rows_.back())] - t_s_[static_cast<std::size_t>(rows_.front())];
@@ -31,10 +37,7 @@ NoiseModel NoiseLikelihood::model(const Optimum& at) const {
 double NoiseLikelihood::negative(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::array<double, 3>& v) const {
   const Whitener w(model({0.0, v}), rows_, t_s_);
   const double n = static_cast<double>(rows_.size());
-  // Each column's filter is its own recursion: the columns whitened in (up to two) groups at once.
-  Eigen::MatrixXd xw(static_cast<Eigen::Index>(rows_.size()), x.cols());
-  parallel_for(x.cols(), [&](std::ptrdiff_t begin, std::ptrdiff_t end) { xw.middleCols(begin, end - begin) = w.apply(x.middleCols(begin, end - begin)); }, 8);
-  return 0.5 * n * std::log(whitened_rss(xw, w.apply(y)) / n) + 0.5 * w.log_determinant();
+  return 0.5 * n * std::log(whitened_rss(whiten_columns(w, x), w.apply(y)) / n) + 0.5 * w.log_determinant();
 }
 
 NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) const {

@@ -18,6 +18,10 @@
 
 namespace gyrosid::explain {
 
+// w.apply(x), the columns whitened in (up to) two groups at once: each column's filter is its own recursion,
+// so the result is the same whatever the thread count.
+Eigen::MatrixXd whiten_columns(const Whitener& w, const Eigen::MatrixXd& x);
+
 class NoiseLikelihood {
  public:
   // rows: the samples (ascending); t_s: every sample's time; start: the Allan fit's model; xtol: the

@@ -8,6 +8,7 @@
 #include "core/bounded_search.h"
 #include "core/error.h"
 #include "explain/linear_fit.h"
+#include "explain/noise_likelihood.h"
 #include "solvers/common/ceres_support.h"
 
 namespace gyrosid::explain {
@@ -93,7 +94,7 @@ struct ProjectionSearch {
 };
 Projected optimise_parameters(const ExplainInput& in, const Eigen::VectorXd& yw, const ModelSpec& model, const std::vector<NonlinearFit>& taus,
                               const TermScaling& sc, const Whitener& w, std::vector<double>& log_tau, const ProjectionSearch& search = {}) {
-  if (taus.empty()) return {whitened_rss(w.apply(model_columns(model, in.signals, sc)), yw), true};
+  if (taus.empty()) return {whitened_rss(whiten_columns(w, model_columns(model, in.signals, sc)), yw), true};
   const double duration = in.signals.t_s.back() - in.signals.t_s.front();
   std::vector<double> lo, hi;
   for (double v : log_tau) {
@@ -106,7 +107,7 @@ Projected optimise_parameters(const ExplainInput& in, const Eigen::VectorXd& yw,
   bobyqa.max_evaluations = search.max_evaluations_each * static_cast<int>(log_tau.size());
   const BoundedSearchResult r = minimize_bounded([&](const std::vector<double>& x) {
     const ModelSpec m = at_parameters(model, taus, x);
-    return whitened_rss(w.apply(model_columns(m, in.signals, sc)), yw);
+    return whitened_rss(whiten_columns(w, model_columns(m, in.signals, sc)), yw);
   }, log_tau, lo, hi, bobyqa);
   log_tau = r.x;
   return {r.value, termination_of(r) == Termination::converged};

@@ -135,7 +135,7 @@ Evaluated evaluate(const Candidate& c, const ModelSpec& model, const ExplainInpu
 }
 
 WhitenedFit fit_model(const ModelSpec& m, const ExplainInput& in, const Eigen::VectorXd& yw, const TermScaling& sc, const Whitener& w) {
-  return fit_whitened(w.apply(model_columns(m, in.signals, sc)), yw);
+  return fit_whitened(whiten_columns(w, model_columns(m, in.signals, sc)), yw);
 }
 
 // One forward step: the current model fitted in the whitened space of the step's noise model.
@@ -247,7 +247,7 @@ struct LagScore {
 
 LagScore replaced_lag_score(const Candidate& c, const Step& s) {
   const double n = static_cast<double>(s.yw.size());
-  const auto rss = [&](double tau) { return whitened_rss(s.w.apply(model_columns(with_effect(s.model, c, tau), s.in.signals, s.sc)), s.yw); };
+  const auto rss = [&](double tau) { return whitened_rss(whiten_columns(s.w, model_columns(with_effect(s.model, c, tau), s.in.signals, s.sc)), s.yw); };
   const std::vector<double>& g = c.tau_grid_s;
   std::vector<double> at(g.size());
   for (std::size_t k = 0; k < g.size(); ++k) at[k] = rss(g[k]);
