@@ -14,7 +14,8 @@
 //      grid on every resample, so a lag search is not judged by a plain chi-square;
 //   5. Holm's step-down procedure over the candidates controls the family-wise error at alpha;
 //   6. the significant candidates are re-scored against the noise the null's likelihood chose (each one's
-//      nonlinear parameter scanned again there), the best `likelihood_tries` of them are judged with the
+//      nonlinear parameter scanned again there; a coil lag as the model it creates - the temperature columns
+//      lagged, not its Gauss-Newton column beside them), the best `likelihood_tries` of them are judged with the
 //      noise model (its random-walk and Gauss-Markov variances and time constant) re-estimated by maximum
 //      likelihood with and without them - coloured noise can mimic a trend, but a wander is not explained
 //      better by one - and the one with the largest positive dBIC there is added; every other candidate within
