@@ -606,35 +606,33 @@ TEST(BayesFit, ModelErrorGrowingAcrossLevelsIsJudgedByItsNullVarianceNotItsSprea
   EXPECT_LE(added_without_ripple, 1);
 }
 
+// How many of `reps` fits of data drawn from the prior (30 nodes, white noise) add a model error; every fit's
+// note must name the folds `fold_kind`.
+int model_error_added_on_prior_draws(Eigen::Index n, int reps, std::uint64_t seed0, int scan, const std::string& fold_kind) {
+  int added = 0;
+  for (int rep = 0; rep < reps; ++rep) {
+    const Drawn d = draw(n, 30, Eigen::RowVector2d(0.3, 0.5), 0.1, seed0 + static_cast<std::uint64_t>(rep));
+    BayesFitOptions o;
+    o.nodes = 30, o.noise = "white", o.scan = scan;
+    SolveMonitor monitor;
+    const BayesFit fit = fit_bayes(problem_of(d), o, monitor);
+    added += fit.model_error_var > 0;
+    EXPECT_NE(fit.model_error_note.find(fold_kind), std::string::npos) << fit.model_error_note;
+  }
+  return added;
+}
+
 TEST(BayesFit, ModelErrorIsNotAddedWhenTheModelClassIsRight) {
   // Data drawn from the prior with white noise: cross-validation must find no significant misfit on most
   // seeds (a 2-standard-error test over 10 time blocks), and the band stays where the exact posterior puts it.
-  int added = 0;
-  for (int rep = 0; rep < 6; ++rep) {
-    const Drawn d = draw(1500, 30, Eigen::RowVector2d(0.3, 0.5), 0.1, 300 + static_cast<std::uint64_t>(rep));
-    BayesFitOptions o;
-    o.nodes = 30, o.noise = "white", o.scan = 4;
-    SolveMonitor monitor;
-    added += fit_bayes(problem_of(d), o, monitor).model_error_var > 0;
-  }
-  EXPECT_LE(added, 2);
+  EXPECT_LE(model_error_added_on_prior_draws(1500, 6, 300, 4, "time blocks"), 2);
 }
 
 TEST(BayesFit, ModelErrorTestStaysCalibratedWhenEverySampleIsItsOwnRun) {
   // Inputs drawn at random: nearly every sample is its own run, ~2,500 per time block, over the 2,000 the null
   // covariance is formed for; groups of runs stand in. Drawn from the prior with white noise, the test must
   // still add nothing on most seeds.
-  int added = 0;
-  for (int rep = 0; rep < 3; ++rep) {
-    const Drawn d = draw(26000, 30, Eigen::RowVector2d(0.3, 0.5), 0.1, 700 + static_cast<std::uint64_t>(rep));
-    BayesFitOptions o;
-    o.nodes = 30, o.noise = "white", o.scan = 3;
-    SolveMonitor monitor;
-    const BayesFit fit = fit_bayes(problem_of(d), o, monitor);
-    added += fit.model_error_var > 0;
-    EXPECT_NE(fit.model_error_note.find("time blocks"), std::string::npos) << fit.model_error_note;
-  }
-  EXPECT_LE(added, 1);
+  EXPECT_LE(model_error_added_on_prior_draws(26000, 3, 700, 3, "time blocks"), 1);
 }
 
 TEST(BayesFit, SlowGaussMarkovDriftKeepsTheBandHonest) {
