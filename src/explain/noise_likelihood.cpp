@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 #include "core/bounded_search.h"
 #include "core/parallel.h"
@@ -55,7 +53,6 @@ NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, con
   const BoundedSearchResult r = minimize_bounded([&](const std::vector<double>& v) { return negative(x, y, {v[0], v[1], v[2]}); },
                                                  {from.log_ratios[0], from.log_ratios[1], std::clamp(from.log_ratios[2], min_log_tau, max_log_tau_)},
                                                  {-25.0, -25.0, min_log_tau}, {3.0, 3.0, max_log_tau_}, bobyqa);
-  if (std::getenv("GYROSID_TRACE_ML")) std::fprintf(stderr, "ML maximise: p=%ld evals=%d logL=%.3f\n", static_cast<long>(x.cols()), r.evaluations, -r.value);
   return {-r.value, {r.x[0], r.x[1], r.x[2]}};
 }
 
