@@ -118,7 +118,6 @@ DesignContext::DesignContext(const SensorSpec& sensor, std::shared_ptr<const Env
   };
   if (envelope_->uniform_samples) add_moment(lin_.uniform_columns, 1.0);
   for (const auto& f : lin_.flights) add_moment(f.surface_columns, 1.0 / static_cast<double>(lin_.flights.size()));
-  if (model.network_prior != "residual" && model.network_prior != "evidence") fail("design: option 'model.network_prior' must be residual or evidence");
   evidence_prior_ = family == ModelFamily::hybrid && !network_ && model.network_prior == "evidence";
 }
 
