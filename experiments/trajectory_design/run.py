@@ -46,11 +46,14 @@ class Study:
         return sensor if sensor.startswith("builtin:") else os.path.join(HERE, sensor)
 
     def design(self, tag, sensor, spec):
-        """One design: spec = {solver, budget, criterion (optional; cof_minimax beats design.reference)}."""
+        """One design: spec = {solver, budget, criterion (optional; cof_minimax beats design.reference), envelope
+        (optional; default design.envelope), set (optional {key: value}: design options, `--set key=value`)}."""
         c = self.cfg["design"]
         d = self.run.path(tag, "designs", design_name(spec), "x")[:-2]
-        argv = ["design", "--budget-min", spec["budget"], "--model", spec.get("model", c["model"]), "--envelope", c["envelope"], "--sensor", sensor,
-                "--solver", spec["solver"], "--seed", c["seed"], "--out", d]
+        argv = ["design", "--budget-min", spec["budget"], "--model", spec.get("model", c["model"]), "--envelope", spec.get("envelope", c["envelope"]),
+                "--sensor", sensor, "--solver", spec["solver"], "--seed", c["seed"], "--out", d]
+        for key, value in sorted(spec.get("set", {}).items()):
+            argv += ["--set", "%s=%s" % (key, value)]
         if spec.get("criterion"):
             argv += ["--criterion", spec["criterion"]]
         if spec.get("criterion") == "cof_minimax":
@@ -115,7 +118,8 @@ class Study:
                     "evaluations": s.get("evaluations", s.get("iterations", "")), "termination": s.get("termination", "")}
             # A design for another model than the calibration's (design.model) predicts another calibration.
             own = spec.get("model", cfg["design"]["model"]) == cfg["design"]["model"]
-            pred = {f: j["predicted"]["flights"][f]["cof_m"] for f in FLIGHTS} if own else None
+            # (a design for part of the envelope predicts its own flights only)
+            pred = {f: j["predicted"]["flights"][f]["cof_m"] for f in FLIGHTS if f in j["predicted"]["flights"]} if own else None
             info["design_model"] = spec.get("model", cfg["design"]["model"])
             trajectories.append((design_name(spec), os.path.join(d, "trajectory.yaml"), j["duration_min"], "design " + spec["solver"],
                                  pred, info, os.path.join(d, "calibration.yaml")))
@@ -149,7 +153,7 @@ class Study:
                     mean = sum(v) / len(v)
                     row[f + "_m"] = mean
                     row[f + "_sd_m"] = math.sqrt(sum((x - mean) ** 2 for x in v) / (len(v) - 1)) if len(v) > 1 else 0.0
-                    if predicted:
+                    if predicted and f in predicted:
                         row[f + "_predicted_m"] = predicted[f]
                         row[f + "_pred_over_achieved"] = predicted[f] / mean
                 sys.stderr.write(" " + "  ".join("%s %.3g m" % (f, row[f + "_m"]) for f in FLIGHTS) + "\n")
@@ -158,13 +162,21 @@ class Study:
 
 
 def design_name(spec):
-    """solver_budget[_minimax][_vs_REFERENCE][_post|_mse][_model]: the reference only when it is not design.reference;
-    _post: the reference's posterior statistic (--reference-statistic posterior), _mse: the predicted mean squared
-    criterion of fit of both (mse)."""
-    return "%s_%s%s%s%s%s" % (spec["solver"], spec["budget"], "_minimax" if spec.get("criterion") == "cof_minimax" else "",
-                              "_vs_" + spec["reference"].replace("classical_", "") if spec.get("reference") else "",
-                              {"posterior": "_post", "mse": "_mse"}.get(spec.get("reference_statistic"), ""),
-                              "_" + spec["model"] if spec.get("model") else "")
+    """solver_budget[_minimax][_vs_REFERENCE][_post|_mse][_ev][_ENVELOPE][_model]: the reference only when it is not
+    design.reference; _post: the reference's posterior statistic (--reference-statistic posterior), _mse: the
+    predicted mean squared criterion of fit of both (mse); _ev: model.network_prior=evidence; the envelope only when
+    the spec gives one."""
+    ev = spec.get("set", {}).get("model.network_prior") == "evidence"
+    return "%s_%s%s%s%s%s%s%s" % (spec["solver"], spec["budget"], "_minimax" if spec.get("criterion") == "cof_minimax" else "",
+                                  "_vs_" + spec["reference"].replace("classical_", "") if spec.get("reference") else "",
+                                  {"posterior": "_post", "mse": "_mse"}.get(spec.get("reference_statistic"), ""),
+                                  "_ev" if ev else "", "_" + spec["envelope"].replace(",", "_") if spec.get("envelope") else "",
+                                  "_" + spec["model"] if spec.get("model") else "")
+
+
+def fully_predicted(row):
+    """A row with a prediction on every flight (a design for part of the envelope predicts only its own)."""
+    return all(f + "_predicted_m" in row for f in FLIGHTS)
 
 
 def find(rows, trajectory, calibration):
@@ -189,7 +201,7 @@ def targets(rows, cfg):
         lines.append("2. %s (%g min) against the dual scan (%g min), both with the best noisy calibration: %s on every flight by >= 1.5x: %s." % (
             r["trajectory"], r["minutes"], dual["minutes"], ", ".join("%s %.2fx" % (f, x) for f, x in zip(FLIGHTS, ratios)),
             "MET" if min(ratios) >= 1.5 else "MISSED"))
-    assumed = [r for r in rows if "short_predicted_m" in r]
+    assumed = [r for r in rows if fully_predicted(r)]
     worst = max(max(r[f + "_pred_over_achieved"], 1.0 / r[f + "_pred_over_achieved"]) for r in assumed for f in FLIGHTS)
     inside = sum(1 for r in assumed for f in FLIGHTS if 1 / 1.5 <= r[f + "_pred_over_achieved"] <= 1.5)
     lines.append("3. Predicted criterion of fit within 1.5x of the achieved mean (the calibration the prediction is for): %d of %d "
@@ -217,7 +229,7 @@ def plots(out, rows, tag):
         gnuplot(os.path.join(out, "%spareto_%s.png" % (tag, f)), "".join(blocks) +
                 "set logscale xy\nset grid\nset xlabel 'calibration time (min)'\nset ylabel 'criterion of fit (m), mean of seeds +- sd'\n"
                 "set key top right\nset title 'Calibration minutes against criterion of fit, %s flight (best noisy calibration)'\nplot %s\n" % (f, ", ".join(series)))
-    pts = [(r[f + "_predicted_m"], r[f + "_m"], f) for r in rows if "short_predicted_m" in r for f in FLIGHTS]
+    pts = [(r[f + "_predicted_m"], r[f + "_m"], f) for r in rows if fully_predicted(r) for f in FLIGHTS]
     blocks = "".join("$%s << EOD\n%s\nEOD\n" % (f, "\n".join("%g %g" % (p, a) for p, a, g in pts if g == f)) for f in FLIGHTS)
     gnuplot(os.path.join(out, "%spredicted_vs_achieved.png" % tag), blocks +
             "set logscale xy\nset grid\nset xlabel 'predicted criterion of fit (m)'\nset ylabel 'achieved mean (m)'\nset key top left\n"
@@ -270,7 +282,7 @@ def main():
                                                                   ", ".join("%s %.2fx" % (f, soak[f + "_m"] / r[f + "_m"]) for f in FLIGHTS),
                                                                   "" if all(r[f + "_m"] < soak[f + "_m"] for f in FLIGHTS) else " (loses a flight)")
                      for r in other if r["kind"].startswith("design") and r["calibration"] != "classical"]
-        pred = [r for r in other if "short_predicted_m" in r]
+        pred = [r for r in other if fully_predicted(r)]
         if pred:
             inside = sum(1 for r in pred for f in FLIGHTS if 1 / 1.5 <= r[f + "_pred_over_achieved"] <= 1.5)
             text += ["\nPredicted within 1.5x of the achieved mean (the calibration the prediction is for): %d of %d pairs; "
