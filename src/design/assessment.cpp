@@ -22,6 +22,20 @@ namespace {
 // is scaled to what its physics, fitted to the sensor's error over the domain, leaves: the evidence sets the
 // network's prior on that residual. The named effects get their physical magnitudes (a plain fit has them
 // too, the grey-box fit with its effect terms switched on).
+// The regressor's column indices with a flat prior (the physics) and with the learned one (the network).
+struct ColumnsByPrior {
+  std::vector<Eigen::Index> flat, learned;
+};
+ColumnsByPrior columns_by_prior(const Regressor& r) {
+  const std::vector<int> groups = r.groups(), learned = r.residual_groups();
+  ColumnsByPrior out;
+  for (std::size_t j = 0; j < groups.size(); ++j) {
+    const bool is_learned = std::find(learned.begin(), learned.end(), groups[j]) != learned.end();
+    (is_learned ? out.learned : out.flat).push_back(static_cast<Eigen::Index>(j));
+  }
+  return out;
+}
+
 Eigen::VectorXd prior_scales(const Regressor& r, ModelFamily family, const ModelOptions& o, const Domain& domain,
                              const GyroErrorModel& truth, const NetworkNodes* network) {
   const SteadyGrid grid = steady_grid(domain, truth);
@@ -34,11 +48,7 @@ Eigen::VectorXd prior_scales(const Regressor& r, ModelFamily family, const Model
   // What the groups with a flat prior leave of the sensor's error (column-pivoted QR: rank-safe).
   double residual_rms = rms;
   if (!learned.empty()) {
-    std::vector<Eigen::Index> flat;
-    for (std::size_t j = 0; j < groups.size(); ++j) {
-      if (!is_learned(groups[j])) flat.push_back(static_cast<Eigen::Index>(j));
-    }
-    const Eigen::MatrixXd f = a(Eigen::all, flat);
+    const Eigen::MatrixXd f = a(Eigen::all, columns_by_prior(r).flat);
     const Eigen::VectorXd fit = f * f.colPivHouseholderQr().solve(grid.true_error);
     residual_rms = std::max(rms_of(grid.true_error - fit), 1e-3 * rms);
   }
@@ -128,21 +138,15 @@ Eigen::MatrixXd DesignContext::scaled_sensitivity(std::size_t flight, const Line
 Prior DesignContext::evidence_prior(const Eigen::MatrixXd& w) const {
   // w = whiten([A | e]): the dictionary's prior precision alpha by the expected evidence of the noise-free
   // target along these observations (evidence_network.h), the physics projected off (its prior is flat).
-  const std::vector<int> groups = regressor_->groups(), learned = regressor_->residual_groups();
-  std::vector<Eigen::Index> flat, nodes;
-  for (std::size_t j = 0; j < groups.size(); ++j) {
-    const bool is_learned = std::find(learned.begin(), learned.end(), groups[j]) != learned.end();
-    (is_learned ? nodes : flat).push_back(static_cast<Eigen::Index>(j));
-  }
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(w(Eigen::all, flat));
-  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(w.rows(), qr.rank());  // thin Q, never N x N
-  Eigen::MatrixXd rest(w.rows(), static_cast<Eigen::Index>(nodes.size()) + 1);
-  rest << w(Eigen::all, nodes), w.col(w.cols() - 1);
-  rest -= q * (q.transpose() * rest);
-  const ExpectedEvidence ev(rest.leftCols(rest.cols() - 1), rest.col(rest.cols() - 1), static_cast<double>(w.rows() - qr.rank()));
+  const ColumnsByPrior cols = columns_by_prior(*regressor_);
+  const PhysicsProjection physics_span(w(Eigen::all, cols.flat));
+  Eigen::MatrixXd rest(w.rows(), static_cast<Eigen::Index>(cols.learned.size()) + 1);
+  rest << w(Eigen::all, cols.learned), w.col(w.cols() - 1);
+  physics_span.project(rest);
+  const ExpectedEvidence ev(rest.leftCols(rest.cols() - 1), rest.col(rest.cols() - 1), physics_span.residual_dof());
   Prior prior = prior_;
   const double sd = std::exp(-0.5 * ev.best_log_alpha());
-  for (Eigen::Index j : nodes) prior.root(j, j) = sd;
+  for (Eigen::Index j : cols.learned) prior.root(j, j) = sd;
   return prior;
 }
 
@@ -166,29 +170,23 @@ const DesignContext::Anchor& DesignContext::anchor() const {
   return anchor_;
 }
 
-std::unique_ptr<DesignContext> DesignContext::with_domain(const Domain& d) const {
-  auto c = std::make_unique<DesignContext>(sensor_, envelope_, family_, model_, criterion_, d, network_);
+std::unique_ptr<DesignContext> DesignContext::derived(const Domain& d, std::shared_ptr<const NetworkNodes> network) const {
+  auto c = std::make_unique<DesignContext>(sensor_, envelope_, family_, model_, criterion_, d, std::move(network));
   c->log_reference_ = log_reference_;
   c->statistic_ = statistic_;
   return c;
 }
 
+std::unique_ptr<DesignContext> DesignContext::with_domain(const Domain& d) const { return derived(d, network_); }
+
 std::unique_ptr<DesignContext> DesignContext::following(const Observations& o) const {
   if (family_ != ModelFamily::hybrid || model_.network != "evidence") return nullptr;
   // The physics' columns along o: the groups with a flat prior (the dictionary's group is the learned one).
   const Eigen::MatrixXd a = regressor_->columns(o.inputs);
-  const std::vector<int> groups = regressor_->groups(), learned = regressor_->residual_groups();
-  std::vector<Eigen::Index> flat;
-  for (std::size_t j = 0; j < groups.size(); ++j) {
-    if (std::find(learned.begin(), learned.end(), groups[j]) == learned.end()) flat.push_back(static_cast<Eigen::Index>(j));
-  }
   NetworkSearchOptions search;
   search.nodes = model_.network_nodes;
-  auto nodes = std::make_shared<const NetworkNodes>(expected_evidence_network(o, a(Eigen::all, flat), noise_, search));
-  auto c = std::make_unique<DesignContext>(sensor_, envelope_, family_, model_, criterion_, model_domain_, std::move(nodes));
-  c->log_reference_ = log_reference_;
-  c->statistic_ = statistic_;
-  return c;
+  return derived(model_domain_, std::make_shared<const NetworkNodes>(
+                                    expected_evidence_network(o, a(Eigen::all, columns_by_prior(*regressor_).flat), noise_, search)));
 }
 
 void DesignContext::set_reference(const Prediction& reference, ReferenceStatistic statistic) {

@@ -158,6 +158,8 @@ class DesignContext {
   const Anchor& anchor() const;
   Eigen::MatrixXd scaled_sensitivity(std::size_t flight, const LinearEstimate& e) const;  // S_f L, L the estimate's prior
   Prior evidence_prior(const Eigen::MatrixXd& whitened_with_target) const;
+  // A context over another domain and/or network, with this one's reference.
+  std::unique_ptr<DesignContext> derived(const Domain& model_domain, std::shared_ptr<const NetworkNodes> network) const;
   mutable std::once_flag anchor_once_;
   mutable Anchor anchor_;
 };

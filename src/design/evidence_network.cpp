@@ -31,6 +31,11 @@ Eigen::MatrixXd NetworkNodes::columns(const Signals& s) const {
   return gaussian_columns(x, centres, widths);
 }
 
+PhysicsProjection::PhysicsProjection(const Eigen::MatrixXd& physics_whitened) {
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(physics_whitened);
+  q_ = qr.householderQ() * Eigen::MatrixXd::Identity(physics_whitened.rows(), qr.rank());
+}
+
 ExpectedEvidence::ExpectedEvidence(const Eigen::MatrixXd& phi_p, const Eigen::VectorXd& y0_p, double residual_dof)
     : y2_(y0_p.squaredNorm()), dof_(residual_dof) {
   Eigen::MatrixXd s = Eigen::MatrixXd::Zero(phi_p.cols(), phi_p.cols());
@@ -100,14 +105,10 @@ NetworkNodes expected_evidence_network(const Observations& o, const Eigen::Matri
   Eigen::MatrixXd fy(n, physics.cols() + 1);
   fy << physics, o.true_error;
   const Eigen::MatrixXd w = whiten(fy, o.inputs.t_s, o.weight_s, noise);
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(w.leftCols(physics.cols()));
-  const Eigen::Index rank = qr.rank();
-  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, rank);  // thin Q: N x rank, never N x N
-  auto project = [&](Eigen::MatrixXd& m) { m -= q * (q.transpose() * m); };
+  const PhysicsProjection physics_span(w.leftCols(physics.cols()));
   Eigen::MatrixXd y = w.rightCols(1);
-  project(y);
+  physics_span.project(y);
   const Eigen::VectorXd y0_p = y.col(0);
-  const double dof = static_cast<double>(n - rank);
 
   struct Best {
     double value = -INFINITY, log_alpha = 0.0, gamma = 0.0;
@@ -115,8 +116,8 @@ NetworkNodes expected_evidence_network(const Observations& o, const Eigen::Matri
   } best;
   auto evaluate = [&](const Eigen::RowVectorXd& widths) {
     Eigen::MatrixXd phi = whiten(gaussian_columns(x, net.centres, widths), o.inputs.t_s, o.weight_s, noise);
-    project(phi);
-    const ExpectedEvidence ev(phi, y0_p, dof);
+    physics_span.project(phi);
+    const ExpectedEvidence ev(phi, y0_p, physics_span.residual_dof());
     const double u = ev.best_log_alpha(), v = ev.at(u);
     if (v > best.value) best = {v, u, ev.gamma(u), widths};
     return v;

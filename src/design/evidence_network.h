@@ -52,6 +52,18 @@ struct NetworkNodes {
   Eigen::MatrixXd columns(const Signals& inputs) const;  // N x M
 };
 
+// Projection off the span of the physics' whitened columns (flat prior), rank-safe (column-pivoted QR; a
+// trajectory may leave some physics column undetermined), by the thin Q (N x rank, never N x N).
+class PhysicsProjection {
+ public:
+  explicit PhysicsProjection(const Eigen::MatrixXd& physics_whitened);
+  void project(Eigen::MatrixXd& x) const { x -= q_ * (q_.transpose() * x); }
+  double residual_dof() const { return static_cast<double>(q_.rows() - q_.cols()); }  // N' = N - rank
+
+ private:
+  Eigen::MatrixXd q_;
+};
+
 // The expected evidence of one network (widths fixed) for the whitened, projected problem; alpha maximises it.
 class ExpectedEvidence {
  public:
