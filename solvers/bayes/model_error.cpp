@@ -116,10 +116,13 @@ Eigen::MatrixXd run_mean_noise_covariance(const std::vector<std::vector<double>>
     const double n = static_cast<double>(t.size());
     double within = n * (m.white_var + m.gm_var);
     if (m.gm_var > 0) {
+      // sum_{j<i} exp(-(t_i - t_j)/tau) = sum_i s_i with s_i = exp(-(t_i - t_{i-1})/tau) (s_{i-1} + 1), s_0 = 0.
+      double s = 0.0, pairs = 0.0;
       for (std::size_t i = 0; i < t.size(); ++i) {
         a(r) += std::exp(-(t.back() - t[i]) / m.gm_tau_s), b(r) += std::exp(-(t[i] - t.front()) / m.gm_tau_s);
-        for (std::size_t j = 0; j < i; ++j) within += 2.0 * m.gm_var * std::exp(-std::abs(t[i] - t[j]) / m.gm_tau_s);
+        if (i > 0) s = std::exp(-(t[i] - t[i - 1]) / m.gm_tau_s) * (s + 1.0), pairs += s;
       }
+      within += 2.0 * m.gm_var * pairs;
     }
     v(r, r) = within / (n * n);
   }

@@ -47,7 +47,8 @@ struct ModelErrorEstimate {
 // Covariance of the noise's run means (white + Gauss-Markov, the model's units), runs: each run's sample
 // times, runs disjoint and in time order. Between runs r < s the Gauss-Markov double sum factorises,
 // sum_ij exp(-(t_j - t_i)/tau) = a_r exp(-(t_s0 - t_r1)/tau) b_s with a_r = sum_i exp(-(t_r1 - t_i)/tau),
-// b_s = sum_j exp(-(t_j - t_s0)/tau) (t_r1: run r's last sample, t_s0: run s's first): O(R^2 + sum n_r^2).
+// b_s = sum_j exp(-(t_j - t_s0)/tau) (t_r1: run r's last sample, t_s0: run s's first); within a run the
+// double sum is a recursion over consecutive samples: O(R^2 + sum n_r).
 // (A random walk's level is pinned by the neighbouring samples; it is left out.)
 Eigen::MatrixXd run_mean_noise_covariance(const std::vector<std::vector<double>>& runs, const NoiseModel& m);
 
