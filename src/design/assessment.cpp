@@ -173,6 +173,7 @@ const DesignContext::Anchor& DesignContext::anchor() const {
 std::unique_ptr<DesignContext> DesignContext::derived(const Domain& d, std::shared_ptr<const NetworkNodes> network) const {
   auto c = std::make_unique<DesignContext>(sensor_, envelope_, family_, model_, criterion_, d, std::move(network));
   c->log_reference_ = log_reference_;
+  c->reference_cof_m_ = reference_cof_m_;
   c->statistic_ = statistic_;
   return c;
 }
@@ -193,7 +194,9 @@ void DesignContext::set_reference(const Prediction& reference, ReferenceStatisti
   if (reference.flights.size() != envelope_->flights.size()) fail("design: the reference was predicted for other flights");
   statistic_ = statistic;
   log_reference_.clear();
+  reference_cof_m_.clear();
   for (const auto& f : reference.flights) {
+    reference_cof_m_.push_back(f.cof_m);
     double r2 = 0.0;
     switch (statistic) {
       case ReferenceStatistic::mse: r2 = f.cof_bias_m * f.cof_bias_m + f.cof_noise_m * f.cof_noise_m; break;
@@ -235,22 +238,7 @@ double DesignContext::objective(const LinearEstimate& e) const {
       }
       return sum / static_cast<double>(lin_.flights.size());
     }
-    case Criterion::cof_minimax: {
-      if (log_reference_.size() != lin_.flights.size()) fail("design: criterion 'cof_minimax' needs a reference trajectory");
-      // log-sum-exp with sharpness k: within 1/k log(F) of the worst flight's log ratio, smooth.
-      constexpr double k = 8.0;
-      double worst = -INFINITY;
-      std::vector<double> x;
-      for (std::size_t f = 0; f < lin_.flights.size(); ++f) {
-        const Eigen::MatrixXd s = scaled_sensitivity(f, e);
-        const double statistic = statistic_ == ReferenceStatistic::mse ? flight_mse(f, e) : (s * e.posterior * s.transpose()).trace();
-        x.push_back(std::log(statistic) - log_reference_[f]);
-        worst = std::max(worst, x.back());
-      }
-      double sum = 0.0;
-      for (double v : x) sum += std::exp(k * (v - worst));
-      return worst + std::log(sum) / k;
-    }
+    case Criterion::cof_minimax: return objective(e, {});
     case Criterion::surface: return std::log((e.prior.root.transpose() * surface_moment_ * e.prior.root * e.posterior).trace());
     case Criterion::d_optimal: return -e.log_det_information;
     case Criterion::a_optimal: return std::log(e.posterior.trace());
@@ -261,6 +249,50 @@ double DesignContext::objective(const LinearEstimate& e) const {
     }
   }
   fail("design: unknown criterion");
+}
+
+std::vector<double> DesignContext::flight_log_ratios(const LinearEstimate& e) const {
+  if (log_reference_.size() != lin_.flights.size()) fail("design: criterion 'cof_minimax' needs a reference trajectory");
+  std::vector<double> x;
+  for (std::size_t f = 0; f < lin_.flights.size(); ++f) {
+    double statistic = 0.0;
+    if (statistic_ == ReferenceStatistic::mse) {
+      statistic = flight_mse(f, e);
+    } else {
+      const Eigen::MatrixXd s = scaled_sensitivity(f, e);
+      statistic = (s * e.posterior * s.transpose()).trace();
+    }
+    x.push_back(std::log(statistic) - log_reference_[f]);
+  }
+  return x;
+}
+
+std::vector<double> DesignContext::flight_log_ratios(const Prediction& p) const {
+  if (log_reference_.size() != p.flights.size()) fail("design: the log ratios need a reference on the prediction's flights");
+  std::vector<double> x;
+  for (std::size_t f = 0; f < p.flights.size(); ++f) {
+    const FlightPrediction& fp = p.flights[f];
+    const double statistic = statistic_ == ReferenceStatistic::mse ? fp.cof_bias_m * fp.cof_bias_m + fp.cof_noise_m * fp.cof_noise_m
+                                                                   : fp.cof_posterior_m * fp.cof_posterior_m;
+    x.push_back(std::log(statistic) - log_reference_[f]);
+  }
+  return x;
+}
+
+double DesignContext::objective(const LinearEstimate& e, const std::vector<double>& offsets) const {
+  if (criterion_ != Criterion::cof_minimax) {
+    if (!offsets.empty()) fail("design: per-flight offsets are for criterion 'cof_minimax'");
+    return objective(e);
+  }
+  std::vector<double> x = flight_log_ratios(e);
+  if (!offsets.empty() && offsets.size() != x.size()) fail("design: ", offsets.size(), " flight offsets for ", x.size(), " flights");
+  for (std::size_t f = 0; f < offsets.size(); ++f) x[f] += offsets[f];
+  // log-sum-exp with sharpness k: within 1/k log(F) of the worst flight's log ratio, smooth.
+  constexpr double k = 8.0;
+  const double worst = *std::max_element(x.begin(), x.end());
+  double sum = 0.0;
+  for (double v : x) sum += std::exp(k * (v - worst));
+  return worst + std::log(sum) / k;
 }
 
 Prediction DesignContext::predict(const Observations& o) const {

@@ -122,11 +122,22 @@ class DesignContext {
   // The reference per flight (envelope order) for cof_minimax, and the statistic compared (above).
   void set_reference(const Prediction& reference, ReferenceStatistic statistic);
   ReferenceStatistic reference_statistic() const { return statistic_; }
+  // The reference's predicted criterion of fit per flight (cof_m, m; envelope order): what a design's predicted
+  // gain on a flight is measured against (exact_selection.h). Empty without a reference.
+  const std::vector<double>& reference_cof_m() const { return reference_cof_m_; }
   // Whether objective() needs the estimate's expected value, i.e. estimate(o, true) (mse).
   bool objective_needs_target() const { return criterion_ == Criterion::cof_minimax && statistic_ == ReferenceStatistic::mse; }
 
   LinearEstimate estimate(const Observations& observations, bool with_target) const;
   double objective(const LinearEstimate& estimate) const;
+  // cof_minimax with a per-flight offset added to each flight's log ratio before the smooth maximum (an
+  // emphasis, or a correction of this proxy towards the exact predictor: exact_selection.h). Empty: none.
+  double objective(const LinearEstimate& estimate, const std::vector<double>& flight_offsets) const;
+  // cof_minimax's per-flight log ratios x_f = log(statistic_f) - log(R_f^2) (envelope order).
+  std::vector<double> flight_log_ratios(const LinearEstimate& estimate) const;
+  // The same log ratios from a prediction's statistics (e.g. the exact one, with the network the calibration
+  // would fit): mse |m|^2 + tr(S Sigma S'), else tr(S P S'), against the same reference.
+  std::vector<double> flight_log_ratios(const Prediction& prediction) const;
   // The flight's squared criterion of fit predicted from the estimate (mse above; `estimate` with its target):
   // |m|^2 with m linearised about the anchor, plus tr(S Sigma S').
   double flight_mse(std::size_t flight, const LinearEstimate& estimate) const;
@@ -147,6 +158,7 @@ class DesignContext {
   Eigen::MatrixXd surface_moment_;                   // M = mean a a' over the envelope
   bool evidence_prior_ = false;                      // model.network_prior=evidence: alpha per estimate
   std::vector<double> log_reference_;                // log R_f^2 per flight
+  std::vector<double> reference_cof_m_;              // the reference's cof_m per flight
   ReferenceStatistic statistic_ = ReferenceStatistic::posterior;  // the CLI's auto for a reference of the same model
   std::shared_ptr<const NetworkNodes> network_;
   // The mse statistic's anchor: theta_a in prior units and m(theta_a) per flight, exact (one INS run each);

@@ -1,5 +1,7 @@
 #include "design/design.h"
 
+#include <chrono>
+
 #include "core/error.h"
 
 namespace gyrosid::design {
@@ -10,11 +12,12 @@ OptionTable DesignSettings::table() {
   model.bind(t);
   envelope.bind(t);
   quadrature.bind(t);
+  selection.bind(t);
   return t;
 }
 
 bool DesignSettings::owns(const std::string& key) {
-  for (const char* prefix : {"space.", "model.", "envelope.", "quadrature."}) {
+  for (const char* prefix : {"space.", "model.", "envelope.", "quadrature.", "select."}) {
     if (key.rfind(prefix, 0) == 0) return true;
   }
   return false;
@@ -68,6 +71,10 @@ Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpe
 }
 
 DesignResult design_trajectory(const DesignContext& context, const DesignRequest& request) {
+  if (auto p = request.selection.validate(); !p.empty()) fail("design: ", p);
+  if (request.selection.rounds > 0 && (context.criterion() != Criterion::cof_minimax || context.reference_cof_m().empty())) {
+    fail("design: option 'select.rounds' (the exact final selection) is for --criterion cof_minimax with a reference");
+  }
   auto solver = make_design_solver(request.solver, request.solver_options, request.seed);
   solver->use_checkpoint(request.checkpoint);
   const DesignSpace space = design_space(context.envelope(), request.space);
@@ -83,10 +90,34 @@ DesignResult design_trajectory(const DesignContext& context, const DesignRequest
     t.sampling.rate_hz = request.space.rate_hz;
     return t;
   };
+  std::optional<Prediction> chosen;
+  if (request.selection.rounds > 0) {
+    const auto start = std::chrono::steady_clock::now();
+    // Re-solves start from the incumbent (no checkpoint: its saved stages belong to the first solve).
+    const SolveFrom solve = [&](const DesignProblem& shifted, const TableProfile& from) {
+      auto again = make_design_solver(request.solver, request.solver_options, request.seed);
+      TableProfile found = from;
+      const SolveSummary s = run_design_solver(*again, shifted, found);
+      if (!s.usable()) fail("design: the ", request.solver, " solver failed in the exact selection: ", s.message);
+      return found;
+    };
+    const PredictExactly predict = [&](const TableProfile& p) { return evaluate_trajectory(context, spec(p)); };
+    const SelectionResult selection = select_by_exact(problem, best, request.selection, solve, predict);
+    best = selection.candidates[selection.chosen].programme;
+    chosen = selection.candidates[selection.chosen].predicted;
+    nlohmann::json summary = selection.summary();
+    summary["rounds"] = request.selection.rounds;
+    summary["emphasis"] = request.selection.emphasis;
+    summary["blend_shares"] = request.selection.blend_shares;
+    summary["time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.summary.details["exact_selection"] = summary;
+    r.summary.details["objective"] = problem.objective(best);  // the chosen programme's proxy objective
+  }
   r.trajectory = spec(best);
   r.trajectory.description = str_cat("designed by gyrosid design (", to_string(context.family()), " model, criterion ",
-                                     to_string(context.criterion()), ", solver ", request.solver, ", seed ", request.seed, ")");
-  r.predicted = evaluate_trajectory(context, r.trajectory);
+                                     to_string(context.criterion()), ", solver ", request.solver,
+                                     request.selection.rounds > 0 ? ", chosen by the exact predictor" : "", ", seed ", request.seed, ")");
+  r.predicted = chosen ? *chosen : evaluate_trajectory(context, r.trajectory);
   r.initial_predicted = evaluate_trajectory(context, spec(r.initial));
   return r;
 }

@@ -17,17 +17,19 @@
 #include "design/design_problem.h"
 #include "design/design_space.h"
 #include "design/design_solver.h"
+#include "design/exact_selection.h"
 #include "trajectory/trajectory_config.h"
 
 namespace gyrosid::design {
 
 // Every option of a design besides the solver's, bound to key=value names (space.*, model.*, envelope.*,
-// quadrature.*) for `gyrosid design --set`.
+// quadrature.*, select.*) for `gyrosid design --set`.
 struct DesignSettings {
   ModelOptions model;
   EnvelopeOptions envelope;
   DesignSpaceOptions space;
   QuadratureOptions quadrature;
+  ExactSelectionOptions selection;
   OptionTable table();  // binds this object's fields: keep it in place while the table is used
   static bool owns(const std::string& key);  // a key of this table (else: a solver option)
   // Applies the options that are this table's (space.*, model.*, ...); returns the others, the solver's.
@@ -37,6 +39,7 @@ struct DesignSettings {
 struct DesignRequest {
   DesignSpaceOptions space;
   QuadratureOptions quadrature;
+  ExactSelectionOptions selection;  // select.rounds > 0: the final choice by the exact predictor (exact_selection.h)
   std::string solver = "nlopt";
   OptionMap solver_options;
   std::uint64_t seed = 1;
@@ -46,7 +49,7 @@ struct DesignRequest {
 struct DesignResult {
   TrajectorySpec trajectory;   // kind programme, sampled at space.rate_hz
   Prediction predicted;        // on the trajectory's own samples
-  SolveSummary summary;
+  SolveSummary summary;        // with the exact selection: details["exact_selection"] (its candidates, choice, time)
   TableProfile initial;        // the programme the solver started from
   Prediction initial_predicted;
 };

@@ -22,7 +22,7 @@ Observations DesignProblem::observe_programme(const TableProfile& programme) con
 }
 
 double DesignProblem::objective(const TableProfile& programme) const {
-  return context_.objective(context_.estimate(observe_programme(programme), context_.objective_needs_target()));
+  return context_.objective(context_.estimate(observe_programme(programme), context_.objective_needs_target()), offsets_);
 }
 
 namespace {
@@ -63,7 +63,7 @@ double DesignProblem::smooth_objective(const SmoothProgramme& x) const {
     start += d;
   }
   const Observations o = observe(p, times, span, context_.gyro(), context_.thermal(), &relax);
-  return context_.objective(context_.estimate(o, context_.objective_needs_target()));
+  return context_.objective(context_.estimate(o, context_.objective_needs_target()), offsets_);
 }
 
 }  // namespace gyrosid::design

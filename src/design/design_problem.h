@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include <vector>
+
 #include "design/assessment.h"
 #include "design/design_space.h"
 
@@ -25,6 +27,10 @@ class DesignProblem {
   const DesignContext& context() const { return context_; }
   const DesignSpace& space() const { return space_; }
 
+  // cof_minimax: offsets added to the flights' log ratios (DesignContext::objective; exact_selection.h).
+  void set_flight_offsets(std::vector<double> offsets) { offsets_ = std::move(offsets); }
+  const std::vector<double>& flight_offsets() const { return offsets_; }
+
   double objective(const TableProfile& programme) const;      // on the programme's quadrature
   double box_objective(const Eigen::VectorXd& v) const { return objective(space_.decode_box(v)); }
   double smooth_objective(const SmoothProgramme& x) const;    // on the relaxation
@@ -34,6 +40,7 @@ class DesignProblem {
   const DesignContext& context_;
   const DesignSpace& space_;
   QuadratureOptions q_;
+  std::vector<double> offsets_;
 };
 
 }  // namespace gyrosid::design

@@ -779,5 +779,107 @@ TEST(DesignCalibration, TheHybridIsGivenTheNoiseModelThePredictionWhitenedWith) 
   EXPECT_THAT(yaml, testing::HasSubstr("2 Gauss-Markov processes"));
 }
 
+TEST(DesignSelection, TheExactStageReturnsTheBestWorstFlightGainAndCorrectsTheProxyAtTheIncumbent) {
+  // A planted case: the exact predictor's gains over the reference (short, medium) per candidate are given, and
+  // the best worst-flight gain (1.35, the 50/50 blend) is neither the solver's programme (best mean gain), nor
+  // the one emphasising the short flight (best short gain), nor the best proxy objective. Round 1 starts from
+  // the solver's programme, whose worst flight (exact) is the short one: every re-solve's offsets make the
+  // proxy's log ratios there equal the exact ones, plus 2 log e on the short flight for emphasis e.
+  SmallProblem small(ModelFamily::hybrid, Criterion::cof_minimax);
+  const TrajectorySpec reference_trajectory = small_programme(30.0);
+  const Prediction reference = SmallProblem(ModelFamily::hybrid, Criterion::cof).context.predict(observe_trajectory(small.context, reference_trajectory));
+  small.context.set_reference(reference, ReferenceStatistic::mse);
+  const auto box_point = [&](double u) {
+    const Eigen::VectorXd lo = small.space.box_lower(), hi = small.space.box_upper();
+    Eigen::VectorXd v(lo.size());
+    for (Eigen::Index i = 0; i < v.size(); ++i) v(i) = lo(i) + std::fmod(u * (i + 1), 1.0) * (hi(i) - lo(i));
+    return small.space.decode_box(v);
+  };
+  const TableProfile solved = small.space.initial(), corrected = box_point(0.37), emphasised = box_point(0.71);
+  ExactSelectionOptions options;
+  options.rounds = 1;
+  options.emphasis = "1,3";
+  options.blend_shares = "0.3,0.5";
+  ASSERT_EQ(options.validate(), "");
+  // Planted gains, recognised by the programme's first segment (a blend starts with the incumbent's, compressed).
+  const double d0 = solved.segments[0].duration_s;
+  const auto planted = [&](const TableProfile& p) -> std::vector<double> {
+    const double d = p.segments[0].duration_s;
+    if (p.segments.size() == 3 && d == d0) return {1.2, 3.0};
+    if (p.segments.size() == 3 && d == corrected.segments[0].duration_s) return {2.0, 0.9};
+    if (p.segments.size() == 3 && d == emphasised.segments[0].duration_s) return {3.0, 1.1};
+    if (p.segments.size() == 6 && std::abs(d - 0.7 * d0) < 1e-6) return {1.3, 1.25};
+    if (p.segments.size() == 6 && std::abs(d - 0.5 * d0) < 1e-6) return {1.4, 1.35};
+    ADD_FAILURE() << "an unexpected candidate";
+    return {1.0, 1.0};
+  };
+  int predictions = 0;
+  const PredictExactly predict = [&](const TableProfile& p) {
+    ++predictions;
+    Prediction out = reference;  // the reference's figures divided by the planted gain
+    const std::vector<double> g = planted(p);
+    for (std::size_t f = 0; f < 2; ++f) {
+      out.flights[f].cof_m /= g[f], out.flights[f].cof_bias_m /= g[f], out.flights[f].cof_noise_m /= g[f];
+      out.flights[f].cof_posterior_m /= g[f];
+    }
+    return out;
+  };
+  int solves = 0;
+  const SolveFrom solve = [&](const DesignProblem& shifted, const TableProfile& start) {
+    EXPECT_EQ(start.segments[0].duration_s, d0) << "round 1 starts from the solver's programme";
+    const double e = solves == 0 ? 1.0 : 3.0;
+    // the shifted proxy at the incumbent reproduces the exact (planted) log ratios: 2 log(1 / gain) for mse
+    const std::vector<double> proxy = small.context.flight_log_ratios(small.context.estimate(shifted.observe_programme(start), true));
+    const std::vector<double>& offsets = shifted.flight_offsets();
+    EXPECT_NEAR(proxy[0] + offsets[0] - 2.0 * std::log(e), -2.0 * std::log(1.2), 1e-9);
+    EXPECT_NEAR(proxy[1] + offsets[1], -2.0 * std::log(3.0), 1e-9);
+    return solves++ == 0 ? corrected : emphasised;
+  };
+  const SelectionResult r = select_by_exact(small.problem, solved, options, solve, predict);
+  EXPECT_EQ(solves, 2);
+  EXPECT_EQ(predictions, 5);
+  ASSERT_EQ(r.candidates.size(), 5u);
+  EXPECT_EQ(r.candidates[r.chosen].name, "round 1: blend 0.5 best + 0.5 emphasised");
+  EXPECT_NEAR(r.candidates[r.chosen].worst_gain, 1.35, 1e-12);
+  EXPECT_NEAR(r.candidates[r.chosen].gain[0], 1.4, 1e-12);
+  EXPECT_EQ(r.candidates[r.chosen].programme.check_limits(), "");
+  EXPECT_NEAR(r.candidates[r.chosen].programme.duration_min(), 20.0, 1e-9);
+  EXPECT_EQ(r.summary()["chosen"], "round 1: blend 0.5 best + 0.5 emphasised");
+  // Off the planted case, the rule itself: max-min, the first of equals.
+  EXPECT_EQ(best_worst_flight({{1.0, 5.0}, {1.1, 1.1}, {4.0, 1.05}, {1.1, 2.0}}), 1u);
+  // Options and criterion are checked.
+  ExactSelectionOptions bad;
+  bad.emphasis = "0.5";
+  EXPECT_THAT(bad.validate(), ::testing::HasSubstr("select.emphasis"));
+  bad.emphasis = "2", bad.blend_shares = "1.5";
+  EXPECT_THAT(bad.validate(), ::testing::HasSubstr("select.blend_shares"));
+  const SmallProblem cof(ModelFamily::hybrid, Criterion::cof);  // no minimax, no reference
+  EXPECT_THAT(error_of([&] { select_by_exact(cof.problem, solved, options, solve, predict); }), ::testing::HasSubstr("cof_minimax"));
+}
+
+TEST(DesignSelection, ABlendKeepsTheBudgetTheChamberLimitsAndEachPartsCyclePeriods) {
+  const SmallProblem small;
+  const TableProfile a = small.space.initial();
+  TableProfile b = a;
+  for (auto& s : b.segments) s.rate.cycles *= 2.0;  // half the period
+  const TableProfile blend = blend_programmes(a, b, 0.25);
+  ASSERT_EQ(blend.segments.size(), 6u);
+  EXPECT_NEAR(blend.duration_s(), a.duration_s(), 1e-9);
+  EXPECT_EQ(blend.check_limits(), "");
+  EXPECT_EQ(blend.segments[0].chamber_start_c, a.segments[0].chamber_start_c);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_NEAR(blend.segments[i].duration_s, 0.75 * a.segments[i].duration_s, 1e-9);
+    EXPECT_NEAR(blend.segments[3 + i].duration_s, 0.25 * a.segments[i].duration_s, 1e-9);
+    if (a.segments[i].rate.cycles > 0) {
+      EXPECT_NEAR(blend.segments[i].duration_s / blend.segments[i].rate.cycles, a.segments[i].duration_s / a.segments[i].rate.cycles, 1e-9);
+      EXPECT_NEAR(blend.segments[3 + i].duration_s / blend.segments[3 + i].rate.cycles, b.segments[i].duration_s / b.segments[i].rate.cycles, 1e-9);
+    }
+    // a compressed ramp reaches at most the chamber's rate limit
+    const double rate = std::abs(blend.segments[3 + i].chamber_end_c - blend.segments[3 + i].chamber_start_c) / (blend.segments[3 + i].duration_s / 60.0);
+    EXPECT_LE(rate, a.limits.rate_limit_c_per_min * (1 + 1e-12));
+  }
+  EXPECT_THAT(error_of([&] { blend_programmes(a, b, 1.0); }), ::testing::HasSubstr("share"));
+}
+
 }  // namespace
 }  // namespace gyrosid::design
