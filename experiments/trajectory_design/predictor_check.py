@@ -30,14 +30,16 @@ def main():
     ap.add_argument("trajectories", nargs="+")
     ap.add_argument("--seeds", default="1,2,3")
     ap.add_argument("--tag", default="reference")
-    ap.add_argument("--calibration", default="best", help="best (rbf_noisy.yaml) or given (the design's calibration.yaml)")
+    ap.add_argument("--calibration", default="best", help="best (rbf_noisy.yaml) or given: the noisy recordings are fitted with the "
+                    "CALIBRATION.yaml given beside each trajectory (the design's calibration.yaml: the hybrid given the sensor's noise)")
+    ap.add_argument("--sensor", default=None, help="sensor config (default: config.yaml's; e.g. other_fog.yaml, the second sensor)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "predictor_check.json"))
     ap.add_argument("--evaluation", default="evaluate", help="the cache directory of this binary's `design --evaluate` (check/NAME)")
     ap.add_argument("--set", action="append", default=[], help="design option for the evaluation, e.g. model.network=dictionary")
     a = ap.parse_args()
     cfg = yaml.safe_load(open(os.path.join(HERE, "config.yaml")))
     st = run.Study(argparse.Namespace(gyrosid=a.gyrosid, out=os.path.join(HERE, "results"), force=False, max_minutes=600), cfg)
-    sensor = cfg["sensor"]
+    sensor = st.sensor_path(a.sensor) if a.sensor else cfg["sensor"]
     items = []
     for spec in a.trajectories:
         name, rest = spec.split("=", 1)
@@ -50,7 +52,7 @@ def main():
                                                                     "--sensor", sensor] + sets + ["--out", d], os.path.join(d, "evaluation.json"))
     ev = load_json(os.path.join(d, "evaluation.json"))["trajectories"]
     out = {}
-    for name, path, _ in items:
+    for name, path, own_cal in items:
         row = {"predicted": {f: ev[path]["flights"][f] for f in FLIGHTS}, "network": ev[path].get("network")}
         # the model class's part, achieved: a noise-free recording, the calibration given the sensor's noise
         if given:
@@ -66,14 +68,16 @@ def main():
                 nf[flight] = j.get("error_after_1h_m", j["end_error_m"])
             row["noise_free_m"] = nf
         seeds = [int(s) for s in a.seeds.split(",")]
-        cal = cfg["calibrations"]["best"]
+        if a.calibration == "given" and not own_cal:
+            sys.exit("--calibration given: give each trajectory as NAME=TRAJECTORY.yaml,CALIBRATION.yaml")
+        label, cal = ("best", cfg["calibrations"]["best"]) if a.calibration == "best" else ("given_%s" % name, ["--config", own_cal])
         per = {f: [] for f in FLIGHTS}
         vec = {f: [] for f in FLIGHTS}
         for s in seeds:
-            r = st.score(a.tag, sensor, name, path, s, "best", cal)
+            r = st.score(a.tag, sensor, name, path, s, label, cal)
             for f in FLIGHTS:
                 per[f].append(r[f])
-                j = load_json(os.path.join(st.run.out, a.tag, "cof", "%s_s%d_best_%s" % (name, s, f), "cof.json"))
+                j = load_json(os.path.join(st.run.out, a.tag, "cof", "%s_s%d_%s_%s" % (name, s, label, f), "cof.json"))
                 vec[f].append(j["error_ned_m"])
         ach = {}
         for f in FLIGHTS:

@@ -38,8 +38,10 @@ namespace gyrosid::design {
 
 struct ExactSelectionOptions {
   int rounds = 0;                       // 0: off (the solver's programme is the design, as before)
-  std::string emphasis = "1,3";         // factors on the incumbent's worst flight per round (1: the correction alone)
-  std::string blend_shares = "0.3,0.5"; // budget shares of the most emphasised programme in the blends ("": none)
+  // Defaults: one re-solve per round, the correction alone (the 2026-11-25 measurement: neither emphasis nor
+  // blends won the worst flight on the reference sensor; experiments/trajectory_design README).
+  std::string emphasis = "1";           // factors on the incumbent's worst flight per round (1: the correction alone)
+  std::string blend_shares;             // budget shares of the most emphasised programme in blends ("": none), e.g. 0.3,0.5
   void bind(OptionTable& table);        // keys select.<name>
   std::string validate() const;
   std::vector<double> emphasis_factors() const;
