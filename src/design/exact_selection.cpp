@@ -113,7 +113,10 @@ SelectionResult select_by_exact(const DesignProblem& problem, const TableProfile
   SelectionResult r;
   const auto add = [&](std::string name, TableProfile programme, std::vector<double> offsets) {
     for (const SelectionCandidate& c : r.candidates) {
-      if (same_programme(c.programme, programme)) return;  // already scored
+      if (same_programme(c.programme, programme)) {  // already scored
+        r.repeats.push_back(str_cat(name, " = ", c.name));
+        return;
+      }
     }
     SelectionCandidate c;
     c.name = std::move(name);
@@ -176,7 +179,7 @@ nlohmann::json SelectionResult::summary() const {
     list.push_back({{"name", c.name}, {"gain", gain}, {"cof_m", cof}, {"worst_gain", c.worst_gain}, {"proxy_objective", c.proxy_objective},
                     {"offsets", c.offsets}, {"duration_min", c.programme.duration_min()}});
   }
-  return {{"candidates", list}, {"chosen", candidates.empty() ? "" : candidates[chosen].name},
+  return {{"candidates", list}, {"repeats", repeats}, {"chosen", candidates.empty() ? "" : candidates[chosen].name},
           {"chosen_worst_gain", candidates.empty() ? 0.0 : candidates[chosen].worst_gain}};
 }
 

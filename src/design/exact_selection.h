@@ -60,6 +60,7 @@ struct SelectionCandidate {
 
 struct SelectionResult {
   std::vector<SelectionCandidate> candidates;
+  std::vector<std::string> repeats;  // candidates that were a programme already scored (e.g. a re-solve that kept its start)
   std::size_t chosen = 0;
   nlohmann::json summary() const;  // per candidate: name, gains, worst gain, proxy objective, offsets; the choice
 };

@@ -845,6 +845,13 @@ TEST(DesignSelection, TheExactStageReturnsTheBestWorstFlightGainAndCorrectsThePr
   EXPECT_EQ(r.candidates[r.chosen].programme.check_limits(), "");
   EXPECT_NEAR(r.candidates[r.chosen].programme.duration_min(), 20.0, 1e-9);
   EXPECT_EQ(r.summary()["chosen"], "round 1: blend 0.5 best + 0.5 emphasised");
+  EXPECT_TRUE(r.repeats.empty());
+  // A re-solve that keeps its start is not scored again, and is named as a repeat.
+  ExactSelectionOptions lean;
+  lean.rounds = 1;
+  const SelectionResult kept = select_by_exact(small.problem, solved, lean, [](const DesignProblem&, const TableProfile& start) { return start; }, predict);
+  EXPECT_EQ(kept.candidates.size(), 1u);
+  EXPECT_EQ(kept.repeats, std::vector<std::string>{"round 1: corrected = solver"});
   // Off the planted case, the rule itself: max-min, the first of equals.
   EXPECT_EQ(best_worst_flight({{1.0, 5.0}, {1.1, 1.1}, {4.0, 1.05}, {1.1, 2.0}}), 1u);
   // Options and criterion are checked.
