@@ -40,6 +40,9 @@ void BayesFitOptions::bind(OptionTable& t) {
               "coloured: the fits along the slow drift term's ridge of equal evidence widen the covariance only (sigma), also move the mean (mixture), or are not made (none)")
       .choice("model_error", &model_error, {"cv", "none"},
               "cv: add to the predictive sigma the misfit variance that cross-validation over levels or time blocks reveals; none: the posterior alone")
+      .integer("model_error_blocks", &model_error_blocks, 2, 1000, "model_error=cv: time blocks (folds) when no input is recorded at levels")
+      .choice("model_error_groups", &model_error_groups, {"cells", "runs"},
+              "model_error=cv: a fold's residuals averaged over cells of half a width per input (cells) or over runs of consecutive samples (runs)")
       .real("given_white_dph_at_1hz", &given_white_dph_at_1hz, 0.0, 1e6, "noise=given: white noise, deg/h at 1 Hz")
       .real("given_rrw_dph_rt_h", &given_rrw_dph_rt_h, 0.0, 1e6, "noise=given: rate random walk, deg/h/rt(h)")
       .real("given_gm_sigma_dph", &given_gm_sigma_dph, 0.0, 1e6, "noise=given: Gauss-Markov sigma, deg/h")
@@ -563,7 +566,12 @@ nlohmann::json BayesFit::details(double y_scale) const {
                       {"noise_sigma_radps", noise_sigma * y_scale}, {"noise_choice", noise_choice},
                       {"evaluations", evaluations}};
   if (!noise_averaging.empty()) j["noise_averaging"] = noise_averaging;
-  if (!model_error_note.empty()) j["model_error"] = model_error_note;
+  if (!model_error_note.empty()) {
+    const double to_dph2 = std::pow(y_scale * 180.0 / 3.14159265358979323846 * 3600.0, 2);
+    j["model_error"] = model_error_note;
+    j["model_error_figures_dph2"] = {{"added", model_error_var * to_dph2}, {"excess", model_error_excess * to_dph2},
+                                     {"standard_error", model_error_standard_error * to_dph2}, {"reach", model_error_reach}};
+  }
   if (noise) j["noise_model_dph"] = scaled(*noise, y_scale * 180.0 / 3.14159265358979323846 * 3600.0).to_json();
   return j;
 }
@@ -654,8 +662,12 @@ BayesFit fit_bayes(const BayesProblem& p, const BayesFitOptions& o, SolveMonitor
   BayesFit fit = fit_widths_and_noise(p, o, monitor);
   // A given noise model stands for the truth (the Cramer-Rao floor): its posterior is left as it is.
   if (o.model_error == "cv" && !p.given_noise) {
-    const ModelErrorEstimate e = model_error_by_cv(p, fit, time_axis(p).t_s);
+    ModelErrorOptions mo;
+    mo.blocks = o.model_error_blocks;
+    mo.groups = o.model_error_groups == "runs" ? ModelErrorGroups::runs : ModelErrorGroups::cells;
+    const ModelErrorEstimate e = model_error_by_cv(p, fit, time_axis(p).t_s, mo);
     fit.model_error_var = e.variance;
+    fit.model_error_excess = e.mean_excess, fit.model_error_standard_error = e.standard_error, fit.model_error_reach = e.reach;
     fit.model_error_note = e.describe(p.report_scale);
   }
   return fit;

@@ -45,6 +45,8 @@ struct BayesFitOptions {
   // sigma - the covariance only (the mean stays the fit's), mixture - mean and covariance, none
   std::string drift_averaging = "mixture";
   std::string model_error = "cv";  // cv: add the misfit variance cross-validation reveals to the predictive sigma (model_error.h); none
+  int model_error_blocks = 10;     // cv: time blocks (folds) when no input is recorded at levels
+  std::string model_error_groups = "runs";  // cv: a fold's samples averaged over cells of the input grid or runs in time
   // noise = given: the recording's noise is known (e.g. from `gyrosid allan`, or the truth of a simulation
   // for the Cramer-Rao floor): white (deg/h at 1 Hz), rate random walk (deg/h/rt(h)), Gauss-Markov.
   double given_white_dph_at_1hz = 0.0, given_rrw_dph_rt_h = 0.0, given_gm_sigma_dph = 0.0, given_gm_tau_s = 0.0;
@@ -77,6 +79,7 @@ struct BayesFit {
   std::string noise_family;    // coloured: whether the random walk was kept over a Gauss-Markov wander alone, and why
   double model_error_var = 0.0;  // misfit variance added to the predictive variance (y units^2; model_error.h)
   std::string model_error_note;  // how it was estimated
+  double model_error_excess = 0.0, model_error_standard_error = 0.0, model_error_reach = 1.0;  // the estimate's figures (y units^2)
   Termination termination = Termination::converged;
   std::string message;
   int evaluations = 0;

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <optional>
 
 #include "core/random.h"
@@ -521,13 +522,14 @@ TEST(BayesFit, ModelErrorBetweenLevelsIsCoveredByCrossValidation) {
   EXPECT_LT(posterior_only.value(), 0.80);  // the misfit the test plants is real: without the estimate the band misses it
 }
 
-TEST(BayesModelError, RunMeanNoiseCovarianceEqualsTheBruteForceDoubleSum) {
-  // Runs of uneven length with gaps between them, white + Gauss-Markov: the factorised sums against
-  // cov(mean_r, mean_s) = 1/(n_r n_s) sum_ij (white delta_ij + gm exp(-|t_i - t_j|/tau)) written out.
+TEST(BayesModelError, GroupMeanNoiseCovarianceEqualsTheBruteForceDoubleSum) {
+  // Groups of uneven length, some interleaved in time (cells of the input grid revisited) and some with gaps
+  // between them, white + Gauss-Markov: the one-sweep sums against cov(mean_r, mean_s) = 1/(n_r n_s)
+  // sum_ij (white delta_ij + gm exp(-|t_i - t_j|/tau)) written out.
   NoiseModel m;
   m.dt_s = 0.5, m.white_var = 0.3, m.gm_var = 0.7, m.gm_tau_s = 4.0;
-  const std::vector<std::vector<double>> runs = {{0.0, 0.5, 1.0}, {3.0}, {3.5, 4.0, 4.5, 5.0, 5.5}, {12.0, 12.5}, {200.0, 200.5}};
-  const Eigen::MatrixXd v = run_mean_noise_covariance(runs, m);
+  const std::vector<std::vector<double>> runs = {{0.0, 0.5, 1.0, 6.0, 9.5}, {3.0}, {3.5, 4.0, 4.5, 5.0, 5.5}, {1.5, 7.0, 12.0, 12.5}, {200.0, 200.5}};
+  const Eigen::MatrixXd v = group_mean_noise_covariance(runs, m);
   for (std::size_t r = 0; r < runs.size(); ++r)
     for (std::size_t q = 0; q < runs.size(); ++q) {
       double sum = 0.0;
@@ -538,7 +540,7 @@ TEST(BayesModelError, RunMeanNoiseCovarianceEqualsTheBruteForceDoubleSum) {
       EXPECT_NEAR(v(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(q)), expected, 1e-12 + 1e-12 * std::abs(expected)) << r << ", " << q;
     }
   m.gm_var = 0.0;  // white: the run means are independent, variance white / n
-  const Eigen::MatrixXd w = run_mean_noise_covariance(runs, m);
+  const Eigen::MatrixXd w = group_mean_noise_covariance(runs, m);
   EXPECT_NEAR(w(2, 2), 0.3 / 5, 1e-15);
   EXPECT_EQ(w(0, 1), 0.0);
 }
@@ -589,7 +591,7 @@ TEST(BayesFit, ModelErrorGrowingAcrossLevelsIsJudgedByItsNullVarianceNotItsSprea
       SolveMonitor monitor;
       const BayesFit fit = fit_bayes(p, o, monitor);
       if (ripple == 0.0) {
-        added_without_ripple += fit.model_error_var > 0;
+        added_without_ripple += fit.model_error_excess > 2.0 * fit.model_error_standard_error;  // significant
         continue;
       }
       EXPECT_GT(fit.model_error_var, 0.0) << fit.model_error_note;
@@ -606,6 +608,68 @@ TEST(BayesFit, ModelErrorGrowingAcrossLevelsIsJudgedByItsNullVarianceNotItsSprea
   EXPECT_LE(added_without_ripple, 1);
 }
 
+// A sine sweep's misfit too small for its runs to resolve: physics alone (flat-prior polynomial columns),
+// input 0 a fast sine (a rate cycle), input 1 a slow ramp (a temperature scan), white noise; the truth adds
+// a ripple in input 0 that the polynomial cannot follow. Within a time block the rate cycle revisits every
+// rate: averaged over cells of the input grid the ripple stands above the noise, averaged over runs (a few
+// samples each) it does not. Returns the band's coverage at inputs drawn over the domain and counts the
+// fits that added a model error.
+Coverage sweep_with_ripple(const std::string& groups, double ripple, int seeds, int& added) {
+  auto truth = [ripple](const Eigen::MatrixXd& x) {
+    return (0.8 * x.col(0).array() + 0.3 * x.col(0).array().cube() + 0.4 * x.col(1).array().square() +
+            ripple * (2 * M_PI * x.col(0).array() / 0.45).cos()).matrix().eval();
+  };
+  auto physics = [](const Eigen::MatrixXd& x) {
+    Eigen::MatrixXd f(x.rows(), 6);
+    f.col(0).setOnes();
+    f.col(1) = x.col(0), f.col(2) = x.col(0).array().square(), f.col(3) = x.col(0).array().cube();
+    f.col(4) = x.col(1), f.col(5) = x.col(1).array().square();
+    return f;
+  };
+  Coverage c;
+  added = 0;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    const Eigen::Index n = 4000;
+    BayesProblem p;
+    p.x.resize(n, 2);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double t = static_cast<double>(i);
+      p.x(i, 0) = std::sin(2 * M_PI * t / 41.0 + 0.3 * seed), p.x(i, 1) = -1 + 2 * t / static_cast<double>(n - 1);
+    }
+    p.y = truth(p.x);
+    RandomStream r(static_cast<std::uint64_t>(seed), "sweep-ripple");
+    for (Eigen::Index i = 0; i < n; ++i) p.y(i) += r.normal();
+    p.fixed = physics(p.x), p.t_s = unit_times(n);
+    BayesFitOptions o;
+    o.nodes = 0, o.noise = "white";
+    if (groups == "none") o.model_error = "none"; else o.model_error_groups = groups;
+    SolveMonitor monitor;
+    const BayesFit fit = fit_bayes(p, o, monitor);
+    added += fit.model_error_excess > 2.0 * fit.model_error_standard_error;  // the old rule would add
+    const Eigen::MatrixXd test = uniform_inputs(400, 900 + static_cast<std::uint64_t>(seed));
+    const Eigen::MatrixXd h = physics(test);
+    const Eigen::VectorXd error = h * fit.fixed_weights - truth(test);
+    const Eigen::VectorXd var = (h * fit.covariance).cwiseProduct(h).rowwise().sum().array() + fit.model_error_var;
+    for (Eigen::Index i = 0; i < test.rows(); ++i, ++c.total) c.inside += std::abs(error(i)) <= 1.96 * std::sqrt(var(i));
+  }
+  return c;
+}
+
+TEST(BayesFit, ModelErrorBelowTwoStandardErrorsStillWidensTheBand) {
+  // A ripple the cross-validation resolves at under 2 standard errors on every seed: the old all-or-nothing
+  // test added nothing, and the band covered 0.74 of the truth (the posterior alone). The estimate itself,
+  // never negative, is added now: 0.867 over 6 x 400 points (binomial sd ~0.007 were they independent) -
+  // closer to 0.95, not there: an estimate at 1 standard error is a noisy one.
+  int significant = 0, unused = 0;
+  const Coverage with_cv = sweep_with_ripple("runs", 0.06, 6, significant);
+  const Coverage posterior_only = sweep_with_ripple("none", 0.06, 6, unused);
+  EXPECT_LE(significant, 1);
+  EXPECT_LT(posterior_only.value(), 0.78);
+  EXPECT_GT(with_cv.value(), 0.84);
+  EXPECT_GT(with_cv.value(), posterior_only.value() + 0.08);
+  EXPECT_LT(with_cv.value(), 0.99);
+}
+
 // How many of `reps` fits of data drawn from the prior (30 nodes, white noise) add a model error; every fit's
 // note must name the folds `fold_kind`.
 int model_error_added_on_prior_draws(Eigen::Index n, int reps, std::uint64_t seed0, int scan, const std::string& fold_kind) {
@@ -616,7 +680,7 @@ int model_error_added_on_prior_draws(Eigen::Index n, int reps, std::uint64_t see
     o.nodes = 30, o.noise = "white", o.scan = scan;
     SolveMonitor monitor;
     const BayesFit fit = fit_bayes(problem_of(d), o, monitor);
-    added += fit.model_error_var > 0;
+    added += fit.model_error_excess > 2.0 * fit.model_error_standard_error;  // significant
     EXPECT_NE(fit.model_error_note.find(fold_kind), std::string::npos) << fit.model_error_note;
   }
   return added;
