@@ -545,6 +545,15 @@ TEST(BayesModelError, GroupMeanNoiseCovarianceEqualsTheBruteForceDoubleSum) {
   EXPECT_EQ(w(0, 1), 0.0);
 }
 
+// Flat-prior physics of the planted-misfit tests: cubic in input 0, quadratic in input 1.
+Eigen::MatrixXd polynomial_physics(const Eigen::MatrixXd& x) {
+  Eigen::MatrixXd f(x.rows(), 6);
+  f.col(0).setOnes();
+  f.col(1) = x.col(0), f.col(2) = x.col(0).array().square(), f.col(3) = x.col(0).array().cube();
+  f.col(4) = x.col(1), f.col(5) = x.col(1).array().square();
+  return f;
+}
+
 TEST(BayesFit, ModelErrorGrowingAcrossLevelsIsJudgedByItsNullVarianceNotItsSpread) {
   // Physics alone (no RBF part: flat-prior polynomial columns, cubic in input 0, quadratic in input 1), input
   // 0 on 9 levels 0.25 apart, input 1 a ramp, small noise. The truth adds a ripple of period 0.55 in input 0
@@ -558,13 +567,7 @@ TEST(BayesFit, ModelErrorGrowingAcrossLevelsIsJudgedByItsNullVarianceNotItsSprea
     return (0.8 * x.col(0).array() + 0.3 * x.col(0).array().cube() + 0.4 * x.col(1).array().square() +
             ripple * x.col(0).array().pow(4) * (2 * M_PI * x.col(0).array() / 0.55).cos()).matrix().eval();
   };
-  auto physics = [](const Eigen::MatrixXd& x) {
-    Eigen::MatrixXd f(x.rows(), 6);
-    f.col(0).setOnes();
-    f.col(1) = x.col(0), f.col(2) = x.col(0).array().square(), f.col(3) = x.col(0).array().cube();
-    f.col(4) = x.col(1), f.col(5) = x.col(1).array().square();
-    return f;
-  };
+  const auto physics = polynomial_physics;
   // Held-out points between the levels (1/8 .. 7/8 of the spacing), as a held-out trajectory crosses them.
   Eigen::MatrixXd mid(8 * 7 * 11, 2);
   for (Eigen::Index i = 0, row = 0; i < 8; ++i)
@@ -619,13 +622,7 @@ Coverage sweep_with_ripple(const std::string& groups, double ripple, int seeds, 
     return (0.8 * x.col(0).array() + 0.3 * x.col(0).array().cube() + 0.4 * x.col(1).array().square() +
             ripple * (2 * M_PI * x.col(0).array() / 0.45).cos()).matrix().eval();
   };
-  auto physics = [](const Eigen::MatrixXd& x) {
-    Eigen::MatrixXd f(x.rows(), 6);
-    f.col(0).setOnes();
-    f.col(1) = x.col(0), f.col(2) = x.col(0).array().square(), f.col(3) = x.col(0).array().cube();
-    f.col(4) = x.col(1), f.col(5) = x.col(1).array().square();
-    return f;
-  };
+  const auto physics = polynomial_physics;
   Coverage c;
   added = 0;
   for (int seed = 1; seed <= seeds; ++seed) {
