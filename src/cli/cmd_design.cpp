@@ -124,10 +124,8 @@ void run_design(DesignCommand c) {
   if (!evaluating && !(c.budget_min > 0)) fail("--budget-min is required (a positive number of minutes) unless --evaluate is given");
   if (!evaluating && c.out.empty()) fail("--out DIR is required for a design");
   if (!evaluating) design::make_design_solver(c.solver, solver_options, c.seed);  // bad options fail before any work
-  if (auto p = settings.selection.validate(); !p.empty()) fail("design: ", p);  // exact selection (issue 9)
-  if (settings.selection.rounds > 0 && criterion != design::Criterion::cof_minimax) {
-    fail("design: option 'select.rounds' (the exact final selection) is for --criterion cof_minimax");
-  }
+  // The exact selection's options, before any prediction (cof_minimax always gets its reference below).
+  if (auto p = settings.selection.validate(criterion, true); !p.empty()) fail("design: ", p);
   // auto: posterior for a reference of the same model, else the reference's cof (assessment.h). mse, consistent
   // with the prediction, measured worse against the dual scan (experiments/trajectory_design, 2026-11-24): the
   // proxy over-predicts the reference's model-class error.

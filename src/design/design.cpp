@@ -71,10 +71,7 @@ Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpe
 }
 
 DesignResult design_trajectory(const DesignContext& context, const DesignRequest& request) {
-  if (auto p = request.selection.validate(); !p.empty()) fail("design: ", p);
-  if (request.selection.rounds > 0 && (context.criterion() != Criterion::cof_minimax || context.reference_cof_m().empty())) {
-    fail("design: option 'select.rounds' (the exact final selection) is for --criterion cof_minimax with a reference");
-  }
+  if (auto p = request.selection.validate(context.criterion(), !context.reference_cof_m().empty()); !p.empty()) fail("design: ", p);
   auto solver = make_design_solver(request.solver, request.solver_options, request.seed);
   solver->use_checkpoint(request.checkpoint);
   const DesignSpace space = design_space(context.envelope(), request.space);

@@ -40,6 +40,14 @@ std::string ExactSelectionOptions::validate() const {
   return "";
 }
 
+std::string ExactSelectionOptions::validate(Criterion criterion, bool has_reference) const {
+  if (auto p = validate(); !p.empty()) return p;
+  if (rounds > 0 && (criterion != Criterion::cof_minimax || !has_reference)) {
+    return "option 'select.rounds' (the exact final selection) is for --criterion cof_minimax with a reference";
+  }
+  return "";
+}
+
 std::vector<double> flight_gains(const Prediction& p, const std::vector<double>& reference) {
   if (p.flights.size() != reference.size() || reference.empty()) {
     fail("design: exact selection needs the reference's prediction on the same flights (", reference.size(), " against ", p.flights.size(), ")");
@@ -85,35 +93,15 @@ TableProfile blend_programmes(const TableProfile& first, const TableProfile& sec
   return out;
 }
 
-namespace {
-
-bool same_programme(const TableProfile& a, const TableProfile& b) {
-  if (a.segments.size() != b.segments.size()) return false;
-  for (std::size_t i = 0; i < a.segments.size(); ++i) {
-    const ProfileSegment &x = a.segments[i], &y = b.segments[i];
-    if (x.duration_s != y.duration_s || x.chamber_start_c != y.chamber_start_c || x.chamber_end_c != y.chamber_end_c ||
-        x.rate.low_radps != y.rate.low_radps || x.rate.high_radps != y.rate.high_radps || x.rate.value_radps != y.rate.value_radps ||
-        x.rate.cycles != y.rate.cycles || x.rate.phase != y.rate.phase || x.position != y.position) {
-      return false;
-    }
-  }
-  return true;
-}
-
-}  // namespace
-
 SelectionResult select_by_exact(const DesignProblem& problem, const TableProfile& solved, const ExactSelectionOptions& options,
                                 const SolveFrom& solve, const PredictExactly& predict) {
-  if (auto p = options.validate(); !p.empty()) fail("design: ", p);
   const DesignContext& context = problem.context();
-  if (context.criterion() != Criterion::cof_minimax || context.reference_cof_m().empty()) {
-    fail("design: the exact selection (select.rounds > 0) is for criterion 'cof_minimax' with a reference");
-  }
+  if (auto p = options.validate(context.criterion(), !context.reference_cof_m().empty()); !p.empty()) fail("design: ", p);
   const std::vector<double>& reference = context.reference_cof_m();
   SelectionResult r;
   const auto add = [&](std::string name, TableProfile programme, std::vector<double> offsets) {
     for (const SelectionCandidate& c : r.candidates) {
-      if (same_programme(c.programme, programme)) {  // already scored
+      if (c.programme.segments == programme.segments) {  // already scored
         r.repeats.push_back(str_cat(name, " = ", c.name));
         return;
       }

@@ -44,6 +44,8 @@ struct ExactSelectionOptions {
   std::string blend_shares;             // budget shares of the most emphasised programme in blends ("": none), e.g. 0.3,0.5
   void bind(OptionTable& table);        // keys select.<name>
   std::string validate() const;
+  // validate(), and select.rounds > 0 only for criterion cof_minimax with a reference.
+  std::string validate(Criterion criterion, bool has_reference) const;
   std::vector<double> emphasis_factors() const;
   std::vector<double> shares() const;
 };

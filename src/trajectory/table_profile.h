@@ -42,6 +42,7 @@ struct RateProfile {
   double integral(double tau, double duration) const;  // integral of the rate from 0 to tau
   static RateProfile constant(double radps);
   static RateProfile triangle(double low, double high, double cycles, double phase);
+  bool operator==(const RateProfile&) const = default;
 };
 
 struct ProfileSegment {
@@ -51,6 +52,7 @@ struct ProfileSegment {
   double chamber_end_c = 25.0;
   RateProfile rate;
   int position = 2;  // mount position: Table 2.1's 1..6, body diagonals 7..10 (below)
+  bool operator==(const ProfileSegment&) const = default;
 };
 
 struct ChamberLimits {
