@@ -34,7 +34,7 @@ OptionTable TriadFitOptions::table() {
       .choice("sequential_scale", &sequential_scale, {"triad", "surface"}, "sequential classical surfaces: triad = the second stage re-estimates M_ii (against the reference rate) and b with the surfaces, off-diagonals and G held - the joint fit's parametrisation; surface = the surface fitter's own constant scale factor on the measured output (its residual is then (1 - s_0) times the output residual)")
       .choice("rbf_joint", &rbf_joint, {"weights", "nodes"}, "joint rbf surfaces: weights moves the weights of the sequential fit's nodes (its centres and widths held: its cost can only fall); nodes moves centres and widths too")
       .passthrough("nls.", &solver_options, "an option of the least-squares back-end (listed by --options-of triad)")
-      .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver; classical: sf_temperature_order, sf_rate_order, sf_cross_order (0..4 or auto; default here auto = 0..3 by BIC, 0 = the thesis's separable form)");
+      .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver; classical: sf_temperature_order, sf_rate_order (0..10 or auto; default here auto = 0..6 by BIC), sf_cross_order (0..4 or auto; default here auto = 0..3 by BIC, 0 = the thesis's separable form)");
   return t;
 }
 
@@ -44,38 +44,46 @@ ClassicalOptions classical_surface_options(const OptionMap& map) {
   ClassicalOptions o;  // the thesis's orders; the bias polynomial is the triad's own
   OptionTable t("triad classical surface");
   t.integer("sf_temperature_order", &o.sf_temperature_order, 0, 6, "scale-factor polynomial order in temperature")
-      .integer("sf_rate_order", &o.sf_rate_order, 0, 10, "scale-factor polynomial order in rate")
+      .integer("sf_rate_order", &o.sf_rate_order, 0, 10, "scale-factor polynomial order in rate (auto: 0..6 by BIC, fit_triad)")
       .integer("sf_cross_order", &o.sf_cross_order, 0, 4, "temperature order of the rate shape's coefficients (0: separable; auto: 0..3 by BIC, fit_triad)");
   t.apply(map);
   return o;
 }
 
-// surface.sf_cross_order=auto (classical surfaces): the order chosen by BIC (fit_triad below).
+// surface.sf_rate_order=auto, surface.sf_cross_order=auto (classical surfaces): the orders chosen by BIC
+// (fit_triad below).
+constexpr int kMaxAutoRateOrder = 6;   // the thesis's order (fig 3.4), ClassicalOptions' default
 constexpr int kMaxAutoCrossOrder = 3;
-bool cross_order_auto(const OptionMap& surface_options) {
-  const auto it = surface_options.find("sf_cross_order");
+constexpr const char* kOrderKeys[] = {"sf_rate_order", "sf_cross_order"};
+bool order_auto(const OptionMap& surface_options, const std::string& key) {
+  const auto it = surface_options.find(key);
   return it != surface_options.end() && it->second == "auto";
 }
-// The triad's classical surfaces choose their cross order by BIC unless surface.sf_cross_order is given: the
-// separable form (the thesis's, the single-gyro classical model's default) cannot hold a rate shape that moves
-// with temperature, and a joint fit then leaks that misfit into M's off-diagonals (README of
-// experiments/triad_misalignment: joint 1.108x sequential on the one-diagonal training's short flight with it,
-// 0.27x with the order BIC chooses). Other surface kinds: the options as given.
+// The triad's classical surfaces choose their rate order and cross order by BIC unless told. The rate order:
+// a triad programme visits few rate magnitudes per gyro (four, on the independent generator's six positions
+// plus diagonal turns), and the thesis's order 6 then leaves M_ii's column nearly in the span of the odd rate
+// powers - sigma(M_ii) 0.35 % there against 42 ppm at the order BIC chooses (experiments/triad_misalignment
+// README, "Independent generator"). The cross order: the separable form (the thesis's, the single-gyro
+// classical model's default) cannot hold a rate shape that moves with temperature, and a joint fit then leaks
+// that misfit into M's off-diagonals (joint 1.108x sequential on the one-diagonal training's short flight with
+// it, 0.27x with the order BIC chooses). Other surface kinds: the options as given.
 OptionMap effective_surface_options(const std::string& surfaces, OptionMap map) {
-  if (surfaces == "classical" && map.find("sf_cross_order") == map.end()) map["sf_cross_order"] = "auto";
+  if (surfaces != "classical") return map;
+  for (const char* key : kOrderKeys) map.emplace(key, "auto");
   return map;
 }
-OptionMap with_cross_order(OptionMap map, int order) {
-  map["sf_cross_order"] = std::to_string(order);
+OptionMap with_order(OptionMap map, const std::string& key, int order) {
+  map[key] = std::to_string(order);
   return map;
 }
 }  // namespace
 
 std::string TriadFitOptions::validate() const {
-  if (cross_order_auto(effective_surface_options(surfaces, surface_options))) {
-    if (surfaces != "classical") return "surface.sf_cross_order=auto needs surfaces=classical";
+  for (const char* key : kOrderKeys) {
+    if (!order_auto(effective_surface_options(surfaces, surface_options), key)) continue;
+    if (surfaces != "classical") return str_cat("surface.", key, "=auto needs surfaces=classical");
     TriadFitOptions fixed = *this;
-    fixed.surface_options = with_cross_order(surface_options, 0);
+    fixed.surface_options = with_order(effective_surface_options(surfaces, surface_options), key, 0);
     return fixed.validate();
   }
   try {
@@ -330,12 +338,15 @@ std::pair<Eigen::MatrixXd, Eigen::VectorXd> joint_weight_rows(const TriadData& d
 }
 
 // Each gyro's output with its white noise averaged down (surface_input=smoothed): the linear part's prediction
-// P from the reference plus the residual g - P averaged over a window of 2 w + 1 samples inside a run -
+// P from the reference plus the residual g - P averaged over a window of 2 w + 1 samples inside a run, the
+// sample itself left out (so its column carries none of the noise its row fits: with it, a rate polynomial's
+// near-degenerate powers fitted 1/(2 w + 1) of the noise variance each, and BIC took them) -
 // consecutive samples whose reference rates differ by less than kRunStep (a rate-table step, a static hold) and
 // share a position_id. Within a run what the residual holds besides noise (the surface, the linear part's
 // misfit) moves only with the temperature, slowly: the window is centred (a linear drift kept exactly) but near
 // a run's edges, where it keeps its length and slides inside the run (a run shorter than it is averaged whole),
-// so every sample's noise is averaged over min(2 w + 1, run length) samples. P follows the Earth rate turning
+// so every sample's noise is averaged over min(2 w + 1, run length) - 1 samples (a run of one sample keeps its
+// recorded output). P follows the Earth rate turning
 // through the other axes during a turn, which a mean of the raw outputs would smear.
 constexpr double kRunStep = 1e-3;  // rad/s (0.057 deg/s)
 bool same_run(const TriadData& d, Eigen::Index a, Eigen::Index b) {
@@ -356,7 +367,12 @@ Eigen::MatrixX3d smoothed_outputs(const TriadData& d, const TriadModel& linear, 
     const Eigen::Index width = std::min<Eigen::Index>(2 * half_width + 1, end - begin);
     for (Eigen::Index k = begin; k < end; ++k) {
       const Eigen::Index first = std::clamp<Eigen::Index>(k - half_width, begin, end - width);
-      out.row(k) = p.row(k) + (sum.row(first + width) - sum.row(first)) / static_cast<double>(width);
+      if (width < 2) {
+        out.row(k) = d.gyro.row(k);
+        continue;
+      }
+      const auto own = d.gyro.row(k) - p.row(k);  // left out: the column must not carry the noise its row fits
+      out.row(k) = p.row(k) + (sum.row(first + width) - sum.row(first) - own) / static_cast<double>(width - 1);
     }
     begin = end;
   }
@@ -540,46 +556,90 @@ TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std:
   fit.summary.details["estimation"] = o.estimation;
   fit.summary.details["surfaces"] = o.surfaces;
   if (o.surfaces == "classical") {
-    const auto it = o.surface_options.find("sf_cross_order");
-    fit.summary.details["surface_sf_cross_order"] = it == o.surface_options.end() ? std::string("0") : it->second;
+    const ClassicalOptions defaults;
+    for (const auto& [key, value] : {std::pair{"sf_rate_order", defaults.sf_rate_order}, std::pair{"sf_cross_order", defaults.sf_cross_order}}) {
+      const auto it = o.surface_options.find(key);
+      fit.summary.details[str_cat("surface_", key)] = it == o.surface_options.end() ? std::to_string(value) : it->second;
+    }
   }
   return fit;
 }
 
 }  // namespace
 
-// surface.sf_cross_order=auto: the classical surfaces' cross order (0 = the thesis's separable form ..
-// kMaxAutoCrossOrder) chosen by the Bayesian information criterion of the fit in the mode asked for (joint or
-// sequential, each by its own final problem), so that neither mode is handed a family the data reject or
-// denied one they call for. The criteria are kept in the summary's details and a note. It is the default for
-// classical triad surfaces (effective_surface_options).
-TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata) {
-  if (auto p = o.validate(); !p.empty()) fail("triad: ", p);
-  const OptionMap surface_options = effective_surface_options(o.surfaces, o.surface_options);
-  if (!cross_order_auto(surface_options)) return fit_triad_once(d, o, reference_metadata);
+namespace {
+
+// One BIC comparison: candidate fits, the lowest finite BIC kept; every candidate's criterion (or why it was no
+// candidate) recorded by its order.
+struct BicChoice {
   std::optional<TriadFit> best;
   double best_bic = INFINITY;
   nlohmann::json criteria = nlohmann::json::object();
-  for (int order = 0; order <= kMaxAutoCrossOrder; ++order) {
-    TriadFitOptions oc = o;
-    oc.surface_options = with_cross_order(surface_options, order);
-    TriadFit f;
-    try {
-      f = fit_triad_once(d, oc, reference_metadata);
-    } catch (const Error& e) {  // an order the recording cannot determine (the classical fitter's rank check) is no candidate
-      if (order == 0) throw;
-      criteria[std::to_string(order)] = str_cat("not fitted: ", e.what());
-      continue;
-    }
+
+  void offer(int order, TriadFit f) {
     const double b = f.criterion.bic;
-    criteria[std::to_string(order)] = b;
+    criteria[std::to_string(order)] = std::isfinite(b) ? nlohmann::json(b) : nlohmann::json(nullptr);
     if (b < best_bic) best_bic = b, best = std::move(f);
   }
-  if (!best) fail("triad: surface.sf_cross_order=auto found no order with a finite BIC (", criteria.dump(), "); give the order");
+  void fit(int order, const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata, bool must_fit) {
+    try {
+      offer(order, fit_triad_once(d, o, reference_metadata));
+    } catch (const Error& e) {  // an order the recording cannot determine (the classical fitter's rank check) is no candidate
+      if (must_fit) throw;
+      criteria[std::to_string(order)] = str_cat("not fitted: ", e.what());
+    }
+  }
+  int chosen(const char* key) const { return std::stoi(best->summary.details.value(str_cat("surface_", key), std::string("0"))); }
+};
+
+}  // namespace
+
+// surface.sf_rate_order=auto, surface.sf_cross_order=auto (the default for classical triad surfaces,
+// effective_surface_options): the orders chosen by the Bayesian information criterion of the fit in the mode
+// asked for (joint or sequential, each by its own final problem), so that neither mode is handed a family the
+// data reject or denied one they call for. First the rate order 0..kMaxAutoRateOrder in the separable form
+// (or at the given cross order), then the cross order 1..kMaxAutoCrossOrder at the chosen rate order. BIC
+// can judge the rate order because the surfaces' input carries none of the noise its rows fit
+// (smoothed_outputs leaves each sample out of its own average); at the recorded outputs the spare rate powers
+// fit the noise and BIC takes them. The criteria are kept in the summary's details and a note.
+TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata) {
+  if (auto p = o.validate(); !p.empty()) fail("triad: ", p);
+  OptionMap surface_options = effective_surface_options(o.surfaces, o.surface_options);
+  const bool rate_auto = order_auto(surface_options, "sf_rate_order"), cross_auto = order_auto(surface_options, "sf_cross_order");
+  if (!rate_auto && !cross_auto) return fit_triad_once(d, o, reference_metadata);
+  TriadFitOptions oc = o;
+  std::vector<std::string> notes;
+  nlohmann::json details = nlohmann::json::object();
+  std::optional<TriadFit> best;
+  if (rate_auto) {
+    BicChoice rate;
+    const OptionMap base = cross_auto ? with_order(surface_options, "sf_cross_order", 0) : surface_options;
+    for (int order = 0; order <= kMaxAutoRateOrder; ++order) {
+      oc.surface_options = with_order(base, "sf_rate_order", order);
+      rate.fit(order, d, oc, reference_metadata, order == 0);
+    }
+    if (!rate.best) fail("triad: surface.sf_rate_order=auto found no order with a finite BIC (", rate.criteria.dump(), "); give the order");
+    const int chosen = rate.chosen("sf_rate_order");
+    notes.push_back(str_cat("surface.sf_rate_order=auto: order ", chosen, " chosen by BIC (", rate.criteria.dump(), ")"));
+    details["sf_rate_order_bic"] = rate.criteria;
+    surface_options = with_order(surface_options, "sf_rate_order", chosen);
+    best = std::move(rate.best);
+  }
+  if (cross_auto) {
+    BicChoice cross;
+    if (best) cross.offer(0, std::move(*best));  // the separable form at the chosen rate order, fitted above
+    for (int order = best ? 1 : 0; order <= kMaxAutoCrossOrder; ++order) {
+      oc.surface_options = with_order(surface_options, "sf_cross_order", order);
+      cross.fit(order, d, oc, reference_metadata, order == 0);
+    }
+    if (!cross.best) fail("triad: surface.sf_cross_order=auto found no order with a finite BIC (", cross.criteria.dump(), "); give the order");
+    notes.push_back(str_cat("surface.sf_cross_order=auto: order ", cross.chosen("sf_cross_order"), " chosen by BIC (", cross.criteria.dump(), ")"));
+    details["sf_cross_order_bic"] = cross.criteria;
+    best = std::move(cross.best);
+  }
   best->options = o;
-  const int chosen = std::stoi(best->summary.details.value("surface_sf_cross_order", std::string("0")));
-  best->notes.push_back(str_cat("surface.sf_cross_order=auto: order ", chosen, " chosen by BIC (", criteria.dump(), ")"));
-  best->summary.details["sf_cross_order_bic"] = criteria;
+  for (auto& n : notes) best->notes.push_back(std::move(n));
+  for (auto& [key, value] : details.items()) best->summary.details[key] = value;
   return *best;
 }
 

@@ -32,8 +32,8 @@
 // the training rates (rate-linear triad on triad_rate_sweep.yaml, sf_rate_order 6, 10 deg/h: 0.1..1.7 deg/h at
 // 10..80 deg/s, differently in joint and sequential fits of the same data, which so parted on the flights).
 // smoothed (default) fits them at each output with its white noise averaged down where the reference holds
-// still (a centred window of surface_window samples each side, inside a rate step or hold; smoothed_outputs in
-// triad_fit.cpp); noise-free it is the recorded output to second order in the temperature drift. The model's
+// still (a centred window of surface_window samples each side, inside a rate step or hold, the sample itself
+// left out; smoothed_outputs in triad_fit.cpp); noise-free it is the recorded output to second order in the temperature drift. The model's
 // own prediction is no substitute: it replaces the noise by the model's misfit (tried: noise-free fits of the
 // rate-nonlinear FOG moved, medium-flight error 0.48 -> 0.63 m).
 //
@@ -74,7 +74,7 @@ struct TriadFitOptions {
   std::string surface_input = "smoothed";  // the rate the surfaces are fitted at: smoothed | measured (below)
   int surface_window = 30;                  // smoothed: half-width of the centred window, samples
   OptionMap surface_options;          // surface.<key>=<value>: options of the surface kind or its solver;
-                                      // classical surfaces without sf_cross_order: auto (fit_triad)
+                                      // classical surfaces without sf_rate_order / sf_cross_order: auto (fit_triad)
   OptionTable table();
   std::string validate() const;
 };
