@@ -275,7 +275,7 @@ class Experiment:
     # --- independent generator ------------------------------------------------------------------------
     def independent(self):
         c = self.cfg["independent"]
-        seeds = list(range(c["first_seed"], c["first_seed"] + c["runs"]))
+        seeds = {case: list(range(c["first_seed"], c["first_seed"] + spec.get("runs", c["runs"]))) for case, spec in c["cases"].items()}
         gen = os.path.join(HERE, "independent_generator.py")
 
         def one(job):
@@ -294,7 +294,7 @@ class Experiment:
                 fits[name] = load_json(model)
             return case, seed, t, fits
 
-        results = self.parallel(one, [(case, s) for case in c["cases"] for s in seeds])
+        results = self.parallel(one, [(case, s) for case in c["cases"] for s in seeds[case]])
         rows = []
         for case in c["cases"]:
             res = [r for r in results if r[0] == case]

@@ -102,7 +102,8 @@ struct TriadUncertainty {
 struct TriadInformationCriterion {
   int rows_per_gyro = 0;              // R
   int parameters = 0;                 // k
-  std::array<double, 3> rss_radps2{}; // per gyro, over its rows (weighted as the rows are)
+  std::array<double, 3> rss_radps2{}; // per gyro, over its rows (weighted as the rows are), the surfaces at the
+                                      // input they were fitted at (surface_input)
   double bic = NAN;
 };
 
@@ -112,7 +113,7 @@ struct TriadFit {
   AngleObservability angles;
   std::vector<std::string> notes;   // what was not determined, and why
   std::string reference;            // how the rows were formed
-  std::array<double, 3> residual_rms_dph{};  // per gyro, of the final fit's rows
+  std::array<double, 3> residual_rms_dph{};  // per gyro, of the final fit's rows (surfaces at their fitting input)
   std::array<double, 3> noise_density{};     // white-noise density rad/s/sqrt(Hz) (= N, ARW) from the residuals
   double sample_rate_hz = 0.0;               // median sampling rate of the recording
   TriadInformationCriterion criterion;

@@ -744,6 +744,7 @@ TEST(TriadFit, EveryFitWritesItsInformationCriterionAsDefined) {
     if (c.surfaces == "none") o.surface_options.clear();
     o.estimation = c.estimation;
     o.sequential_scale = c.scale;
+    o.surface_input = "measured";  // the surfaces' fitting input is then the recorded output the recomputation uses
     const TriadFit f = fit_triad(d, o);
     const std::string label = c.surfaces + " " + c.estimation + " " + c.scale;
     const Eigen::MatrixX3d residual = f.model.predict_outputs(d) - d.gyro;
