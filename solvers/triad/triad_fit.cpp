@@ -616,6 +616,7 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   std::vector<std::string> notes;
   nlohmann::json details = nlohmann::json::object();
   std::optional<TriadFit> best;
+  bool rate_shape = true;  // a rate order 0 has no rate shape for the temperature to move
   if (rate_auto) {
     BicChoice rate;
     const OptionMap base = cross_auto ? with_order(surface_options, "sf_cross_order", 0) : surface_options;
@@ -629,8 +630,9 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
     details["sf_rate_order_bic"] = rate.criteria;
     surface_options = with_order(surface_options, "sf_rate_order", chosen);
     best = std::move(rate.best);
+    rate_shape = chosen > 0;
   }
-  if (cross_auto) {
+  if (cross_auto && rate_shape) {
     BicChoice cross;
     if (best) cross.offer(0, std::move(*best));  // the separable form at the chosen rate order, fitted above
     for (int order = best ? 1 : 0; order <= kMaxAutoCrossOrder; ++order) {
