@@ -78,10 +78,12 @@ void write_evaluation(const DesignCommand& c, const design::DesignContext& conte
                       const nlohmann::json& provenance) {
   const std::filesystem::path dir = c.out;
   nlohmann::json j = {{"format", "gyrosid-design-evaluation/1"}, {"provenance", provenance}, {"trajectories", nlohmann::json::object()}};
+  // A --reference (cof_minimax) comes first in report.compared, before the evaluated trajectories.
+  const std::size_t first = report.compared.size() - c.evaluate.size();
   for (std::size_t i = 0; i < report.compared.size(); ++i) {
     const auto& [name, p] = report.compared[i];
     std::cout << name << " (" << format_significant(p.duration_min, 4) << " min): predicted " << describe(p) << "\n";
-    j["trajectories"][c.evaluate[i]] = prediction_json(p);
+    if (i >= first) j["trajectories"][c.evaluate[i - first]] = prediction_json(p);
   }
   if (!c.out.empty()) {
     write_file_atomic(dir / "evaluation.json", j.dump(2) + "\n");
@@ -144,6 +146,8 @@ void run_design(DesignCommand c) {
   const std::filesystem::path dir = c.out;
   nlohmann::json provenance = {{"model", c.model}, {"sensor", c.sensor}, {"envelope", c.envelope}, {"seed", c.seed},
                                {"solver", c.solver}, {"options", c.set}, {"command", c.command_line()}};
+  // The reference's trajectory when it is predicted with --model: a --compare of the same path is not predicted again.
+  std::string reference_as_compared;
   if (criterion == design::Criterion::cof_minimax || !c.reference.empty()) {
     // The reference the design must beat on every flight, calibrated with its own model.
     const std::string path = c.reference.empty() ? c.compare.front() : c.reference;
@@ -153,11 +157,16 @@ void run_design(DesignCommand c) {
                                                                      settings.model, design::Criterion::cof, design::model_domain(space));
     const design::Prediction ref = design::evaluate_trajectory(*ref_context, spec);
     const bool same_model = parse_enum<design::ModelFamily>(model, "--reference-model") == family;
+    if (same_model) reference_as_compared = path;
     context.set_reference(ref, !auto_statistic ? fixed_statistic : same_model ? design::ReferenceStatistic::posterior : design::ReferenceStatistic::cof);
     report.compared.emplace_back(str_cat(spec.profile.name, " (reference, ", model, ")"), ref);
     provenance["reference"] = {{"trajectory", path}, {"model", model}, {"predicted", prediction_json(ref)}};
   }
   for (const auto& path : evaluating ? c.evaluate : c.compare) {
+    if (!evaluating && path == reference_as_compared) {  // predicted once, as the reference; the objective is the design's
+      report.compared.front().second.objective = design::trajectory_objective(context, load_trajectory_file(path));
+      continue;
+    }
     const TrajectorySpec spec = load_trajectory_file(path);
     report.compared.emplace_back(spec.profile.name, design::evaluate_trajectory(context, spec));
   }
@@ -206,7 +215,9 @@ void register_design(CLI::App& app, Action& action) {
   cmd->add_option("--criterion", c->criterion, "cof or cof_minimax (flights), surface, d_optimal, a_optimal or effects (greybox); default cof, surface for uniform");
   cmd->add_option("--sensor", c->sensor, "Sensor config: its noise, thermal lag and error model")->capture_default_str();
   cmd->add_option("--solver", c->solver, "Design solver: nlopt or ipopt")->capture_default_str();
-  cmd->add_option("--set", c->set, "Option key=value (repeatable): solver options, or space.*, model.*, envelope.*, quadrature.*");
+  cmd->add_option("--set", c->set, "Option key=value (repeatable): solver options, or space.*, model.*, envelope.*, quadrature.*, select.* "
+                  "(cof_minimax's exact final selection: select.rounds, select.emphasis, select.blend_shares); "
+                  "--options-of design lists them");
   cmd->add_option("--options-of", c->options_of, "Print the options of a solver (nlopt, ipopt) or of the design (design) and exit");
   cmd->add_option("--seed", c->seed, "Seed of the solver's random streams (same seed, same design)")->capture_default_str();
   cmd->add_option("--reference", c->reference, "cof_minimax: the trajectory to beat on every flight (default: the first --compare)");

@@ -48,17 +48,24 @@ Domain model_domain(const DesignSpace& space) {
   return d;
 }
 
-Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpec& t) {
-  const Observations o = observe_trajectory(context, t);
+namespace {
+
+// The context widened to the trajectory's temperatures and rates when they exceed its domain (null: no need).
+std::unique_ptr<DesignContext> widened(const DesignContext& context, const Observations& o) {
   Domain d = context.model_domain();
   const double lo = o.inputs.temp_c.minCoeff(), hi = o.inputs.temp_c.maxCoeff();
   const double w = o.inputs.rate.cwiseAbs().maxCoeff();
-  std::unique_ptr<DesignContext> wide;
-  if (!(lo >= d.temp_min_c && hi <= d.temp_max_c && w <= d.rate_max_radps * 1.05)) {
-    d.temp_min_c = std::min(d.temp_min_c, lo), d.temp_max_c = std::max(d.temp_max_c, hi);
-    d.rate_max_radps = std::max(d.rate_max_radps, w);
-    wide = context.with_domain(d);
-  }
+  if (lo >= d.temp_min_c && hi <= d.temp_max_c && w <= d.rate_max_radps * 1.05) return nullptr;
+  d.temp_min_c = std::min(d.temp_min_c, lo), d.temp_max_c = std::max(d.temp_max_c, hi);
+  d.rate_max_radps = std::max(d.rate_max_radps, w);
+  return context.with_domain(d);
+}
+
+}  // namespace
+
+Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpec& t) {
+  const Observations o = observe_trajectory(context, t);
+  const std::unique_ptr<DesignContext> wide = widened(context, o);
   const DesignContext& c = wide ? *wide : context;
   // The hybrid's network as the calibration would fit it along this trajectory (model.network=evidence).
   // Its `objective` stays the optimiser's (the fixed dictionary's), so that designs and their reports compare.
@@ -68,6 +75,13 @@ Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpe
     return p;
   }
   return c.predict(o);
+}
+
+double trajectory_objective(const DesignContext& context, const TrajectorySpec& t) {
+  const Observations o = observe_trajectory(context, t);
+  const std::unique_ptr<DesignContext> wide = widened(context, o);
+  const DesignContext& c = wide ? *wide : context;
+  return c.objective(c.estimate(o, c.objective_needs_target()));
 }
 
 DesignResult design_trajectory(const DesignContext& context, const DesignRequest& request) {

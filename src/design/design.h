@@ -63,6 +63,8 @@ DesignResult design_trajectory(const DesignContext& context, const DesignRequest
 // On the trajectory's own samples, with the model widened to the trajectory's temperatures when they exceed
 // the context's domain (the model a user would fit to that trajectory).
 Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpec& trajectory);
+// evaluate_trajectory's `objective` alone (the optimiser's, without the full prediction; seconds cheaper).
+double trajectory_objective(const DesignContext& context, const TrajectorySpec& trajectory);
 // The design's observations on the trajectory's own samples (for coverage plots and evaluation).
 Observations observe_trajectory(const DesignContext& context, const TrajectorySpec& trajectory);
 

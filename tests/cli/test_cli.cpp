@@ -461,6 +461,28 @@ TEST_F(Cli, DesignWritesATrajectoryThatSimulateReadsDeterministically) {
   EXPECT_FALSE(fs::exists(dir_ / "x"));
 }
 
+// cof_minimax against a reference that is also a --compare predicts it once (one report row); --evaluate with a
+// reference writes the evaluated trajectories only; --help names the exact selection's keys.
+TEST_F(Cli, DesignAgainstAReferencePredictsItOnce) {
+  const std::string ref = "builtin:trajectories/single_scan.yaml";
+  const Result r = run("design --envelope short --model classical --budget-min 8 --set space.segments=2 --set global_evaluations=60 "
+                       "--set local_evaluations=40 --seed 4 --criterion cof_minimax --reference " + ref + " --compare " + ref +
+                       " --out " + path("m1"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string report = read_text(dir_ / "m1" / "report.md");
+  std::size_t rows = 0;
+  for (auto at = report.find("| single scan"); at != std::string::npos; at = report.find("| single scan", at + 1)) ++rows;
+  EXPECT_EQ(rows, 1u) << report;
+  const Result ev = run("design --evaluate builtin:trajectories/dual_scan.yaml --envelope short --model classical --criterion cof_minimax "
+                        "--reference " + ref + " --out " + path("e1"));
+  ASSERT_EQ(ev.status, 0) << ev.output;
+  EXPECT_THAT(ev.output, HasSubstr("single scan (reference, classical)"));
+  const auto j = nlohmann::json::parse(read_text(dir_ / "e1" / "evaluation.json"));
+  EXPECT_EQ(j["trajectories"].size(), 1u);
+  EXPECT_TRUE(j["trajectories"].contains("builtin:trajectories/dual_scan.yaml"));
+  EXPECT_THAT(run("design --help").output, HasSubstr("select.rounds"));
+}
+
 }  // namespace
 }  // namespace gyrosid
 
