@@ -225,7 +225,8 @@ void register_design(CLI::App& app, Action& action) {
   cmd->add_option("--reference-statistic", c->reference_statistic,
                   "cof_minimax: what design and reference are compared by per flight - posterior (sqrt tr S P S' of both), cof "
                   "(the reference's predicted criterion of fit against the design's posterior statistic), mse (the predicted mean "
-                  "squared criterion of fit |m|^2 + tr S Sigma S' of both) or auto (posterior when the reference's model is --model, else cof)")
+                  "squared criterion of fit |m|^2 + tr S Sigma S' of both), mse_noise (the design's mse against the reference's noise "
+                  "part tr S Sigma S' alone: a conservative gain) or auto (posterior when the reference's model is --model, else cof)")
       ->capture_default_str();
   cmd->add_option("--compare", c->compare, "Trajectories predicted beside the design in report.md")->capture_default_str();
   cmd->add_option("--evaluate", c->evaluate, "Predict the accuracy of these trajectory configs instead of designing");

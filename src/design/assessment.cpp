@@ -196,10 +196,11 @@ void DesignContext::set_reference(const Prediction& reference, ReferenceStatisti
   log_reference_.clear();
   reference_cof_m_.clear();
   for (const auto& f : reference.flights) {
-    reference_cof_m_.push_back(f.cof_m);
+    reference_cof_m_.push_back(statistic == ReferenceStatistic::mse_noise ? f.cof_noise_mean_m : f.cof_m);
     double r2 = 0.0;
     switch (statistic) {
       case ReferenceStatistic::mse: r2 = f.cof_bias_m * f.cof_bias_m + f.cof_noise_m * f.cof_noise_m; break;
+      case ReferenceStatistic::mse_noise: r2 = f.cof_noise_m * f.cof_noise_m; break;
       case ReferenceStatistic::posterior: r2 = f.cof_posterior_m * f.cof_posterior_m; break;
       case ReferenceStatistic::cof: r2 = f.cof_m * f.cof_m; break;
     }
@@ -256,7 +257,7 @@ std::vector<double> DesignContext::flight_log_ratios(const LinearEstimate& e) co
   std::vector<double> x;
   for (std::size_t f = 0; f < lin_.flights.size(); ++f) {
     double statistic = 0.0;
-    if (statistic_ == ReferenceStatistic::mse) {
+    if (design_mse()) {
       statistic = flight_mse(f, e);
     } else {
       const Eigen::MatrixXd s = scaled_sensitivity(f, e);
@@ -272,7 +273,7 @@ std::vector<double> DesignContext::flight_log_ratios(const Prediction& p) const 
   std::vector<double> x;
   for (std::size_t f = 0; f < p.flights.size(); ++f) {
     const FlightPrediction& fp = p.flights[f];
-    const double statistic = statistic_ == ReferenceStatistic::mse ? fp.cof_bias_m * fp.cof_bias_m + fp.cof_noise_m * fp.cof_noise_m
+    const double statistic = design_mse() ? fp.cof_bias_m * fp.cof_bias_m + fp.cof_noise_m * fp.cof_noise_m
                                                                    : fp.cof_posterior_m * fp.cof_posterior_m;
     x.push_back(std::log(statistic) - log_reference_[f]);
   }

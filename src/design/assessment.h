@@ -57,7 +57,13 @@ enum class Criterion { cof, cof_minimax, surface, d_optimal, a_optimal, effects 
 //              its posterior statistic 0.037 m all noise.
 //   cof        the reference's predicted criterion of fit E|m + S d| against the design's posterior statistic
 //              (the first sessions' choice; mixes the two).
-enum class ReferenceStatistic { mse, posterior, cof };
+//   mse_noise  the design's mse against the reference's noise part alone, tr(S Sigma S') (the exact selection's
+//              gain: the reference's E|S d| against the design's cof_m): a conservative gain that gives the design
+//              no credit for the reference's predicted model-class error m, the least certain part of a
+//              prediction (the proxy over-predicts the dual scan's m 3-8x, above; experiments/trajectory_design
+//              2026-11-25: the dual scan's noise part alone is within 1.25x of its achieved mean on every flight,
+//              its cof_m up to 1.43x over). It asks the design for more where the reference's m is large.
+enum class ReferenceStatistic { mse, posterior, cof, mse_noise };
 
 struct FlightPrediction {
   std::string flight;
@@ -122,11 +128,14 @@ class DesignContext {
   // The reference per flight (envelope order) for cof_minimax, and the statistic compared (above).
   void set_reference(const Prediction& reference, ReferenceStatistic statistic);
   ReferenceStatistic reference_statistic() const { return statistic_; }
-  // The reference's predicted criterion of fit per flight (cof_m, m; envelope order): what a design's predicted
-  // gain on a flight is measured against (exact_selection.h). Empty without a reference.
+  // The reference's predicted criterion of fit per flight (cof_m, m; envelope order; its noise part E|S d| for
+  // mse_noise): what a design's predicted gain on a flight is measured against (exact_selection.h). Empty without
+  // a reference.
   const std::vector<double>& reference_cof_m() const { return reference_cof_m_; }
   // Whether objective() needs the estimate's expected value, i.e. estimate(o, true) (mse).
-  bool objective_needs_target() const { return criterion_ == Criterion::cof_minimax && statistic_ == ReferenceStatistic::mse; }
+  bool objective_needs_target() const { return criterion_ == Criterion::cof_minimax && design_mse(); }
+  // The design's statistic is its mse |m|^2 + tr(S Sigma S') (statistics mse and mse_noise).
+  bool design_mse() const { return statistic_ == ReferenceStatistic::mse || statistic_ == ReferenceStatistic::mse_noise; }
 
   LinearEstimate estimate(const Observations& observations, bool with_target) const;
   double objective(const LinearEstimate& estimate) const;
@@ -197,9 +206,10 @@ struct EnumNames<design::Criterion> {
 template <>
 struct EnumNames<design::ReferenceStatistic> {
   static constexpr std::string_view kNoun = "reference statistic";
-  static constexpr std::array<std::pair<design::ReferenceStatistic, std::string_view>, 3> kTable{
+  static constexpr std::array<std::pair<design::ReferenceStatistic, std::string_view>, 4> kTable{
       {{design::ReferenceStatistic::mse, "mse"},
        {design::ReferenceStatistic::posterior, "posterior"},
-       {design::ReferenceStatistic::cof, "cof"}}};
+       {design::ReferenceStatistic::cof, "cof"},
+       {design::ReferenceStatistic::mse_noise, "mse_noise"}}};
 };
 }  // namespace gyrosid

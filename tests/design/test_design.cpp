@@ -665,6 +665,30 @@ TEST(DesignCriteria, CofMinimaxIsTheSameInAnyUnitOfAFlightsError) {
   EXPECT_NEAR(minimax.context.objective(e), (binding == 0 ? x1 : x0), 1e-6);
 }
 
+TEST(DesignCriteria, MseNoiseComparesTheDesignsMseWithTheReferencesNoisePartAlone) {
+  // mse_noise: per flight log(|m|^2 + tr S Sigma S') of the design minus log(tr S Sigma S') of the reference (its
+  // predicted m not counted), the same design statistic as mse; the exact selection's reference is E|S d|. So
+  // x_f(mse_noise) - x_f(mse) = log(1 + |m_ref|^2 / tr S Sigma S'_ref) >= 0 for every flight.
+  SmallProblem minimax(ModelFamily::hybrid, Criterion::cof_minimax);
+  const Observations o = observe_trajectory(minimax.context, small_programme());
+  const LinearEstimate e = minimax.context.estimate(o, true);
+  Prediction ref = SmallProblem(ModelFamily::hybrid, Criterion::cof).context.predict(observe_trajectory(minimax.context, small_programme(30.0)));
+  minimax.context.set_reference(ref, ReferenceStatistic::mse);
+  const std::vector<double> x_mse = minimax.context.flight_log_ratios(e);
+  minimax.context.set_reference(ref, ReferenceStatistic::mse_noise);
+  EXPECT_TRUE(minimax.context.objective_needs_target());
+  const std::vector<double> x = minimax.context.flight_log_ratios(e);
+  ASSERT_EQ(x.size(), ref.flights.size());
+  for (std::size_t f = 0; f < x.size(); ++f) {
+    const auto& r = ref.flights[f];
+    EXPECT_GT(r.cof_bias_m, 0.0);
+    EXPECT_NEAR(x[f] - x_mse[f], std::log(1.0 + std::pow(r.cof_bias_m / r.cof_noise_m, 2)), 1e-9) << f;
+    EXPECT_NEAR(x[f], std::log(minimax.context.flight_mse(f, e)) - 2.0 * std::log(r.cof_noise_m), 1e-9) << f;
+    EXPECT_EQ(minimax.context.reference_cof_m()[f], r.cof_noise_mean_m);
+  }
+  EXPECT_EQ(parse_enum<ReferenceStatistic>("mse_noise", "--reference-statistic"), ReferenceStatistic::mse_noise);
+}
+
 TEST(DesignInformation, AConstantBiasUnderWhiteNoiseHasTheVarianceNSquaredOverT) {
   // The linearised covariance of the simplest model, a constant bias b, from observations of white rate noise
   // of density N over T seconds (any spacing, any weights summing to T): Var b = N^2 / T (the mean of T / dt
