@@ -118,6 +118,7 @@ void run_design(DesignCommand c) {
   }
   const design::Criterion criterion = c.criterion.empty() ? (settings.envelope.uniform ? design::Criterion::surface : design::Criterion::cof)
                                                           : parse_enum<design::Criterion>(c.criterion, "--criterion");
+  if (criterion == design::Criterion::cof_minimax) settings.minimax_defaults(options);  // it always has a reference (below)
   const design::ModelFamily family = parse_enum<design::ModelFamily>(c.model, "--model");
   if (criterion == design::Criterion::effects && !settings.model.shupe && !settings.model.hysteresis && !settings.model.thermal_lag) {
     settings.model.shupe = settings.model.hysteresis = settings.model.thermal_lag = true;  // what the criterion separates
@@ -128,9 +129,10 @@ void run_design(DesignCommand c) {
   if (!evaluating) design::make_design_solver(c.solver, solver_options, c.seed);  // bad options fail before any work
   // The exact selection's options, before any prediction (cof_minimax always gets its reference below).
   if (auto p = settings.selection.validate(criterion, true); !p.empty()) fail("design: ", p);
-  // auto: posterior for a reference of the same model, else the reference's cof (assessment.h). mse, consistent
-  // with the prediction, measured worse against the dual scan (experiments/trajectory_design, 2026-11-24): the
-  // proxy over-predicts the reference's model-class error.
+  // auto: mse for a reference of the same model, else the reference's cof (assessment.h). mse was measured worse
+  // than posterior against the dual scan with the fixed dictionary's prior (2026-11-24); every design since the
+  // evidence network and the exact selection (2026-11-25, experiments/trajectory_design) was made with mse, and
+  // it is the configuration minimax_defaults() completes.
   const bool auto_statistic = c.reference_statistic == "auto";
   const auto fixed_statistic = auto_statistic ? design::ReferenceStatistic::posterior
                                               : parse_enum<design::ReferenceStatistic>(c.reference_statistic, "--reference-statistic");
@@ -158,7 +160,7 @@ void run_design(DesignCommand c) {
     const design::Prediction ref = design::evaluate_trajectory(*ref_context, spec);
     const bool same_model = parse_enum<design::ModelFamily>(model, "--reference-model") == family;
     if (same_model) reference_as_compared = path;
-    context.set_reference(ref, !auto_statistic ? fixed_statistic : same_model ? design::ReferenceStatistic::posterior : design::ReferenceStatistic::cof);
+    context.set_reference(ref, !auto_statistic ? fixed_statistic : same_model ? design::ReferenceStatistic::mse : design::ReferenceStatistic::cof);
     report.compared.emplace_back(str_cat(spec.profile.name, " (reference, ", model, ")"), ref);
     provenance["reference"] = {{"trajectory", path}, {"model", model}, {"predicted", prediction_json(ref)}};
   }
@@ -226,7 +228,8 @@ void register_design(CLI::App& app, Action& action) {
                   "cof_minimax: what design and reference are compared by per flight - posterior (sqrt tr S P S' of both), cof "
                   "(the reference's predicted criterion of fit against the design's posterior statistic), mse (the predicted mean "
                   "squared criterion of fit |m|^2 + tr S Sigma S' of both), mse_noise (the design's mse against the reference's noise "
-                  "part tr S Sigma S' alone: a conservative gain) or auto (posterior when the reference's model is --model, else cof)")
+                  "part tr S Sigma S' alone: a conservative gain) or auto (mse when the reference's model is --model, else cof). "
+                  "cof_minimax's defaults otherwise: space.segments=10, select.rounds=1, model.network_prior=evidence")
       ->capture_default_str();
   cmd->add_option("--compare", c->compare, "Trajectories predicted beside the design in report.md")->capture_default_str();
   cmd->add_option("--evaluate", c->evaluate, "Predict the accuracy of these trajectory configs instead of designing");

@@ -30,6 +30,12 @@ OptionMap DesignSettings::apply(const OptionMap& options) {
   return others;
 }
 
+void DesignSettings::minimax_defaults(const OptionMap& given) {
+  if (!given.count("space.segments")) space.segments = 10;
+  if (!given.count("select.rounds")) selection.rounds = 1;
+  if (!given.count("model.network_prior")) model.network_prior = "evidence";
+}
+
 Observations observe_trajectory(const DesignContext& context, const TrajectorySpec& t) {
   const std::vector<double> times = t.times();
   const Quadrature q = sample_quadrature(times, t.profile.duration_s());

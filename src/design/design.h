@@ -34,6 +34,11 @@ struct DesignSettings {
   static bool owns(const std::string& key);  // a key of this table (else: a solver option)
   // Applies the options that are this table's (space.*, model.*, ...); returns the others, the solver's.
   OptionMap apply(const OptionMap& options);
+  // cof_minimax against a reference: the configuration measured against the dual scan on 10 seeds
+  // (experiments/trajectory_design README, 2026-11-25 third session), each unless `given` (the --set options)
+  // sets it: space.segments=10 (6 left the best worst-flight gain at 0.97-1.05x, 10 gave 1.26x), select.rounds=1
+  // (a second round changed nothing), model.network_prior=evidence (hybrid).
+  void minimax_defaults(const OptionMap& given);
 };
 
 struct DesignRequest {

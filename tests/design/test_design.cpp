@@ -665,6 +665,27 @@ TEST(DesignCriteria, CofMinimaxIsTheSameInAnyUnitOfAFlightsError) {
   EXPECT_NEAR(minimax.context.objective(e), (binding == 0 ? x1 : x0), 1e-6);
 }
 
+TEST(DesignCriteria, CofMinimaxDefaultsAreTheMeasuredConfigurationUnlessSet) {
+  // minimax_defaults: 10 segments, one round of the exact selection, the evidence prior - each only where the
+  // --set options leave it; other criteria keep the plain defaults (6 segments, no selection, residual prior).
+  DesignSettings plain;
+  EXPECT_EQ(plain.space.segments, 6);
+  EXPECT_EQ(plain.selection.rounds, 0);
+  EXPECT_EQ(plain.model.network_prior, "residual");
+  DesignSettings minimax;
+  minimax.minimax_defaults({});
+  EXPECT_EQ(minimax.space.segments, 10);
+  EXPECT_EQ(minimax.selection.rounds, 1);
+  EXPECT_EQ(minimax.model.network_prior, "evidence");
+  DesignSettings given;
+  const OptionMap options{{"space.segments", "4"}, {"select.rounds", "0"}, {"model.network_prior", "residual"}};
+  EXPECT_TRUE(given.apply(options).empty());
+  given.minimax_defaults(options);
+  EXPECT_EQ(given.space.segments, 4);
+  EXPECT_EQ(given.selection.rounds, 0);
+  EXPECT_EQ(given.model.network_prior, "residual");
+}
+
 TEST(DesignCriteria, MseNoiseComparesTheDesignsMseWithTheReferencesNoisePartAlone) {
   // mse_noise: per flight log(|m|^2 + tr S Sigma S') of the design minus log(tr S Sigma S') of the reference (its
   // predicted m not counted), the same design statistic as mse; the exact selection's reference is E|S d|. So
