@@ -640,15 +640,20 @@ TEST(DesignAssessment, APredictionTakesTheNetworkTheCalibrationWouldFitAlongTheT
               ::testing::HasSubstr("model.network"));
 }
 
+// A 20-min hybrid cof_minimax problem, its estimate, and a 30-min programme's prediction as the reference.
+struct MinimaxAgainstLonger {
+  SmallProblem minimax{ModelFamily::hybrid, Criterion::cof_minimax};
+  LinearEstimate e = minimax.context.estimate(observe_trajectory(minimax.context, small_programme()), true);
+  Prediction ref = SmallProblem(ModelFamily::hybrid, Criterion::cof).context.predict(observe_trajectory(minimax.context, small_programme(30.0)));
+};
+
 TEST(DesignCriteria, CofMinimaxIsTheSameInAnyUnitOfAFlightsError) {
   // Per flight the objective is a log ratio to the reference's own value: a flight scored in kilometres (the
   // long flight after 1 h) and one in metres (the short flight after 10 s) weigh alike. Scaling one flight's
   // reference by c (its unit) and its design statistic by the same c leaves the objective unchanged; scaling
   // the reference alone by c moves that flight's log ratio by -2 log c (here: it stops binding).
-  SmallProblem minimax(ModelFamily::hybrid, Criterion::cof_minimax);
-  const Observations o = observe_trajectory(minimax.context, small_programme());
-  const LinearEstimate e = minimax.context.estimate(o, true);
-  Prediction ref = SmallProblem(ModelFamily::hybrid, Criterion::cof).context.predict(observe_trajectory(minimax.context, small_programme(30.0)));
+  MinimaxAgainstLonger setup;
+  auto& [minimax, e, ref] = setup;
   minimax.context.set_reference(ref, ReferenceStatistic::mse);
   const double base = minimax.context.objective(e);
   const double x0 = std::log(minimax.context.flight_mse(0, e)) - std::log(std::pow(ref.flights[0].cof_bias_m, 2) + std::pow(ref.flights[0].cof_noise_m, 2));
@@ -690,10 +695,8 @@ TEST(DesignCriteria, MseNoiseComparesTheDesignsMseWithTheReferencesNoisePartAlon
   // mse_noise: per flight log(|m|^2 + tr S Sigma S') of the design minus log(tr S Sigma S') of the reference (its
   // predicted m not counted), the same design statistic as mse; the exact selection's reference is E|S d|. So
   // x_f(mse_noise) - x_f(mse) = log(1 + |m_ref|^2 / tr S Sigma S'_ref) >= 0 for every flight.
-  SmallProblem minimax(ModelFamily::hybrid, Criterion::cof_minimax);
-  const Observations o = observe_trajectory(minimax.context, small_programme());
-  const LinearEstimate e = minimax.context.estimate(o, true);
-  Prediction ref = SmallProblem(ModelFamily::hybrid, Criterion::cof).context.predict(observe_trajectory(minimax.context, small_programme(30.0)));
+  MinimaxAgainstLonger setup;
+  auto& [minimax, e, ref] = setup;
   minimax.context.set_reference(ref, ReferenceStatistic::mse);
   const std::vector<double> x_mse = minimax.context.flight_log_ratios(e);
   minimax.context.set_reference(ref, ReferenceStatistic::mse_noise);
