@@ -63,6 +63,8 @@ enum class Criterion { cof, cof_minimax, surface, d_optimal, a_optimal, effects 
 //              prediction (the proxy over-predicts the dual scan's m 3-8x, above; experiments/trajectory_design
 //              2026-11-25: the dual scan's noise part alone is within 1.25x of its achieved mean on every flight,
 //              its cof_m up to 1.43x over). It asks the design for more where the reference's m is large.
+//              Measured no better than mse as the design's criterion (README, 2026-11-25 third session: worst
+//              achieved gain 1.12x and 1.15x against mse's 1.26x, 10 seeds): an option, not the default.
 enum class ReferenceStatistic { mse, posterior, cof, mse_noise };
 
 struct FlightPrediction {
