@@ -200,9 +200,9 @@ class Experiment:
         cols = ["training", "sensor", "surfaces", "estimation", "seed", "offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in c["flights"]]
         write_csv(os.path.join(self.out, "compare.csv"), rows, cols + ["bic", "cross_order", "time_s"])
         text = "# Joint against sequential estimation\n\nTraining trajectories: %s. Criterion of fit (end error; long flight after 1 h; noise-free flights) on %s. " \
-               "Per group: the noise-free fit (seed 0), then the %d noisy seeds (10 deg/h) paired by seed: median of joint/sequential with a 95 %% " \
-               "bootstrap interval of that median, runs where joint <= sequential, and the two-sided sign-test p of those wins.\n\n" % (
-                   ", ".join("%s `%s`" % (k, v["trajectory"]) for k, v in trainings.items()), ", ".join(c["flights"]), len(c["seeds"]))
+               "Per group: the noise-free fit (seed 0), then the noisy seeds (10 deg/h; how many: joint_wins' denominator) paired by seed: median of " \
+               "joint/sequential with a 95 %% bootstrap interval of that median, runs where joint <= sequential, and the two-sided sign-test p of " \
+               "those wins.\n\n" % (", ".join("%s `%s`" % (k, v["trajectory"]) for k, v in trainings.items()), ", ".join(c["flights"]))
         table = [dict(g, **{k: fmt(g[k], 5) for k in ("noise_free_ratio", "median_ratio") if g[k] != ""}) for g in paired_summary(rows, c["flights"], c["seeds"])]
         text += markdown_table(table, PAIRED_COLUMNS)
         write_text(os.path.join(self.out, "compare.md"), text)
