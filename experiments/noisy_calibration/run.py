@@ -17,6 +17,8 @@ the issue's targets).
 """
 import argparse
 import csv
+import hashlib
+import json
 import math
 import os
 import subprocess
@@ -34,7 +36,7 @@ from gyrosid_experiments import Runner, add_gyrosid_argument, load_json, model_s
 
 COLUMNS = ["sensor", "trajectory", "noise", "seed", "method", "samples", "nodes", "time_s", "peak_rss_mb", "termination",
            "surface_rms_dph", "surface_coverage_95", "heldout_rms_dph", "heldout_coverage_95",
-           "cof_short_m", "cof_medium_m", "cof_long_1h_m", "noise_choice"]
+           "cof_short_m", "cof_medium_m", "cof_long_1h_m", "noise_choice", "run"]
 
 
 class OutOfTime(Exception):
@@ -298,6 +300,35 @@ class Experiment:
         return row
 
 
+def sha256(path):
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
+def check_cache(out, gyrosid, allow_mixed):
+    """Everything under --out is reused as it is, whatever made it. So that a cache made by another build of
+    gyrosid or another peers.py is never quoted as this one's, the first run writes the hashes of both into
+    <out>/provenance.json and a later run with different ones stops (unless --allow-mixed-cache)."""
+    now = {"gyrosid_sha256": sha256(gyrosid), "peers_py_sha256": sha256(os.path.join(HERE, "peers.py"))}
+    path = os.path.join(out, "provenance.json")
+    if os.path.exists(path):
+        with open(path) as f:
+            then = json.load(f)
+        differ = [k for k in now if then.get(k) != now[k]]
+        if differ and not allow_mixed:
+            raise SystemExit("%s: the cache under %s was made with another %s; use a fresh --out (or --allow-mixed-cache)" % (
+                path, out, " and ".join(k[:-7] for k in differ)))
+        return
+    cached = [d for d in ("models", "peers", "heldout", "grid") if os.path.isdir(os.path.join(out, d))]
+    if cached and not allow_mixed:
+        raise SystemExit("%s holds a cache (%s) of unknown provenance; use a fresh --out (or --allow-mixed-cache)" % (
+            out, ", ".join(cached)))
+    os.makedirs(out, exist_ok=True)
+    with open(path + ".tmp", "w") as f:
+        json.dump(now, f, indent=1)
+    os.replace(path + ".tmp", path)
+
+
 def _number(text):
     """A value read back from rows.csv: a number where it parses as one (None for an empty cell)."""
     if text == "":
@@ -328,8 +359,12 @@ def main():
     ap.add_argument("--summary-only", action="store_true", help="summarise what is cached, compute nothing")
     ap.add_argument("--methods", help="comma-separated: rerun only these methods (with --keep-rows for the others)")
     ap.add_argument("--keep-rows", help="rows.csv of an earlier run: every row (recording and method) this run did not produce is kept")
+    ap.add_argument("--label", default=time.strftime("%Y-%m-%d", time.gmtime()),
+                    help="the `run` column of the rows this run produces (kept rows keep theirs, 'earlier' if none)")
+    ap.add_argument("--allow-mixed-cache", action="store_true", help="reuse a cache made by another gyrosid or peers.py")
     args = ap.parse_args()
     cfg = yaml.safe_load(open(args.config))
+    check_cache(os.path.abspath(args.out), os.path.abspath(args.gyrosid), args.allow_mixed_cache)
     e = Experiment(args, cfg)
     if args.summary_only:
         e.deadline = 0.0
@@ -346,6 +381,8 @@ def main():
             if not args.summary_only:  # out of budget; a summary goes on to what later stages have cached
                 break
     e.rows = list({tuple(sorted((k, str(v)) for k, v in r.items())): r for r in e.rows}.values())  # stages revisit cached rows
+    for r in e.rows:
+        r["run"] = args.label
     if args.keep_rows:
         key = lambda r: tuple(str(r[k]) for k in ("sensor", "trajectory", "noise", "seed", "method"))
         produced = {key(r) for r in e.rows}
@@ -353,7 +390,7 @@ def main():
             # every earlier row this run did not reproduce: also rows of --methods on recordings, parts or
             # seeds the run did not reach (a --part, a budget cut) - they are dropped only when replaced
             kept = [r for r in csv.DictReader(f) if key(r) not in produced]
-        e.rows += [{k: _number(v) for k, v in r.items()} for r in kept]
+        e.rows += [dict({k: _number(v) for k, v in r.items()}, run=r.get("run") or "earlier") for r in kept]
     write_csv(os.path.join(e.out, "rows.csv"), e.rows, COLUMNS)
     import summarise  # noqa: E402
     summarise.write_summary(e.out, e.rows, cfg, " ".join(sys.argv), done)
