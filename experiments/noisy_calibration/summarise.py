@@ -182,6 +182,12 @@ def write_summary(out, rows, cfg, command, done):
           "compensated - reference on a noise-free held-out trajectory. crb_floor: the expected rms of the efficient "
           "(Cramer-Rao) estimate of the true model along the same recording; crb_oracle: that estimate itself.\n" % (
               command, "" if done else " (partial: the sweep has not finished)")]
+    runs = {}
+    for r in rows:
+        runs[str(r.get("run") or "earlier")] = runs.get(str(r.get("run") or "earlier"), 0) + 1
+    if len(runs) > 1 or "earlier" in runs:
+        md.append("\nRows by the run that produced them (the `run` column of rows.csv): %s.\n" % (
+            "; ".join("%s: %d" % (k, v) for k, v in sorted(runs.items()))))
     best, medians = best_method(rows)
     md.append("\n## Targets (issue 11)\n\ngyrosid's best configuration, chosen by the median over recordings of held-out rms / floor "
               "among the methods run on every recording: `%s` (%s). The targets for it and for `hybrid` "
