@@ -9,7 +9,7 @@ predictive-band coverage; the Cramer-Rao floor and scikit-learn peers on the sam
 Everything is cached under --out: a run stops starting new work after --budget-min minutes (exit status 3:
 more to do) and the next run resumes, so the sweep goes in chunks under the experiment lock:
 
-    until flock /tmp/gyrosid-experiment.lock nice -n 10 /usr/bin/python3 experiments/noisy_calibration/run.py; \\
+    until flock /tmp/gyrosid-exp.lock nice -n 10 /usr/bin/python3 experiments/noisy_calibration/run.py; \\
       do [ $? -eq 3 ] || break; sleep 60; done
 
 Writes rows.csv (one row per recording and method) and summary.md (medians over seeds, ratios to the floor,
