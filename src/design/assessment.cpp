@@ -325,6 +325,8 @@ Prediction DesignContext::predict(const Observations& o) const {
     fp.cof_noise_m = std::sqrt(c.trace());
     fp.cof_noise_mean_m = expected_norm(Eigen::Vector3d::Zero(), c);
     fp.cof_bias_m = m.norm();
+    fp.bias_ned_m = m;
+    fp.noise_covariance_ned_m2 = c;
     const Eigen::MatrixXd scaled = scaled_sensitivity(i, e);
     fp.cof_posterior_m = std::sqrt((scaled * e.posterior * scaled.transpose()).trace());
     fp.surface_rms_dph = surface(lin.surface_columns, lin.surface_true_error, &fp.surface_bias_dph, &fp.surface_noise_dph);

@@ -75,6 +75,8 @@ struct FlightPrediction {
   double cof_noise_mean_m = 0.0; // E|S d|: the noise's part alone, averaged as the criterion of fit is
   double cof_bias_m = 0.0;       // |m|: the model class's part (a noise-free calibration's error)
   double cof_posterior_m = 0.0;  // sqrt(tr S P S'), P the posterior covariance: what the cof criteria minimise
+  Eigen::Vector3d bias_ned_m = Eigen::Vector3d::Zero();            // m, NED at the horizon (cof_bias_m = |m|)
+  Eigen::Matrix3d noise_covariance_ned_m2 = Eigen::Matrix3d::Zero();  // S Sigma S' (cof_noise_m = sqrt of its trace)
   double surface_rms_dph = 0.0;  // sqrt(mean(bias^2 + variance)) over the flight's (T, w) samples
   double surface_bias_dph = 0.0, surface_noise_dph = 0.0;
 };

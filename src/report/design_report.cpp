@@ -20,6 +20,10 @@ nlohmann::json prediction_json(const design::Prediction& p) {
                          {"surface_rms_dph", f.surface_rms_dph},
                          {"surface_bias_dph", f.surface_bias_dph},
                          {"surface_noise_dph", f.surface_noise_dph}};
+    // m and S Sigma S' themselves, so that a check can test the seeds' error vectors against them
+    const Eigen::Matrix3d& c = f.noise_covariance_ned_m2;
+    flights[f.flight]["bias_ned_m"] = {f.bias_ned_m(0), f.bias_ned_m(1), f.bias_ned_m(2)};
+    flights[f.flight]["noise_covariance_ned_m2"] = {{c(0, 0), c(0, 1), c(0, 2)}, {c(1, 0), c(1, 1), c(1, 2)}, {c(2, 0), c(2, 1), c(2, 2)}};
   }
   nlohmann::json j = {{"criterion", std::string(to_string(p.criterion))},
                       {"objective", p.objective},

@@ -784,6 +784,14 @@ TEST(DesignAssessment, TheDesignTakesTheSensorItIsGiven) {
     EXPECT_NEAR(b.flights[f].cof_noise_mean_m / a.flights[f].cof_noise_mean_m, 2.0, 2e-3) << a.flights[f].flight;
     EXPECT_LT(a.flights[f].cof_noise_mean_m, a.flights[f].cof_noise_m);  // E|z| < sqrt(E|z|^2) (Jensen)
     EXPECT_NEAR(b.flights[f].surface_noise_dph / a.flights[f].surface_noise_dph, 2.0, 2e-3) << a.flights[f].flight;
+    // The vectors behind the figures: S Sigma S' scales by 4 element by element, m (the noise-free fit's error)
+    // not at all (to within the wide prior's pull on undetermined directions, 4e-6 of it here); |m| and sqrt(tr S Sigma S') are the reported cof_bias_m and cof_noise_m.
+    const FlightPrediction &fa = a.flights[f], &fb = b.flights[f];
+    EXPECT_LT((fb.noise_covariance_ned_m2 - 4.0 * fa.noise_covariance_ned_m2).norm(), 4e-3 * fb.noise_covariance_ned_m2.norm()) << fa.flight;
+    EXPECT_LT((fb.bias_ned_m - fa.bias_ned_m).norm(), 1e-4 * fa.bias_ned_m.norm()) << fa.flight;
+    EXPECT_NEAR(fa.bias_ned_m.norm(), fa.cof_bias_m, 1e-12 * fa.cof_bias_m) << fa.flight;
+    EXPECT_NEAR(std::sqrt(fa.noise_covariance_ned_m2.trace()), fa.cof_noise_m, 1e-9 * fa.cof_noise_m) << fa.flight;
+    EXPECT_NEAR(expected_norm(fa.bias_ned_m, fa.noise_covariance_ned_m2), fa.cof_m, 1e-9 * fa.cof_m) << fa.flight;
   }
   TrajectorySpec ramp = load_trajectory(ConfigNode::parse(
       "kind: programme\nsegments:\n  - {duration_min: 30, chamber_c: [25, -35], rate_dps: 0}\nsampling: {rate_hz: 1}\n", "ramp.yaml"));
