@@ -21,6 +21,8 @@ std::string NetworkSearchOptions::validate() const {
     return "network search: need 0 < min_width <= scan_min <= scan_max <= max_width";
   }
   if (scan < 1 || evaluations < 0) return "network search: scan >= 1 and evaluations >= 0";
+  if (given_widths.size() != 0 && (given_widths.size() != 2 || !(given_widths.array() > 0).all())) return "network search: two positive given widths";
+  if (!(given_prior_sd_radps >= 0)) return "network search: the given prior sd must be >= 0";
   return "";
 }
 
@@ -118,10 +120,19 @@ NetworkNodes expected_evidence_network(const Observations& o, const Eigen::Matri
     Eigen::MatrixXd phi = whiten(gaussian_columns(x, net.centres, widths), o.inputs.t_s, o.weight_s, noise);
     physics_span.project(phi);
     const ExpectedEvidence ev(phi, y0_p, physics_span.residual_dof());
-    const double u = ev.best_log_alpha(), v = ev.at(u);
+    // alpha = 1 / sd^2 in whitened units: the columns are divided by the noise, not the weights
+    const double u = opt.given_prior_sd_radps > 0 ? -2.0 * std::log(opt.given_prior_sd_radps) : ev.best_log_alpha(), v = ev.at(u);
     if (v > best.value) best = {v, u, ev.gamma(u), widths};
     return v;
   };
+  if (opt.given_widths.size() == 2) {
+    evaluate(opt.given_widths);
+    net.widths = best.widths;
+    net.prior_sd_radps = std::exp(-0.5 * best.log_alpha);
+    net.effective_parameters = best.gamma;
+    net.expected_log_evidence = best.value;
+    return net;
+  }
   // Scan of one common width, then the per-input widths from the best, bounded below where an input was
   // recorded at discrete levels (as the calibration: identifiable_min_widths).
   for (int i = 0; i < opt.scan; ++i) {

@@ -38,6 +38,10 @@ struct NetworkSearchOptions {
   double scan_min = 0.06, scan_max = 1.0;
   double min_width = 0.02, max_width = 4.0;          // normalised units
   int evaluations = 30;                              // per-input width search
+  // Hyperparameters given instead of searched (a fitted calibration's, to predict for the network it chose):
+  // widths (2, normalised; empty: searched) and the weights' prior sd (0: alpha by the expected evidence).
+  Eigen::RowVectorXd given_widths;
+  double given_prior_sd_radps = 0.0;
   std::string validate() const;
 };
 

@@ -42,7 +42,9 @@ void ModelOptions::bind(OptionTable& t) {
             "hybrid: the network's prior sd as a multiple of what the physics leaves of the sensor's error", true)
       .text("model.network", &network, "hybrid: the network predictions are made with: evidence (as the calibration would choose it along the trajectory) or dictionary")
       .text("model.network_prior", &network_prior, "hybrid: the dictionary's prior in the objective: residual (one scale over the domain) or evidence (alpha by the expected evidence on each candidate)")
-      .integer("model.network_nodes", &network_nodes, 1, 2000, "hybrid, network=evidence: centres among the trajectory's inputs");
+      .integer("model.network_nodes", &network_nodes, 1, 2000, "hybrid, network=evidence: centres among the trajectory's inputs")
+      .text("model.network_widths", &network_widths, "hybrid, network=evidence: the network's widths RATE,TEMPERATURE (normalised as the calibration's) given, not searched")
+      .real("model.network_prior_sd_dph", &network_prior_sd_dph, 0.0, 1e6, "hybrid, network=evidence: the weights' prior sd given (0: by the expected evidence)");
 }
 
 namespace {
@@ -65,6 +67,10 @@ std::vector<double> parse_list(const std::string& text, const char* key) {
 std::string ModelOptions::validate() const {
   if (network != "evidence" && network != "dictionary") return "option 'model.network' must be evidence or dictionary";
   if (network_prior != "residual" && network_prior != "evidence") return "option 'model.network_prior' must be residual or evidence";
+  if (!network_widths.empty()) {
+    const auto w = parse_list(network_widths, "model.network_widths");
+    if (w.size() != 2 || !(w[0] > 0 && w[1] > 0)) return "option 'model.network_widths' must be two positive widths: RATE,TEMPERATURE";
+  }
   const auto rates = parse_list(grid_rates_dps, "model.grid_rates_dps");
   for (std::size_t i = 1; i < rates.size(); ++i) {
     if (!(rates[i] > rates[i - 1])) return "option 'model.grid_rates_dps' must be strictly increasing";

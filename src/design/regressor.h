@@ -81,6 +81,11 @@ struct ModelOptions {
   // follows each trajectory, as the calibration's does
   std::string network_prior = "residual";
   int network_nodes = 200;  // evidence: centres among the trajectory's inputs (the calibration's `nodes`)
+  // network=evidence with the network's hyperparameters given instead of searched (e.g. a fitted model.json's
+  // summary: `width`, and its prior sd): the widths (rate, temperature; normalised as the calibration's) and the
+  // weights' prior sd in deg/h. Empty / 0: by the expected evidence.
+  std::string network_widths;
+  double network_prior_sd_dph = 0.0;
   void bind(OptionTable& table);  // keys model.<name>
   std::string validate() const;
 };

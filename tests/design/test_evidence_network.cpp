@@ -129,6 +129,24 @@ TEST(DesignEvidenceNetwork, PlantedWidthsAndPriorAreRecoveredFromTheNoiseFreeTar
   xn.col(1) = (o.inputs.temp_c.array() - net.offset(1)) / (0.5 * (o.inputs.temp_c.maxCoeff() - o.inputs.temp_c.minCoeff()));
   EXPECT_NEAR((net.columns(o.inputs) - gaussian_columns(xn, net.centres, net.widths)).cwiseAbs().maxCoeff(), 0.0, 1e-12);
   EXPECT_NEAR(xn.col(0).minCoeff(), -1.0, 1e-12);
+
+  // Hyperparameters given (a fitted calibration's, model.network_widths / network_prior_sd_dph): the found ones
+  // give the found network back; a prior 10x narrower leaves fewer effective parameters, and the expected
+  // evidence there is lower (the found alpha maximises it at these widths).
+  NetworkSearchOptions given;
+  given.given_widths = net.widths;
+  given.given_prior_sd_radps = net.prior_sd_radps;
+  const NetworkNodes same = expected_evidence_network(o, physics, noise, given);
+  EXPECT_NEAR(same.effective_parameters, net.effective_parameters, 1e-9 * net.effective_parameters);
+  EXPECT_NEAR(same.expected_log_evidence, net.expected_log_evidence, 1e-9 * std::abs(net.expected_log_evidence));
+  EXPECT_EQ((same.centres - net.centres).cwiseAbs().maxCoeff(), 0.0);
+  given.given_prior_sd_radps = 0.1 * net.prior_sd_radps;
+  const NetworkNodes narrow = expected_evidence_network(o, physics, noise, given);
+  EXPECT_NEAR(narrow.prior_sd_radps, 0.1 * net.prior_sd_radps, 1e-12 * net.prior_sd_radps);
+  EXPECT_LT(narrow.effective_parameters, 0.8 * net.effective_parameters);
+  EXPECT_LT(narrow.expected_log_evidence, net.expected_log_evidence);
+  given.given_widths = Eigen::RowVectorXd::Constant(3, 0.2);
+  EXPECT_FALSE(given.validate().empty());
 }
 
 }  // namespace
