@@ -4,7 +4,8 @@
     vector_check.py EVALUATION.json CHECK.json [NAME=TRAJECTORY ...] [--flights short,medium] [--draws 200000]
 
 EVALUATION.json: `gyrosid design --evaluate` (per flight `bias_ned_m` m and `noise_covariance_ned_m2` C = S Sigma S');
-CHECK.json: predictor_check.py's output (per seed the NED error vector at the flight's end). NAME=TRAJECTORY maps a
+CHECK.json: predictor_check.py's output (per seed the NED error vector at the flight's end), or seed_sweep.py's
+(then NAME is the sweep's name, given as NAME=TRAJECTORY). NAME=TRAJECTORY maps a
 check's name to the evaluation's trajectory key (default: the name's `trajectory` as given to predictor_check).
 
 Per flight it reports, on C's principal axes, the predicted and achieved standard deviations (the achieved about the
@@ -35,6 +36,9 @@ def main():
     ev = json.load(open(a.evaluation))["trajectories"]
     check = json.load(open(a.check))
     keys = dict(n.split("=", 1) for n in a.names)
+    if check and "achieved" not in next(iter(check.values())):  # seed_sweep.py: {seed: {flight: {error_ned_m}}}
+        seeds = sorted(check, key=int)
+        check = {n: {"achieved": {f: {"vectors": [check[s][f]["error_ned_m"] for s in seeds]} for f in ("short", "medium")}} for n in keys}
     rng = np.random.default_rng(1)
     for name, row in check.items():
         key = keys.get(name)
@@ -59,6 +63,7 @@ def main():
             d2 = n * (mean - m) @ ci @ (mean - m)
             p_d2 = stats.chi2.sf(d2, 3)
             crit = np.linalg.norm(v, axis=1).mean()
+            crit_se = np.linalg.norm(v, axis=1).std(ddof=1) / math.sqrt(n)
             root = u @ np.diag(np.sqrt(lam)) @ u.T
 
             def means(bias):
@@ -71,8 +76,8 @@ def main():
                                                                            (np.sqrt(lam / n))[::-1].round(4)))
             print("  |m| %.4g, |mean| %.4g; spread k = %.3f (P(k' <= k) = %.3f, chi2 %d dof); mean test D2 = %.2f (p = %.3g)" % (
                 np.linalg.norm(m), np.linalg.norm(mean), math.sqrt(k2), p_k2, dof, d2, p_d2))
-            print("  criterion mean %.4g; predicted E|m+Sd| %.4g (n-seed mean sd %.3g, P(<= achieved) %.3f); "
-                  "m = 0: %.4g (sd %.3g, P %.3f)" % (crit, with_m.mean(), with_m.std(), (with_m <= crit).mean(),
+            print("  criterion mean %.4g +- %.2g (the seeds' se); predicted E|m+Sd| %.4g (n-seed mean sd %.3g, P(<= achieved) %.3f); "
+                  "m = 0: %.4g (sd %.3g, P %.3f)" % (crit, crit_se, with_m.mean(), with_m.std(), (with_m <= crit).mean(),
                                                        no_m.mean(), no_m.std(), (no_m <= crit).mean()))
 
 
