@@ -186,10 +186,7 @@ std::unique_ptr<DesignContext> DesignContext::following(const Observations& o) c
   const Eigen::MatrixXd a = regressor_->columns(o.inputs);
   NetworkSearchOptions search;
   search.nodes = model_.network_nodes;
-  if (!model_.network_widths.empty()) {
-    const double r = std::stod(model_.network_widths), t = std::stod(model_.network_widths.substr(model_.network_widths.find(',') + 1));
-    search.given_widths = Eigen::RowVector2d(r, t);
-  }
+  search.given_widths = model_.given_network_widths();
   search.given_prior_sd_radps = units::dph_to_radps(model_.network_prior_sd_dph);
   return derived(model_domain_, std::make_shared<const NetworkNodes>(
                                     expected_evidence_network(o, a(Eigen::all, columns_by_prior(*regressor_).flat), noise_, search)));

@@ -86,6 +86,12 @@ std::string ModelOptions::validate() const {
   return "";
 }
 
+Eigen::RowVectorXd ModelOptions::given_network_widths() const {
+  if (network_widths.empty()) return {};
+  const auto w = parse_list(network_widths, "model.network_widths");
+  return Eigen::Map<const Eigen::RowVectorXd>(w.data(), static_cast<Eigen::Index>(w.size()));
+}
+
 namespace {
 
 // Classical and grey-box: named physics terms (model/physics_terms.h) plus, for the grey-box, the

@@ -88,6 +88,7 @@ struct ModelOptions {
   double network_prior_sd_dph = 0.0;
   void bind(OptionTable& table);  // keys model.<name>
   std::string validate() const;
+  Eigen::RowVectorXd given_network_widths() const;  // network_widths parsed (empty when not given)
 };
 
 class Regressor {
