@@ -2,7 +2,7 @@
 """Many seeds of one trajectory, calibrated with gyrosid's best noisy calibration (rbf_noisy.yaml) and scored on the
 short and medium flights (optionally long): the end-position error vectors and the fits' evidence figures per seed.
 
-    seed_sweep.py GYROSID NAME TRAJECTORY --seeds 11-50 [--long] [--work DIR] --out results/seed_sweep_NAME.json
+    seed_sweep.py GYROSID NAME TRAJECTORY --seeds 11-50 [--long] [--sensor S] [--calibration C] [--work DIR] --out results/seed_sweep_NAME.json
 
 Each seed costs a few seconds (62-min dual scan: simulate 0.01 s, calibrate 2 s, cof short/medium 0.3 s, long
 1.4 s). Cached per seed under --work (default /tmp/gyrosid-seed-sweep), so a stopped run resumes. The figures
@@ -15,7 +15,6 @@ import os
 import subprocess
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-SENSOR = "builtin:sensors/open_loop_fog.yaml"
 
 
 def seeds_of(text):
@@ -39,6 +38,8 @@ def main():
     ap.add_argument("trajectory")
     ap.add_argument("--seeds", default="1-10")
     ap.add_argument("--long", action="store_true")
+    ap.add_argument("--sensor", default="builtin:sensors/open_loop_fog.yaml", help="sensor config (e.g. other_fog.yaml, the second sensor)")
+    ap.add_argument("--calibration", default="builtin:calibration/rbf_noisy.yaml", help="calibration config (e.g. a design's calibration.yaml)")
     ap.add_argument("--work", default="/tmp/gyrosid-seed-sweep")
     ap.add_argument("--out", required=True)
     a = ap.parse_args()
@@ -52,13 +53,13 @@ def main():
         os.makedirs(d, exist_ok=True)
         model = os.path.join(d, "model.json")
         if not os.path.exists(model):
-            rec = run(g + ["simulate", "--sensor", SENSOR, "--trajectory", a.trajectory, "--seed", str(s), "--out", os.path.join(d, "rec.csv")],
+            rec = run(g + ["simulate", "--sensor", a.sensor, "--trajectory", a.trajectory, "--seed", str(s), "--out", os.path.join(d, "rec.csv")],
                       os.path.join(d, "rec.csv"))
-            run(g + ["calibrate", "--recording", rec, "--config", "builtin:calibration/rbf_noisy.yaml", "--out", model], model)
+            run(g + ["calibrate", "--recording", rec, "--config", a.calibration, "--out", model], model)
             os.remove(rec)  # 1.3 MB each; the model is what is kept
         row = {}
         for f, extra in flights.items():
-            c = run(g + ["cof", "--model", model, "--sensor", SENSOR, "--trajectory", f] + extra + ["--out", os.path.join(d, f)],
+            c = run(g + ["cof", "--model", model, "--sensor", a.sensor, "--trajectory", f] + extra + ["--out", os.path.join(d, f)],
                     os.path.join(d, f, "cof.json"))
             j = json.load(open(c))
             row[f] = {"cof_m": j.get("error_after_1h_m", j["end_error_m"]), "error_ned_m": j["error_ned_m"]}
