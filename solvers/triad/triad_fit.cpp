@@ -33,6 +33,7 @@ OptionTable TriadFitOptions::table() {
       .integer("surface_window", &surface_window, 0, 100000, "surface_input=smoothed: half-width (samples) of the centred window")
       .choice("sequential_scale", &sequential_scale, {"triad", "surface"}, "sequential classical surfaces: triad = the second stage re-estimates M_ii (against the reference rate) and b with the surfaces, off-diagonals and G held - the joint fit's parametrisation; surface = the surface fitter's own constant scale factor on the measured output (its residual is then (1 - s_0) times the output residual)")
       .choice("rbf_joint", &rbf_joint, {"weights", "nodes"}, "joint rbf surfaces: weights moves the weights of the sequential fit's nodes (its centres and widths held: its cost can only fall); nodes moves centres and widths too")
+      .choice("order_criterion", &order_criterion, {"bic", "aic"}, "how surface.sf_rate_order=auto / sf_cross_order=auto choose: bic (Schwarz; the default: for the parameters, consistent when the family holds the sensor) or aic (Akaike; for prediction at the flights when no order holds it exactly, e.g. a FOG's rate ripple - higher orders, larger sigmas of M_ii)")
       .passthrough("nls.", &solver_options, "an option of the least-squares back-end (listed by --options-of triad)")
       .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver; classical: sf_temperature_order, sf_rate_order (0..10 or auto; default here auto = 0..6 by BIC), sf_cross_order (0..4 or auto; default here auto = 0..3 by BIC, 0 = the thesis's separable form)");
   return t;
@@ -79,6 +80,7 @@ OptionMap with_order(OptionMap map, const std::string& key, int order) {
 }  // namespace
 
 std::string TriadFitOptions::validate() const {
+  if (order_criterion != "bic" && order_criterion != "aic") return str_cat("order_criterion must be bic or aic, not '", order_criterion, "'");
   for (const char* key : kOrderKeys) {
     if (!order_auto(effective_surface_options(surfaces, surface_options), key)) continue;
     if (surfaces != "classical") return str_cat("surface.", key, "=auto needs surfaces=classical");
@@ -474,15 +476,19 @@ void information_criterion(TriadFit& fit, const Stage& final_stage, const Stage*
   }
   const double r = c.rows_per_gyro;
   if (counted && r > 0) {
-    c.bic = c.parameters * std::log(3.0 * r);
-    for (double rss : c.rss_radps2) c.bic += r * std::log(std::max(rss / r, 1e-300));
+    double minus_2_ln_l = 0.0;  // up to a constant that depends on R only
+    for (double rss : c.rss_radps2) minus_2_ln_l += r * std::log(std::max(rss / r, 1e-300));
+    c.bic = minus_2_ln_l + c.parameters * std::log(3.0 * r);
+    c.aic = minus_2_ln_l + 2.0 * c.parameters;
   }
+  auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
   fit.summary.details["information_criterion"] = {
-      {"bic", std::isfinite(c.bic) ? nlohmann::json(c.bic) : nlohmann::json(nullptr)},
+      {"bic", number(c.bic)},
+      {"aic", number(c.aic)},
       {"rows_per_gyro", c.rows_per_gyro},
       {"parameters", c.parameters},
       {"rss_radps2", c.rss_radps2},
-      {"definition", "BIC = sum_i R ln(rss_i / R) + k ln(3 R): R rows_per_gyro, k parameters, rss_i per gyro in (rad/s)^2 (solvers/triad/triad_fit.h)"}};
+      {"definition", "BIC = sum_i R ln(rss_i / R) + k ln(3 R), AIC = sum_i R ln(rss_i / R) + 2 k: R rows_per_gyro, k parameters, rss_i per gyro in (rad/s)^2 (solvers/triad/triad_fit.h)"}};
 }
 
 TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata) {
@@ -574,17 +580,18 @@ TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std:
 
 namespace {
 
-// One BIC comparison: candidate fits, the lowest finite BIC kept; every candidate's criterion (or why it was no
-// candidate) recorded by its order.
-struct BicChoice {
+// One comparison of orders by the information criterion `aic` or BIC: candidate fits, the lowest finite value
+// kept; every candidate's criterion (or why it was no candidate) recorded by its order.
+struct OrderChoice {
+  bool aic = false;
   std::optional<TriadFit> best;
-  double best_bic = INFINITY;
+  double best_value = INFINITY;
   nlohmann::json criteria = nlohmann::json::object();
 
   void offer(int order, TriadFit f) {
-    const double b = f.criterion.bic;
+    const double b = aic ? f.criterion.aic : f.criterion.bic;
     criteria[std::to_string(order)] = std::isfinite(b) ? nlohmann::json(b) : nlohmann::json(nullptr);
-    if (b < best_bic) best_bic = b, best = std::move(f);
+    if (b < best_value) best_value = b, best = std::move(f);
   }
   void fit(int order, const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata, bool must_fit) {
     try {
@@ -600,7 +607,8 @@ struct BicChoice {
 }  // namespace
 
 // surface.sf_rate_order=auto, surface.sf_cross_order=auto (the default for classical triad surfaces,
-// effective_surface_options): the orders chosen by the Bayesian information criterion of the fit in the mode
+// effective_surface_options): the orders chosen by the Bayesian information criterion (order_criterion=aic:
+// Akaike's) of the fit in the mode
 // asked for (joint or sequential, each by its own final problem), so that neither mode is handed a family the
 // data reject or denied one they call for. First the rate order 0..kMaxAutoRateOrder in the separable form
 // (or at the given cross order), then the cross order 1..kMaxAutoCrossOrder at the chosen rate order. BIC
@@ -617,31 +625,33 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   nlohmann::json details = nlohmann::json::object();
   std::optional<TriadFit> best;
   bool rate_shape = true;  // a rate order 0 has no rate shape for the temperature to move
+  const bool aic = o.order_criterion == "aic";
+  const std::string by = aic ? "AIC" : "BIC", key_suffix = aic ? "_aic" : "_bic";
   if (rate_auto) {
-    BicChoice rate;
+    OrderChoice rate{aic};
     const OptionMap base = cross_auto ? with_order(surface_options, "sf_cross_order", 0) : surface_options;
     for (int order = 0; order <= kMaxAutoRateOrder; ++order) {
       oc.surface_options = with_order(base, "sf_rate_order", order);
       rate.fit(order, d, oc, reference_metadata, order == 0);
     }
-    if (!rate.best) fail("triad: surface.sf_rate_order=auto found no order with a finite BIC (", rate.criteria.dump(), "); give the order");
+    if (!rate.best) fail("triad: surface.sf_rate_order=auto found no order with a finite ", by, " (", rate.criteria.dump(), "); give the order");
     const int chosen = rate.chosen("sf_rate_order");
-    notes.push_back(str_cat("surface.sf_rate_order=auto: order ", chosen, " chosen by BIC (", rate.criteria.dump(), ")"));
-    details["sf_rate_order_bic"] = rate.criteria;
+    notes.push_back(str_cat("surface.sf_rate_order=auto: order ", chosen, " chosen by ", by, " (", rate.criteria.dump(), ")"));
+    details["sf_rate_order" + key_suffix] = rate.criteria;
     surface_options = with_order(surface_options, "sf_rate_order", chosen);
     best = std::move(rate.best);
     rate_shape = chosen > 0;
   }
   if (cross_auto && rate_shape) {
-    BicChoice cross;
+    OrderChoice cross{aic};
     if (best) cross.offer(0, std::move(*best));  // the separable form at the chosen rate order, fitted above
     for (int order = best ? 1 : 0; order <= kMaxAutoCrossOrder; ++order) {
       oc.surface_options = with_order(surface_options, "sf_cross_order", order);
       cross.fit(order, d, oc, reference_metadata, order == 0);
     }
-    if (!cross.best) fail("triad: surface.sf_cross_order=auto found no order with a finite BIC (", cross.criteria.dump(), "); give the order");
-    notes.push_back(str_cat("surface.sf_cross_order=auto: order ", cross.chosen("sf_cross_order"), " chosen by BIC (", cross.criteria.dump(), ")"));
-    details["sf_cross_order_bic"] = cross.criteria;
+    if (!cross.best) fail("triad: surface.sf_cross_order=auto found no order with a finite ", by, " (", cross.criteria.dump(), "); give the order");
+    notes.push_back(str_cat("surface.sf_cross_order=auto: order ", cross.chosen("sf_cross_order"), " chosen by ", by, " (", cross.criteria.dump(), ")"));
+    details["sf_cross_order" + key_suffix] = cross.criteria;
     best = std::move(cross.best);
   }
   best->options = o;

@@ -75,6 +75,9 @@ struct TriadFitOptions {
   int surface_window = 30;                  // smoothed: half-width of the centred window, samples
   OptionMap surface_options;          // surface.<key>=<value>: options of the surface kind or its solver;
                                       // classical surfaces without sf_rate_order / sf_cross_order: auto (fit_triad)
+  std::string order_criterion = "bic";  // auto surface orders chosen by bic (the parameters: consistent when the
+                                        // family holds the sensor) or aic (the flights: efficient prediction when
+                                        // it does not, e.g. a FOG's rate ripple); TriadInformationCriterion
   OptionTable table();
   std::string validate() const;
 };
@@ -99,12 +102,14 @@ struct TriadUncertainty {
 // and a classical surface fitted by its own fitter (sequential_scale=surface) by its coefficients. NaN where the
 // fit's parameters are not all counted that way (greybox or rbf surfaces fitted by their own fitter) or where
 // not every residual is a row (reference=gravity: the turns' residuals).
+// Akaike's criterion from the same likelihood, AIC = sum_i R ln(rss_i / R) + 2 k, for order_criterion=aic.
 struct TriadInformationCriterion {
   int rows_per_gyro = 0;              // R
   int parameters = 0;                 // k
   std::array<double, 3> rss_radps2{}; // per gyro, over its rows (weighted as the rows are), the surfaces at the
                                       // input they were fitted at (surface_input)
   double bic = NAN;
+  double aic = NAN;
 };
 
 struct TriadFit {

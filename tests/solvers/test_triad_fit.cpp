@@ -757,7 +757,41 @@ TEST(TriadFit, EveryFitWritesItsInformationCriterionAsDefined) {
     for (int a = 0; a < 3; ++a) EXPECT_NEAR(ic["rss_radps2"][a].get<double>(), residual.col(a).squaredNorm(), 1e-9 * residual.col(a).squaredNorm()) << label;
     EXPECT_NEAR(ic["bic"].get<double>(), bic, 1e-9 * std::abs(bic)) << label;
     EXPECT_EQ(ic["bic"].get<double>(), f.criterion.bic) << label;
+    const double aic = bic - c.parameters * std::log(3.0 * rows) + 2.0 * c.parameters;  // AIC = -2 ln L + 2 k
+    EXPECT_NEAR(ic["aic"].get<double>(), aic, 1e-9 * std::abs(aic)) << label;
   }
+}
+
+// order_criterion=aic: the orders chosen by AIC (penalty 2 per parameter against BIC's ln(3R) > 2). For nested
+// candidates the AIC minimiser is never a lower order than the BIC one (if BIC prefers order b to a lower a, the
+// likelihood gain from a to b exceeds (k_b - k_a) ln(3R) > 2 (k_b - k_a), so AIC prefers b too), and on these
+// four rate magnitudes, where orders above the planted 2 only trade with M_ii, every order above it adds 3
+// parameters for a likelihood gain of a few units: AIC must still keep 2 or go higher, and it takes the lowest
+// AIC it wrote.
+TEST(TriadFit, AkaikesCriterionChoosesNoLowerOrderThanSchwarzs) {
+  const FewMagnitudeTriad t = few_magnitude_triad(400, dps_to_radps(0.04), 3);
+  TriadFitOptions o;
+  o.surfaces = "classical";
+  o.bias_order = 1;
+  o.surface_options = {{"sf_temperature_order", "0"}, {"sf_cross_order", "0"}};
+  const TriadFit by_bic = fit_triad(t.data, o);
+  o.order_criterion = "aic";
+  const TriadFit by_aic = fit_triad(t.data, o);
+  ASSERT_TRUE(by_aic.summary.details.contains("sf_rate_order_aic"));
+  EXPECT_FALSE(by_aic.summary.details.contains("sf_rate_order_bic"));
+  const int bic_order = std::stoi(by_bic.summary.details["surface_sf_rate_order"].get<std::string>());
+  const int aic_order = std::stoi(by_aic.summary.details["surface_sf_rate_order"].get<std::string>());
+  EXPECT_EQ(bic_order, 2);
+  EXPECT_GE(aic_order, bic_order);
+  double lowest = INFINITY;
+  int argmin = -1;
+  for (const auto& [order, value] : by_aic.summary.details["sf_rate_order_aic"].items()) {
+    if (value.is_number() && value.get<double>() < lowest) lowest = value.get<double>(), argmin = std::stoi(order);
+  }
+  EXPECT_EQ(aic_order, argmin);
+  EXPECT_EQ(by_aic.criterion.aic, lowest);
+  o.order_criterion = "aicc";
+  EXPECT_NE(o.validate().find("order_criterion"), std::string::npos);
 }
 
 // A hand-turned session (reference=gravity): 14 holds of 1 s at random attitudes (Earth rate neglected,
