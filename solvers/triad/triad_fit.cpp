@@ -481,10 +481,9 @@ void information_criterion(TriadFit& fit, const Stage& final_stage, const Stage*
     c.bic = minus_2_ln_l + c.parameters * std::log(3.0 * r);
     c.aic = minus_2_ln_l + 2.0 * c.parameters;
   }
-  auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
   fit.summary.details["information_criterion"] = {
-      {"bic", number(c.bic)},
-      {"aic", number(c.aic)},
+      {"bic", number_or_null(c.bic)},
+      {"aic", number_or_null(c.aic)},
       {"rows_per_gyro", c.rows_per_gyro},
       {"parameters", c.parameters},
       {"rss_radps2", c.rss_radps2},
@@ -590,7 +589,7 @@ struct OrderChoice {
 
   void offer(int order, TriadFit f) {
     const double b = aic ? f.criterion.aic : f.criterion.bic;
-    criteria[std::to_string(order)] = std::isfinite(b) ? nlohmann::json(b) : nlohmann::json(nullptr);
+    criteria[std::to_string(order)] = number_or_null(b);
     if (b < best_value) best_value = b, best = std::move(f);
   }
   void fit(int order, const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata, bool must_fit) {

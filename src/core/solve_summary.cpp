@@ -57,8 +57,9 @@ SolveSummary finish_summary(std::string solver, const SolveClock& clock, SolveMo
 
 }  // namespace detail
 
-namespace {
 nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+namespace {
 double number_or_nan(const nlohmann::json& j, const char* key) {
   return j.contains(key) && j.at(key).is_number() ? j.at(key).get<double>() : NAN;
 }

@@ -93,6 +93,8 @@ template <typename Body>
 SolveSummary timed_solve(std::string solver, Body&& body);
 
 void to_json(nlohmann::json& j, const SolveSummary& s);
+// A figure as JSON: the number, or null where it is NaN or infinite (JSON has neither).
+nlohmann::json number_or_null(double v);
 SolveSummary solve_summary_from_json(const nlohmann::json& j);
 
 // --- implementation --------------------------------------------------------------------------------

@@ -7,8 +7,6 @@
 namespace gyrosid {
 namespace {
 
-nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
-
 nlohmann::json matrix(const Eigen::Matrix3d& m, const std::array<std::array<bool, 3>, 3>& known, double scale = 1.0) {
   nlohmann::json rows = nlohmann::json::array();
   for (int i = 0; i < 3; ++i) {
