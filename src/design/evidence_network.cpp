@@ -127,30 +127,26 @@ NetworkNodes expected_evidence_network(const Observations& o, const Eigen::Matri
   };
   if (opt.given_widths.size() == 2) {
     evaluate(opt.given_widths);
-    net.widths = best.widths;
-    net.prior_sd_radps = std::exp(-0.5 * best.log_alpha);
-    net.effective_parameters = best.gamma;
-    net.expected_log_evidence = best.value;
-    return net;
-  }
-  // Scan of one common width, then the per-input widths from the best, bounded below where an input was
-  // recorded at discrete levels (as the calibration: identifiable_min_widths).
-  for (int i = 0; i < opt.scan; ++i) {
-    const double f = opt.scan == 1 ? 0.5 : static_cast<double>(i) / (opt.scan - 1);
-    evaluate(Eigen::RowVectorXd::Constant(2, std::exp(std::log(opt.scan_min) + f * (std::log(opt.scan_max) - std::log(opt.scan_min)))));
-  }
-  const std::vector<double> floors = identifiable_min_widths(x, opt.min_width);
-  std::vector<double> lower(2), upper(2), start(2);
-  for (std::size_t k = 0; k < 2; ++k) {
-    lower[k] = std::log(floors[k]);
-    upper[k] = std::log(std::max(opt.max_width, floors[k]));
-    start[k] = std::clamp(std::log(best.widths(static_cast<Eigen::Index>(k))), lower[k], upper[k]);
-  }
-  if (opt.evaluations > 0) {
-    BoundedSearchOptions so;
-    so.algorithm = "LN_BOBYQA", so.max_evaluations = opt.evaluations, so.xtol_rel = 1e-3, so.initial_step = 0.3;
-    minimize_bounded([&](const std::vector<double>& rho) { return -evaluate(Eigen::RowVector2d(std::exp(rho[0]), std::exp(rho[1]))); },
-                     start, lower, upper, so);
+  } else {
+    // Scan of one common width, then the per-input widths from the best, bounded below where an input was
+    // recorded at discrete levels (as the calibration: identifiable_min_widths).
+    for (int i = 0; i < opt.scan; ++i) {
+      const double f = opt.scan == 1 ? 0.5 : static_cast<double>(i) / (opt.scan - 1);
+      evaluate(Eigen::RowVectorXd::Constant(2, std::exp(std::log(opt.scan_min) + f * (std::log(opt.scan_max) - std::log(opt.scan_min)))));
+    }
+    const std::vector<double> floors = identifiable_min_widths(x, opt.min_width);
+    std::vector<double> lower(2), upper(2), start(2);
+    for (std::size_t k = 0; k < 2; ++k) {
+      lower[k] = std::log(floors[k]);
+      upper[k] = std::log(std::max(opt.max_width, floors[k]));
+      start[k] = std::clamp(std::log(best.widths(static_cast<Eigen::Index>(k))), lower[k], upper[k]);
+    }
+    if (opt.evaluations > 0) {
+      BoundedSearchOptions so;
+      so.algorithm = "LN_BOBYQA", so.max_evaluations = opt.evaluations, so.xtol_rel = 1e-3, so.initial_step = 0.3;
+      minimize_bounded([&](const std::vector<double>& rho) { return -evaluate(Eigen::RowVector2d(std::exp(rho[0]), std::exp(rho[1]))); },
+                       start, lower, upper, so);
+    }
   }
   net.widths = best.widths;
   net.prior_sd_radps = std::exp(-0.5 * best.log_alpha);
