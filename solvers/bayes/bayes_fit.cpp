@@ -244,11 +244,13 @@ SearchOutcome search_widths(WidthSearch& search, const BayesFitOptions& o, const
   if (start) best = search(rho = bounded(*start), none);
   // The scan runs even from a warm start: a warm start from the white fit is where its surface bent to follow
   // drift (a narrow temperature width), which a coloured noise model explains with far higher evidence.
-  std::vector<double> scanned;  // log widths of the scan
+  std::vector<double> scanned;            // log widths of the scan
+  std::set<std::vector<double>> tried;    // the (bounded) points evaluated
   for (int i = 0; i < o.scan; ++i) {
     const double f = o.scan == 1 ? 0.5 : static_cast<double>(i) / (o.scan - 1);
     scanned.push_back(std::log(o.scan_min) + f * (std::log(o.scan_max) - std::log(o.scan_min)));
     const std::vector<double> r = bounded({scanned.back()});
+    tried.insert(r);
     const double v = search(r, none);
     if (v < best) best = v, rho = r;
   }
@@ -259,11 +261,10 @@ SearchOutcome search_widths(WidthSearch& search, const BayesFitOptions& o, const
   // 8397.53 with 7.3 effective parameters, and the soak's criterion of fit over 30 seeds was 0.126 m (short
   // flight) where the network stayed off against 0.069 m where it did not (trajectory_design/README.md).
   if (nv == 2 && !scanned.empty() && search.best_precisions().log_alpha >= EvidenceBounds{}.max_log_alpha - 1e-9) {
-    std::set<std::vector<double>> tried;
     for (double a : scanned)
       for (double b : scanned) {
         const std::vector<double> r = bounded({a, b});
-        if (a == b || !tried.insert(r).second) continue;  // (a == b: scanned above)
+        if (!tried.insert(r).second) continue;  // the same point after the bounds
         const double v = search(r, none);
         if (v < best) best = v, rho = r;
       }

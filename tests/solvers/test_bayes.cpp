@@ -753,4 +753,3 @@ TEST(HybridFit, FindsTheNetworkALevelledSoakSupportsOnlyWithUnequalWidths) {
 
 }  // namespace
 }  // namespace gyrosid
-
