@@ -4,6 +4,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+
+#include <unistd.h>
 
 #include "core/imu_import.h"
 #include "core/units.h"
@@ -24,7 +27,9 @@ class ImuImport : public ::testing::Test {
     std::ofstream(dir_ / name) << text;
     return (dir_ / name).string();
   }
-  fs::path dir_ = fs::temp_directory_path() / "gyrosid_imu_import";
+  // One directory per test and process: ctest runs this fixture's tests in parallel processes.
+  fs::path dir_ = fs::temp_directory_path() /
+                  ("gyrosid_imu_import_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" + std::to_string(getpid()));
 };
 
 TEST_F(ImuImport, KalibrNanosecondsAndRadiansBecomeSecondsAndDegrees) {
