@@ -33,6 +33,7 @@ OptionTable TriadFitOptions::table() {
       .integer("surface_window", &surface_window, 0, 100000, "surface_input=smoothed: half-width (samples) of the centred window")
       .choice("sequential_scale", &sequential_scale, {"triad", "surface"}, "sequential classical surfaces: triad = the second stage re-estimates M_ii (against the reference rate) and b with the surfaces, off-diagonals and G held - the joint fit's parametrisation; surface = the surface fitter's own constant scale factor on the measured output (its residual is then (1 - s_0) times the output residual)")
       .choice("rbf_joint", &rbf_joint, {"weights", "nodes"}, "joint rbf surfaces: weights moves the weights of the sequential fit's nodes (its centres and widths held: its cost can only fall); nodes moves centres and widths too")
+      .choice("rbf_diagonal", &rbf_diagonal, {"zero_rate", "mean"}, "rbf surfaces: what M_ii carries - zero_rate = the zero-rate scale factor, the surface's slope at zero rate held near 0 (the off-diagonals then the zero-rate cross gains); mean = the first stage's mean scale factor over the turns, the surface's share of M_ii's column held")
       .choice("order_criterion", &order_criterion, {"bic", "aic"}, "how surface.sf_rate_order=auto / sf_cross_order=auto choose: bic (Schwarz; the default: for the parameters, consistent when the family holds the sensor) or aic (Akaike; for prediction at the flights when no order holds it exactly, e.g. a FOG's rate ripple - higher orders, larger sigmas of M_ii)")
       .passthrough("nls.", &solver_options, "an option of the least-squares back-end (listed by --options-of triad)")
       .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver; classical: sf_temperature_order, sf_rate_order (0..10 or auto; default here auto = 0..6 by BIC), sf_cross_order (0..4 or auto; default here auto = 0..3 by BIC, 0 = the thesis's separable form)");
@@ -132,10 +133,15 @@ void hold_node_shapes(NlsProblem& p, const TriadLayout& layout) {
 
 // hold_cross_axis: M's off-diagonal entries and G held at the spec's start values (the sequential fit's second
 // stage, classical surfaces).
+// `start`: a solved stage of the same spec whose values the problem starts from (its free entries and the held).
 Stage run_stage(const TriadData& d, const TriadRows& rows, const TriadProblemSpec& spec, const TriadFitOptions& o,
-                const std::vector<GravityTurn>* turns = nullptr, bool hold_cross_axis = false, bool whiten_turns = true) {
+                const std::vector<GravityTurn>* turns = nullptr, bool hold_cross_axis = false, bool whiten_turns = true,
+                const Stage* start = nullptr) {
   Stage s;
   s.problem = build_triad_problem(d, rows, spec, s.layout);
+  if (start) {
+    for (int b = 0; b < s.problem.block_count(); ++b) s.problem.block(b).values = start->problem.block(b).values;
+  }
   if (hold_cross_axis) {
     for (int i = 0; i < 3; ++i) {
       const auto ai = static_cast<std::size_t>(i);
@@ -302,11 +308,36 @@ std::array<std::shared_ptr<const CalibrationModel>, 3> fit_surfaces(const TriadD
   return out;
 }
 
+// rbf_diagonal=zero_rate (triad_fit.h): one row w' s, s_j the slope d phi_j / d x_rate of node j at zero rate
+// averaged over kSlopeTemperatures temperatures spread over [t_lo, t_hi] (normalised), times kSlopeWeight -
+// the surface's mean slope in its own rate at zero rate, held near 0 so that M_aa carries the zero-rate scale
+// factor. One row, one degree of freedom: the gauge along which M_aa and the surface trade. A slope that
+// varies with temperature (a scale factor s_T(T)) stays the surface's.
+Eigen::MatrixXd zero_rate_slope_row(const RbfNetwork& net, double t_lo, double t_hi) {
+  constexpr int kSlopeTemperatures = 21;
+  constexpr double kSlopeWeight = 1e3;  // a hard gauge on one degree of freedom (triad_fit.h)
+  const double raw[2] = {0.0, 0.0};
+  double zero[2];
+  net.normalizer.apply(raw, zero);
+  Eigen::MatrixXd row = Eigen::MatrixXd::Zero(1, net.nodes());
+  for (int m = 0; m < kSlopeTemperatures; ++m) {
+    const double t = t_lo + (t_hi - t_lo) * m / (kSlopeTemperatures - 1);
+    for (Eigen::Index j = 0; j < net.nodes(); ++j) {
+      // phi = exp(-u0^2 - u1^2), u_k = (x_k - c_k) / r_k: d phi / d x_0 = -2 u0 / r_0 phi (model/gaussian_node.h)
+      const double u0 = (zero[0] - net.centres(j, 0)) / net.widths(j, 0), u1 = (t - net.centres(j, 1)) / net.widths(j, 1);
+      row(0, j) += kSlopeWeight / kSlopeTemperatures * -2.0 * u0 / net.widths(j, 0) * std::exp(-(u0 * u0 + u1 * u1));
+    }
+  }
+  return row;
+}
+
 // Gyro a's weight rows in the joint problem (SurfaceTerm::weight_penalty), P w - t: the ridge its sequential fit
 // applied (`summary`: that fit's; the ols fitter's global ridge, t = 0; other fitters' regularisation is not
 // carried over, noted) stacked on the rows of the surface's share of M_aa's and b_a's columns (surface_terms.h),
-// held at the sequential fit's share with weight kOwnedWeight on a unit-norm residual vector. The sequential
-// solution meets every row, so the joint cost starts at the sequential cost and can only fall.
+// held at the sequential fit's share with weight kOwnedWeight on a unit-norm residual vector; with
+// rbf_diagonal=zero_rate M_aa's column is not among them, and the zero-rate slope row (target 0) is added
+// instead (zero_rate_slope_row). The sequential solution meets every row, so the joint cost starts at the sequential cost and can
+// only fall.
 std::pair<Eigen::MatrixXd, Eigen::VectorXd> joint_weight_rows(const TriadData& d, const Eigen::MatrixX3d& surface_rate, int a, const RbfNetwork& net,
                                                               const TriadBias& bias, int bias_order, const nlohmann::json& summary, const TriadFitOptions& o, std::vector<std::string>& notes) {
   constexpr double kOwnedWeight = 1e3;
@@ -322,8 +353,10 @@ std::pair<Eigen::MatrixXd, Eigen::VectorXd> joint_weight_rows(const TriadData& d
     double vp = 1.0;
     for (int p = 0; p <= bias_order; ++p, vp *= v) owned(k, 1 + p) = vp;
   }
-  if (owned.col(0).isZero(0.0)) owned = owned.rightCols(bias_order + 1).eval();  // never turned: M_aa is not in the problem's span
+  // never turned: M_aa is not in the problem's span; zero_rate: M_aa's split is fixed by the slope row instead
+  if (owned.col(0).isZero(0.0) || o.rbf_diagonal == "zero_rate") owned = owned.rightCols(bias_order + 1).eval();
   const Eigen::MatrixXd constraint = owned_column_rows(net, x, owned, kOwnedWeight);
+  const Eigen::MatrixXd slope = o.rbf_diagonal == "zero_rate" ? zero_rate_slope_row(net, x.col(1).minCoeff(), x.col(1).maxCoeff()) : Eigen::MatrixXd();
   const nlohmann::json details = summary.value("details", nlohmann::json::object());
   Eigen::MatrixXd ridge;
   if (o.surface_solver == "ols" && details.contains("lambda") && details["lambda"].is_number()) {
@@ -331,8 +364,9 @@ std::pair<Eigen::MatrixXd, Eigen::VectorXd> joint_weight_rows(const TriadData& d
   } else if (a == 0) {
     notes.push_back(str_cat("joint rbf: the ", o.surface_solver, " fitter's regularisation is not carried into the joint problem"));
   }
-  Eigen::MatrixXd rows(ridge.rows() + constraint.rows(), net.nodes());
+  Eigen::MatrixXd rows(ridge.rows() + slope.rows() + constraint.rows(), net.nodes());
   if (ridge.size() > 0) rows.topRows(ridge.rows()) = ridge;
+  if (slope.size() > 0) rows.middleRows(ridge.rows(), slope.rows()) = slope;  // target 0
   rows.bottomRows(constraint.rows()) = constraint;
   Eigen::VectorXd target = Eigen::VectorXd::Zero(rows.rows());
   target.tail(constraint.rows()) = constraint * net.weights;
@@ -538,20 +572,34 @@ TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std:
   }
   const Eigen::MatrixX3d surface_rate = smoothed ? smoothed_outputs(d, spec.start, o.surface_window) : d.gyro;
   spec.surface_rate = &surface_rate;
-  // Sequential classical surfaces with sequential_scale=triad: the second stage is the triad problem with M's
-  // off-diagonals and G held at the first stage's - M_ii, b and the surfaces in the joint fit's parametrisation.
-  const bool triad_scale = o.surfaces == "classical" && o.estimation == "sequential" && o.sequential_scale == "triad";
+  // Sequential classical surfaces with sequential_scale=triad, and RBF surfaces with rbf_diagonal=zero_rate: the
+  // second stage is the triad problem with M's off-diagonals and G held at the first stage's - M_ii, b and the
+  // surfaces in the joint fit's parametrisation. A joint RBF fit in that gauge starts from that stage.
+  const bool classical_scale = o.surfaces == "classical" && o.estimation == "sequential" && o.sequential_scale == "triad";
+  const bool rbf_zero_rate = o.surfaces == "rbf" && o.rbf_diagonal == "zero_rate";
+  const bool triad_scale = classical_scale || (rbf_zero_rate && o.estimation == "sequential");
   std::array<std::shared_ptr<const CalibrationModel>, 3> sequential_surfaces;
-  if (o.surfaces != "none" && (o.estimation == "sequential" || o.surfaces == "rbf") && !triad_scale) {
+  // zero_rate: the networks are selected for the whole scale-factor error (M_ii's share of it too, M_ii set to
+  // 0), so that their nodes can hold the trend M_ii leaves them once the held stage moves it to the zero-rate gain.
+  if (rbf_zero_rate) spec.start.misalignment.diagonal().setZero();
+  if (o.surfaces != "none" && (o.estimation == "sequential" || o.surfaces == "rbf") && !classical_scale) {
     sequential_surfaces = fit_surfaces(d, spec.start, o, bias_order, surface_rate, stages);
   }
   std::array<std::unique_ptr<SurfaceTerm>, 3> terms;
   Stage first;
   if ((o.estimation == "joint" || triad_scale) && o.surfaces != "none") {
     joint_terms(d, o, bias_order, surface_rate, sequential_surfaces, stages, spec, terms, fit.notes);
-    if (triad_scale) first = std::move(stage);
-    stage = run_stage(d, rows, spec, o, nullptr, triad_scale);
-    stages.push_back({{"stage", triad_scale ? "surfaces with M_ii and b (off-diagonals and G held)" : "joint"}, {"summary", stage.summary}});
+    const bool held_stage = triad_scale || rbf_zero_rate;
+    if (held_stage) first = std::move(stage);
+    TriadFitOptions weights_only = o;  // the held stage moves the nodes' weights only (rbf_joint=nodes: the joint stage the rest)
+    weights_only.rbf_joint = "weights";
+    stage = run_stage(d, rows, spec, held_stage ? weights_only : o, nullptr, held_stage);
+    stages.push_back({{"stage", held_stage ? "surfaces with M_ii and b (off-diagonals and G held)" : "joint"}, {"summary", stage.summary}});
+    if (held_stage && !triad_scale) {  // joint RBF, zero_rate: everything free, from the held stage's solution
+      const Stage held = std::move(stage);
+      stage = run_stage(d, rows, spec, o, nullptr, false, true, &held);
+      stages.push_back({{"stage", "joint"}, {"summary", stage.summary}});
+    }
   }
   fit.model = triad_model_of(stage.problem, stage.layout, spec);
   if (o.estimation == "sequential" && !triad_scale) fit.model.surfaces = sequential_surfaces;
