@@ -579,9 +579,6 @@ TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std:
   const bool rbf_zero_rate = o.surfaces == "rbf" && o.rbf_diagonal == "zero_rate";
   const bool triad_scale = classical_scale || (rbf_zero_rate && o.estimation == "sequential");
   std::array<std::shared_ptr<const CalibrationModel>, 3> sequential_surfaces;
-  // zero_rate: the networks are selected for the whole scale-factor error (M_ii's share of it too, M_ii set to
-  // 0), so that their nodes can hold the trend M_ii leaves them once the held stage moves it to the zero-rate gain.
-  if (rbf_zero_rate) spec.start.misalignment.diagonal().setZero();
   if (o.surfaces != "none" && (o.estimation == "sequential" || o.surfaces == "rbf") && !classical_scale) {
     sequential_surfaces = fit_surfaces(d, spec.start, o, bias_order, surface_rate, stages);
   }

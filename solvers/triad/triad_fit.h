@@ -33,20 +33,21 @@
 //   zero_rate (default): M_ii is the zero-rate scale factor (the gain a small-signal test measures), the
 //               surface carries the rate dependence: a row holds the surface's slope in its own rate at zero
 //               rate, averaged over the training temperatures, at 0 (a slope that varies with temperature stays
-//               the surface's). The networks are selected for the whole scale-factor error (M_ii = 0 at their
-//               fit); a second stage then fits M_ii, b and the weights in this gauge with the off-diagonals and
-//               G held at the first stage's - the sequential result - and the joint fit frees them from there
-//               (its cost can only fall). The off-diagonals are the zero-rate cross gains, which the rows where
-//               gyro i is still measure directly.
+//               the surface's). The networks are selected as in the mean gauge; a second stage then fits M_ii,
+//               b and the weights in this gauge with the off-diagonals and G held at the first stage's - the
+//               sequential result - and the joint fit frees them from there (its cost can only fall). The
+//               off-diagonals are the zero-rate cross gains, which the rows where gyro i is still measure.
 //   mean:       M_ii is the first stage's mean scale factor over the training turns, and the surface's share of
 //               M_ii's column is held at the sequential fit's (owned_column_rows). The surface then needs a
 //               slope of -M_ii at zero rate where gyro i is still, and the joint fit put the factor (1 + M_ii) on
 //               the off-diagonals instead (experiments/triad_misalignment/README.md).
-// Measured on the rate-sweep FOG triad, joint, criterion of fit short / medium / long (m): noise-free 0.518 /
-// 0.0131 / 562 (zero_rate) against 0.781 / 0.388 / 1132 (mean); noise seeds 1-2 0.336 / 0.176 / 3.58e4 and
-// 0.400 / 0.162 / 2.47e4 against 0.815 / 0.675 / 3.61e4 and 0.754 / 0.624 / 2.51e4. The row's weight: noise-free
-// flights agree to 3 digits from 0.01 to 1e4; with noise weights of 100 and more agree, weaker ones let the
-// noise move M_ii; 1e3 is used.
+// Measured (experiments/triad_misalignment, compare, rate sweep, 20 noisy seeds, median criterion of fit of the
+// joint fit, short / medium / long, m): reference FOG triad 0.484 / 0.199 / 3.51e4 (zero_rate) against 0.716 /
+// 0.569 / 3.44e4 (mean); the rate-linear control 0.0558 / 0.239 / 2.41e4 against 0.0568 / 0.245 / 2.41e4; joint
+// and sequential tie in every cell (they were 0.9 % apart on the FOG's short flight). Selecting the networks
+// with M_ii = 0 instead (the whole scale factor theirs) was worse: the control 0.147 / 0.431 m, the FOG's long
+// flight 4.23e4 m. The row's weight (1e3; measured in that variant): noise-free flights agree to 3 digits from
+// 0.01 to 1e4; with noise, weights of 100 and more agree and weaker ones let the noise move M_ii.
 //
 // The surfaces' rate input while fitting (surface_input). Fitted at the *recorded* output (measured), every
 // surface column carries the very noise its row fits: errors in variables. A rate polynomial then spends its
