@@ -400,6 +400,52 @@ TriadData turns_triad(const TriadModel& m, const std::vector<double>& rates, con
   return d;
 }
 
+// The planted triad of the RBF tests: M, biases linear in temperature, gyro a's scale factor
+// s(w) = sigma_1 u + sigma_2 u^2 (u = w / (1 rad/s)) with (sigma_1, sigma_2) = sf_rate(a).
+template <class SfRate>
+TriadModel planted_rbf_triad(SfRate sf_rate) {
+  TriadModel m;
+  m.misalignment << 2e-4, -1e-3, 3e-3, 8e-4, -5e-4, 1.4e-3, 4e-4, -1e-3, 1e-4;
+  m.bias.reference_c = 25.0;
+  m.bias.scale_c = 25.0;
+  for (int a = 0; a < 3; ++a) {
+    m.bias.coefficients[static_cast<std::size_t>(a)] = Eigen::Vector2d(dph_to_radps(10.0 * (a - 1)), dph_to_radps(3.0));
+    auto surface = std::make_shared<ClassicalModel>(default_features(), ModelTarget::error);
+    surface->bias = Eigen::VectorXd::Zero(1);
+    surface->sf_temperature = Eigen::VectorXd::Zero(1);
+    const Eigen::Vector2d s = sf_rate(a);
+    surface->sf_rate = Eigen::Vector3d(0.0, s(0), s(1));
+    m.surfaces[static_cast<std::size_t>(a)] = surface;
+  }
+  return m;
+}
+
+// Their training: turns at -120..120 deg/s by 10 at 0, 25 and 50 C, 4 samples each, 10 deg/h white noise; and
+// their fit options (RBF surfaces, BIC-selected width-0.3 nodes).
+TriadData noisy_turns_training(const TriadModel& m, unsigned seed) {
+  std::vector<double> rates;
+  for (int r = -120; r <= 120; r += 10) rates.push_back(r);
+  TriadData train = turns_triad(m, rates, {0.0, 25.0, 50.0}, 4);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, dph_to_radps(10.0));
+  for (Eigen::Index k = 0; k < train.gyro.size(); ++k) train.gyro.data()[k] += noise(rng);
+  return train;
+}
+TriadFitOptions rbf_surface_fit() {
+  TriadFitOptions o;
+  o.surfaces = "rbf";
+  o.bias_order = 1;
+  o.surface_options = {{"criterion", "bic"}, {"width", "0.3"}};
+  return o;
+}
+
+// Compensation error (deg/h rms) of a fit at rates between the training ones, at the training temperatures
+// (width-0.3 nodes do not bridge 25 C gaps).
+double between_rates_rms_dph(const TriadFit& f, const TriadModel& m) {
+  const TriadData probe = turns_triad(m, {0.0, 35.0, -35.0, 75.0, -75.0, 105.0, -105.0}, {0.0, 25.0, 50.0}, 1);
+  return radps_to_dph(std::sqrt((f.model.compensate(probe) - probe.reference).squaredNorm() / static_cast<double>(probe.gyro.size())));
+}
+
 // RBF surfaces, fitted jointly (rbf_joint=weights): the sequential fit's nodes - its centres and widths, the
 // structure its criterion chose - kept, their weights moved with M and b, the surfaces kept out of the columns
 // of M_ii and b_i. Planted: M, biases linear in temperature, a rate-nonlinear scale factor (the RBF's job),
@@ -407,30 +453,9 @@ TriadData turns_triad(const TriadModel& m, const std::vector<double>& rates, con
 // its cost, removes the misalignment bias the nonlinearity leaves in the sequential M, and reproduces the
 // planted errors at rates it was not trained on.
 TEST(TriadFit, JointRbfWeightsRefineTheSequentialFitAndRecoverThePlantedTriad) {
-  TriadModel m;
-  m.misalignment << 2e-4, -1e-3, 3e-3, 8e-4, -5e-4, 1.4e-3, 4e-4, -1e-3, 1e-4;
-  m.bias.reference_c = 25.0;
-  m.bias.scale_c = 25.0;
-  for (int a = 0; a < 3; ++a) m.bias.coefficients[static_cast<std::size_t>(a)] = Eigen::Vector2d(dph_to_radps(10.0 * (a - 1)), dph_to_radps(3.0));
-  for (int a = 0; a < 3; ++a) {
-    auto surface = std::make_shared<ClassicalModel>(default_features(), ModelTarget::error);
-    surface->bias = Eigen::VectorXd::Zero(1);
-    surface->sf_temperature = Eigen::VectorXd::Zero(1);
-    surface->sf_rate = Eigen::Vector3d(0.0, 2e-4 * (a + 1), -1e-3);  // s(w) = sigma_1 u + sigma_2 u^2, u = w / (1 rad/s)
-    m.surfaces[static_cast<std::size_t>(a)] = surface;
-  }
-  auto triad = [&](const std::vector<double>& rates, const std::vector<double>& temps, int repeat) { return turns_triad(m, rates, temps, repeat); };
-  std::vector<double> rates;
-  for (int r = -120; r <= 120; r += 10) rates.push_back(r);
-  TriadData train = triad(rates, {0.0, 25.0, 50.0}, 4);
-  std::mt19937_64 rng(7);
-  std::normal_distribution<double> noise(0.0, dph_to_radps(10.0));
-  for (Eigen::Index k = 0; k < train.gyro.size(); ++k) train.gyro.data()[k] += noise(rng);
-
-  TriadFitOptions o;
-  o.surfaces = "rbf";
-  o.bias_order = 1;
-  o.surface_options = {{"criterion", "bic"}, {"width", "0.3"}};
+  const TriadModel m = planted_rbf_triad([](int a) { return Eigen::Vector2d(2e-4 * (a + 1), -1e-3); });
+  const TriadData train = noisy_turns_training(m, 7);
+  TriadFitOptions o = rbf_surface_fit();
   o.rbf_diagonal = "mean";  // the gauge this test is about (zero_rate: the next test)
   const auto [joint, sequential] = fit_both_ways(train, o);
 
@@ -449,13 +474,9 @@ TEST(TriadFit, JointRbfWeightsRefineTheSequentialFitAndRecoverThePlantedTriad) {
     EXPECT_EQ(jn.widths, sn.widths) << a;
   }
   // Rates between the training ones: the planted errors recovered (deg/h; the surfaces reach 900 deg/h at
-  // 105 deg/s). Temperatures are the plateaus': width 0.3 nodes do not bridge 25 C gaps.
-  const TriadData probe = triad({0.0, 35.0, -35.0, 75.0, -75.0, 105.0, -105.0}, {0.0, 25.0, 50.0}, 1);
-  auto rms_dph = [&](const TriadFit& f) {
-    return radps_to_dph(std::sqrt((f.model.compensate(probe) - probe.reference).squaredNorm() / static_cast<double>(probe.gyro.size())));
-  };
-  EXPECT_LT(rms_dph(joint), 6.0);
-  EXPECT_GT(rms_dph(sequential), 5.0 * rms_dph(joint));
+  // 105 deg/s).
+  EXPECT_LT(between_rates_rms_dph(joint, m), 6.0);
+  EXPECT_GT(between_rates_rms_dph(sequential, m), 5.0 * between_rates_rms_dph(joint, m));
 }
 
 // rbf_diagonal=zero_rate (the default): M_ii is the zero-rate scale factor and the surface carries the rate
@@ -463,36 +484,12 @@ TEST(TriadFit, JointRbfWeightsRefineTheSequentialFitAndRecoverThePlantedTriad) {
 // 120 deg/s, 0 at rest), so the planted M_ii is the zero-rate gain. The zero-rate gauge recovers it and the
 // off-diagonals; the mean gauge reports M_ii shifted by the mean scale factor over the turns.
 TEST(TriadFit, ZeroRateGaugeRecoversTheZeroRateScaleFactorBesideAnRbfSurface) {
-  TriadModel m;
-  m.misalignment << 2e-4, -1e-3, 3e-3, 8e-4, -5e-4, 1.4e-3, 4e-4, -1e-3, 1e-4;
-  m.bias.reference_c = 25.0;
-  m.bias.scale_c = 25.0;
-  for (int a = 0; a < 3; ++a) {
-    m.bias.coefficients[static_cast<std::size_t>(a)] = Eigen::Vector2d(dph_to_radps(10.0 * (a - 1)), dph_to_radps(3.0));
-    auto surface = std::make_shared<ClassicalModel>(default_features(), ModelTarget::error);
-    surface->bias = Eigen::VectorXd::Zero(1);
-    surface->sf_temperature = Eigen::VectorXd::Zero(1);
-    surface->sf_rate = Eigen::Vector3d(0.0, 0.0, -3e-4);
-    m.surfaces[static_cast<std::size_t>(a)] = surface;
-  }
-  std::vector<double> rates;
-  for (int r = -120; r <= 120; r += 10) rates.push_back(r);
-  TriadData train = turns_triad(m, rates, {0.0, 25.0, 50.0}, 4);
-  std::mt19937_64 rng(11);
-  std::normal_distribution<double> noise(0.0, dph_to_radps(10.0));
-  for (Eigen::Index k = 0; k < train.gyro.size(); ++k) train.gyro.data()[k] += noise(rng);
-
-  TriadFitOptions o;
-  o.surfaces = "rbf";
-  o.bias_order = 1;
-  o.surface_options = {{"criterion", "bic"}, {"width", "0.3"}};
+  const TriadModel m = planted_rbf_triad([](int) { return Eigen::Vector2d(0.0, -3e-4); });
+  const TriadData train = noisy_turns_training(m, 11);
+  TriadFitOptions o = rbf_surface_fit();
   const auto [joint, sequential] = fit_both_ways(train, o);
   o.rbf_diagonal = "mean";
   const auto [joint_mean, sequential_mean] = fit_both_ways(train, o);
-  const TriadData probe = turns_triad(m, {0.0, 35.0, -35.0, 75.0, -75.0, 105.0, -105.0}, {0.0, 25.0, 50.0}, 1);
-  auto rms_dph = [&](const TriadFit& f) {
-    return radps_to_dph(std::sqrt((f.model.compensate(probe) - probe.reference).squaredNorm() / static_cast<double>(probe.gyro.size())));
-  };
   for (int i = 0; i < 3; ++i) {
     const double shifted = std::abs(joint_mean.model.misalignment(i, i) - m.misalignment(i, i));
     EXPECT_GT(shifted, 4e-4) << i;  // 558-590 ppm: the mean scale factor over the turns
@@ -506,8 +503,8 @@ TEST(TriadFit, ZeroRateGaugeRecoversTheZeroRateScaleFactorBesideAnRbfSurface) {
   // surfaces, carry the nonlinearity's projection on the diagonal turns). The mean gauge gives 2.53 here: on
   // this steep law (-1300 ppm at 120 deg/s) the nodes chosen in that gauge hold the added trend less well; on
   // the reference FOG triad's flights zero_rate is the better (triad_fit.h).
-  EXPECT_LT(rms_dph(joint), 5.0);
-  EXPECT_LT(rms_dph(joint), 0.5 * rms_dph(sequential));
+  EXPECT_LT(between_rates_rms_dph(joint, m), 5.0);
+  EXPECT_LT(between_rates_rms_dph(joint, m), 0.5 * between_rates_rms_dph(sequential, m));
 }
 
 // Hand turns known by gravity (reference=gravity, solvers/triad/gravity_turns.h): holds at random attitudes,
