@@ -336,8 +336,8 @@ Eigen::MatrixXd zero_rate_slope_row(const RbfNetwork& net, double t_lo, double t
 // carried over, noted) stacked on the rows of the surface's share of M_aa's and b_a's columns (surface_terms.h),
 // held at the sequential fit's share with weight kOwnedWeight on a unit-norm residual vector; with
 // rbf_diagonal=zero_rate M_aa's column is not among them, and the zero-rate slope row (target 0) is added
-// instead (zero_rate_slope_row). The sequential solution meets every row, so the joint cost starts at the sequential cost and can
-// only fall.
+// instead (zero_rate_slope_row). The sequential solution meets every row, so the joint cost starts at the
+// sequential cost and can only fall.
 std::pair<Eigen::MatrixXd, Eigen::VectorXd> joint_weight_rows(const TriadData& d, const Eigen::MatrixX3d& surface_rate, int a, const RbfNetwork& net,
                                                               const TriadBias& bias, int bias_order, const nlohmann::json& summary, const TriadFitOptions& o, std::vector<std::string>& notes) {
   constexpr double kOwnedWeight = 1e3;
