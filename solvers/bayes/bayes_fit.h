@@ -1,7 +1,8 @@
 // Type-II maximum likelihood of a Gaussian RBF network plus flat-prior fixed columns (evidence.h): the
 // per-input widths shared by every node by NLopt (gradient-based, analytic gradient; a coarse scan of one
 // common width first, and of two inputs' widths on a grid where every common width leaves the network off),
-// the prior precision alpha and the noise precision beta by MacKay's fixed point inside every evaluation. Centres come from a candidate dictionary: a farthest-point subset of the training inputs
+// the prior precision alpha and the noise precision beta by MacKay's fixed point inside every evaluation.
+// Centres come from a candidate dictionary: a farthest-point subset of the training inputs
 // (solvers/common/candidates.h).
 //
 // Noise: white, or coloured - white + rate random walk + Gauss-Markov (sensor/noise_model.h) fitted by Allan

@@ -4,11 +4,14 @@
 #include <cmath>
 #include <optional>
 #include <set>
+#include <vector>
 
 #include "core/error.h"
 #include "core/recording.h"
 #include "core/units.h"
 #include "model/classical_model.h"
+#include "model/gaussian_node.h"
+#include "model/rbf_network.h"
 #include "solvers/calibrate.h"
 #include "solvers/nls/nls_covariance.h"
 #include "solvers/nls/nls_solver.h"
@@ -317,15 +320,18 @@ Eigen::MatrixXd zero_rate_slope_row(const RbfNetwork& net, double t_lo, double t
   constexpr int kSlopeTemperatures = 21;
   constexpr double kSlopeWeight = 1e3;  // a hard gauge on one degree of freedom (triad_fit.h)
   const double raw[2] = {0.0, 0.0};
-  double zero[2];
-  net.normalizer.apply(raw, zero);
+  double x[2];
+  net.normalizer.apply(raw, x);
+  const Eigen::Index d = net.dimension();
+  std::vector<double> block(static_cast<std::size_t>(NodeBlock<double>::size(d))), gradient(block.size());
   Eigen::MatrixXd row = Eigen::MatrixXd::Zero(1, net.nodes());
-  for (int m = 0; m < kSlopeTemperatures; ++m) {
-    const double t = t_lo + (t_hi - t_lo) * m / (kSlopeTemperatures - 1);
-    for (Eigen::Index j = 0; j < net.nodes(); ++j) {
-      // phi = exp(-u0^2 - u1^2), u_k = (x_k - c_k) / r_k: d phi / d x_0 = -2 u0 / r_0 phi (model/gaussian_node.h)
-      const double u0 = (zero[0] - net.centres(j, 0)) / net.widths(j, 0), u1 = (t - net.centres(j, 1)) / net.widths(j, 1);
-      row(0, j) += kSlopeWeight / kSlopeTemperatures * -2.0 * u0 / net.widths(j, 0) * std::exp(-(u0 * u0 + u1 * u1));
+  for (Eigen::Index j = 0; j < net.nodes(); ++j) {
+    net.pack_node(j, block.data());
+    block.back() = 1.0;  // phi itself: d phi / d x_0 = -d phi / d c_0 (phi depends on x - c; model/gaussian_node.h)
+    for (int m = 0; m < kSlopeTemperatures; ++m) {
+      x[1] = t_lo + (t_hi - t_lo) * m / (kSlopeTemperatures - 1);
+      node_output(x, {block.data(), d}, gradient.data());
+      row(0, j) -= kSlopeWeight / kSlopeTemperatures * gradient[0];
     }
   }
   return row;
