@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <set>
 #include <vector>
 
 #include "core/error.h"
+#include "core/stats.h"
 #include "core/recording.h"
 #include "core/units.h"
 #include "model/classical_model.h"
@@ -37,9 +39,10 @@ OptionTable TriadFitOptions::table() {
       .choice("sequential_scale", &sequential_scale, {"triad", "surface"}, "sequential classical surfaces: triad = the second stage re-estimates M_ii (against the reference rate) and b with the surfaces, off-diagonals and G held - the joint fit's parametrisation; surface = the surface fitter's own constant scale factor on the measured output (its residual is then (1 - s_0) times the output residual)")
       .choice("rbf_joint", &rbf_joint, {"weights", "nodes"}, "joint rbf surfaces: weights moves the weights of the sequential fit's nodes (its centres and widths held: its cost can only fall); nodes moves centres and widths too")
       .choice("rbf_diagonal", &rbf_diagonal, {"mean", "zero_rate"}, "rbf surfaces: what M_ii carries - mean = the first stage's mean scale factor over the turns, the surface's share of M_ii's column held; zero_rate = the zero-rate scale factor, the surface's mean slope at zero rate held at 0 (the off-diagonals then the zero-rate cross gains: much better on a FOG's short and medium flights from balanced programmes, much worse from unbalanced ones)")
-      .choice("order_criterion", &order_criterion, {"bic", "aic"}, "how surface.sf_rate_order=auto / sf_cross_order=auto choose: bic (Schwarz; the default: for the parameters, consistent when the family holds the sensor) or aic (Akaike; for prediction at the flights when no order holds it exactly, e.g. a FOG's rate ripple - higher orders, larger sigmas of M_ii)")
+      .choice("order_criterion", &order_criterion, {"bic_lr", "bic", "aic"}, "how surface.sf_rate_order=auto / sf_cross_order=auto choose: bic_lr (the default: BIC's order, raised to the lowest order a likelihood-ratio test against the top order does not reject at order_test_level - BIC where the family holds the sensor, the order that removes the lack of fit where it does not, e.g. a FOG's rate ripple), bic (Schwarz: for the parameters, consistent when the family holds the sensor) or aic (Akaike: for prediction at the flights - higher orders, larger sigmas of M_ii)")
+      .real("order_test_level", &order_test_level, 1e-9, 0.5, "order_criterion=bic_lr: the likelihood-ratio test's level, the chance of raising an order that holds the sensor")
       .passthrough("nls.", &solver_options, "an option of the least-squares back-end (listed by --options-of triad)")
-      .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver; classical: sf_temperature_order, sf_rate_order (0..10 or auto; default here auto = 0..6 by BIC), sf_cross_order (0..4 or auto; default here auto = 0..3 by BIC, 0 = the thesis's separable form)");
+      .passthrough("surface.", &surface_options, "an option of the surface kind or of its RBF solver; classical: sf_temperature_order, sf_rate_order (0..10 or auto; default here auto = 0..6 by order_criterion), sf_cross_order (0..4 or auto; default here auto = 0..3 by order_criterion, 0 = the thesis's separable form)");
   return t;
 }
 
@@ -49,14 +52,14 @@ ClassicalOptions classical_surface_options(const OptionMap& map) {
   ClassicalOptions o;  // the thesis's orders; the bias polynomial is the triad's own
   OptionTable t("triad classical surface");
   t.integer("sf_temperature_order", &o.sf_temperature_order, 0, 6, "scale-factor polynomial order in temperature")
-      .integer("sf_rate_order", &o.sf_rate_order, 0, 10, "scale-factor polynomial order in rate (auto: 0..6 by BIC, fit_triad)")
-      .integer("sf_cross_order", &o.sf_cross_order, 0, 4, "temperature order of the rate shape's coefficients (0: separable; auto: 0..3 by BIC, fit_triad)");
+      .integer("sf_rate_order", &o.sf_rate_order, 0, 10, "scale-factor polynomial order in rate (auto: 0..6 by order_criterion, fit_triad)")
+      .integer("sf_cross_order", &o.sf_cross_order, 0, 4, "temperature order of the rate shape's coefficients (0: separable; auto: 0..3 by order_criterion, fit_triad)");
   t.apply(map);
   return o;
 }
 
-// surface.sf_rate_order=auto, surface.sf_cross_order=auto (classical surfaces): the orders chosen by BIC
-// (fit_triad below).
+// surface.sf_rate_order=auto, surface.sf_cross_order=auto (classical surfaces): the orders chosen by
+// order_criterion (fit_triad below).
 constexpr int kMaxAutoRateOrder = 6;   // the thesis's order (fig 3.4), ClassicalOptions' default
 constexpr int kMaxAutoCrossOrder = 3;
 constexpr const char* kOrderKeys[] = {"sf_rate_order", "sf_cross_order"};
@@ -64,7 +67,7 @@ bool order_auto(const OptionMap& surface_options, const std::string& key) {
   const auto it = surface_options.find(key);
   return it != surface_options.end() && it->second == "auto";
 }
-// The triad's classical surfaces choose their rate order and cross order by BIC unless told. The rate order:
+// The triad's classical surfaces choose their rate order and cross order (order_criterion) unless told. The rate order:
 // a triad programme visits few rate magnitudes per gyro (four, on the independent generator's six positions
 // plus diagonal turns), and the thesis's order 6 then leaves M_ii's column nearly in the span of the odd rate
 // powers - sigma(M_ii) 0.35 % there against 42 ppm at the order BIC chooses (experiments/triad_misalignment
@@ -84,7 +87,9 @@ OptionMap with_order(OptionMap map, const std::string& key, int order) {
 }  // namespace
 
 std::string TriadFitOptions::validate() const {
-  if (order_criterion != "bic" && order_criterion != "aic") return str_cat("order_criterion must be bic or aic, not '", order_criterion, "'");
+  if (order_criterion != "bic_lr" && order_criterion != "bic" && order_criterion != "aic")
+    return str_cat("order_criterion must be bic_lr, bic or aic, not '", order_criterion, "'");
+  if (!(order_test_level > 0.0 && order_test_level < 0.5)) return str_cat("order_test_level must lie in (0, 0.5), not ", order_test_level);
   for (const char* key : kOrderKeys) {
     if (!order_auto(effective_surface_options(surfaces, surface_options), key)) continue;
     if (surfaces != "classical") return str_cat("surface.", key, "=auto needs surfaces=classical");
@@ -518,6 +523,7 @@ void information_criterion(TriadFit& fit, const Stage& final_stage, const Stage*
   if (counted && r > 0) {
     double minus_2_ln_l = 0.0;  // up to a constant that depends on R only
     for (double rss : c.rss_radps2) minus_2_ln_l += r * std::log(std::max(rss / r, 1e-300));
+    c.minus_2_ln_l = minus_2_ln_l;
     c.bic = minus_2_ln_l + c.parameters * std::log(3.0 * r);
     c.aic = minus_2_ln_l + 2.0 * c.parameters;
   }
@@ -630,18 +636,19 @@ TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std:
 
 namespace {
 
-// One comparison of orders by the information criterion `aic` or BIC: candidate fits, the lowest finite value
-// kept; every candidate's criterion (or why it was no candidate) recorded by its order.
+// One comparison of nested orders (TriadFitOptions::order_criterion): every candidate fit kept by its order,
+// every candidate's criterion (or why it was no candidate) recorded by its order, then one chosen.
 struct OrderChoice {
-  bool aic = false;
-  std::optional<TriadFit> best;
-  double best_value = INFINITY;
-  nlohmann::json criteria = nlohmann::json::object();
+  const TriadFitOptions& options;
+  std::map<int, TriadFit> fits;
+  nlohmann::json criteria = nlohmann::json::object();  // bic_lr: BIC's
+  nlohmann::json tests = nlohmann::json::object();     // bic_lr: each order's test against the top order
 
+  bool aic() const { return options.order_criterion == "aic"; }
+  double value(const TriadFit& f) const { return aic() ? f.criterion.aic : f.criterion.bic; }
   void offer(int order, TriadFit f) {
-    const double b = aic ? f.criterion.aic : f.criterion.bic;
-    criteria[std::to_string(order)] = number_or_null(b);
-    if (b < best_value) best_value = b, best = std::move(f);
+    criteria[std::to_string(order)] = number_or_null(value(f));
+    if (std::isfinite(value(f))) fits.emplace(order, std::move(f));
   }
   void fit(int order, const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata, bool must_fit) {
     try {
@@ -651,20 +658,39 @@ struct OrderChoice {
       criteria[std::to_string(order)] = str_cat("not fitted: ", e.what());
     }
   }
-  int chosen(const char* key) const { return std::stoi(best->summary.details.value(str_cat("surface_", key), std::string("0"))); }
+  // The order the criterion chooses; none when no candidate has a finite criterion.
+  std::optional<int> choose() {
+    if (fits.empty()) return std::nullopt;
+    int best = fits.begin()->first;
+    for (const auto& [order, f] : fits)
+      if (value(f) < value(fits.at(best))) best = order;
+    if (options.order_criterion != "bic_lr") return best;
+    // Wilks: Lambda_o = (-2 ln L_o) - (-2 ln L_top) ~ chi^2(k_top - k_o) where order o holds the sensor.
+    const TriadInformationCriterion& top = fits.rbegin()->second.criterion;
+    for (const auto& [order, f] : fits) {
+      if (order < best) continue;
+      const int dof = top.parameters - f.criterion.parameters;
+      if (dof <= 0) return order;  // the top order itself
+      const double statistic = f.criterion.minus_2_ln_l - top.minus_2_ln_l;
+      const double critical = stats::chi2_quantile(1.0 - options.order_test_level, dof);
+      tests[std::to_string(order)] = {{"statistic", statistic}, {"dof", dof}, {"critical", critical}};
+      if (statistic <= critical) return order;
+    }
+    return fits.rbegin()->first;
+  }
 };
 
 }  // namespace
 
 // surface.sf_rate_order=auto, surface.sf_cross_order=auto (the default for classical triad surfaces,
-// effective_surface_options): the orders chosen by the Bayesian information criterion (order_criterion=aic:
-// Akaike's) of the fit in the mode
-// asked for (joint or sequential, each by its own final problem), so that neither mode is handed a family the
-// data reject or denied one they call for. First the rate order 0..kMaxAutoRateOrder in the separable form
-// (or at the given cross order), then the cross order 1..kMaxAutoCrossOrder at the chosen rate order. BIC
-// can judge the rate order because the surfaces' input carries none of the noise its rows fit
-// (smoothed_outputs leaves each sample out of its own average); at the recorded outputs the spare rate powers
-// fit the noise and BIC takes them. The criteria are kept in the summary's details and a note.
+// effective_surface_options): the orders chosen by order_criterion (triad_fit.h; bic_lr by default) from the
+// fits in the mode asked for (joint or sequential, each by its own final problem), so that neither mode is
+// handed a family the data reject or denied one they call for. First the rate order 0..kMaxAutoRateOrder in
+// the separable form (or at the given cross order), then the cross order 1..kMaxAutoCrossOrder at the chosen
+// rate order. The likelihood can judge the rate order because the surfaces' input carries none of the noise
+// its rows fit (smoothed_outputs leaves each sample out of its own average); at the recorded outputs the spare
+// rate powers fit the noise and any criterion takes them. The criteria (and bic_lr's tests) are kept in the
+// summary's details and a note.
 TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata) {
   if (auto p = o.validate(); !p.empty()) fail("triad: ", p);
   OptionMap surface_options = effective_surface_options(o.surfaces, o.surface_options);
@@ -676,33 +702,36 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   std::optional<TriadFit> best;
   bool rate_shape = true;  // a rate order 0 has no rate shape for the temperature to move
   const bool aic = o.order_criterion == "aic";
-  const std::string by = aic ? "AIC" : "BIC", key_suffix = aic ? "_aic" : "_bic";
+  const std::string by = aic ? "AIC" : o.order_criterion == "bic" ? "BIC" : str_cat("BIC and a likelihood-ratio test at level ", o.order_test_level);
+  // Chooses among `choice`'s candidates for `key`: the chosen fit, its order in the surface options, the note.
+  auto conclude = [&](OrderChoice& choice, const char* key) {
+    const std::optional<int> chosen = choice.choose();
+    if (!chosen) fail("triad: surface.", key, "=auto found no order with a finite ", aic ? "AIC" : "BIC", " (", choice.criteria.dump(), "); give the order");
+    notes.push_back(str_cat("surface.", key, "=auto: order ", *chosen, " chosen by ", by, " (", choice.criteria.dump(),
+                            choice.tests.empty() ? "" : str_cat("; tests against the top order ", choice.tests.dump()), ")"));
+    details[str_cat(key, aic ? "_aic" : "_bic")] = choice.criteria;
+    if (!choice.tests.empty()) details[str_cat(key, "_lr")] = choice.tests;
+    surface_options = with_order(surface_options, key, *chosen);
+    best = std::move(choice.fits.at(*chosen));
+    return *chosen;
+  };
   if (rate_auto) {
-    OrderChoice rate{aic};
+    OrderChoice rate{o};
     const OptionMap base = cross_auto ? with_order(surface_options, "sf_cross_order", 0) : surface_options;
     for (int order = 0; order <= kMaxAutoRateOrder; ++order) {
       oc.surface_options = with_order(base, "sf_rate_order", order);
       rate.fit(order, d, oc, reference_metadata, order == 0);
     }
-    if (!rate.best) fail("triad: surface.sf_rate_order=auto found no order with a finite ", by, " (", rate.criteria.dump(), "); give the order");
-    const int chosen = rate.chosen("sf_rate_order");
-    notes.push_back(str_cat("surface.sf_rate_order=auto: order ", chosen, " chosen by ", by, " (", rate.criteria.dump(), ")"));
-    details["sf_rate_order" + key_suffix] = rate.criteria;
-    surface_options = with_order(surface_options, "sf_rate_order", chosen);
-    best = std::move(rate.best);
-    rate_shape = chosen > 0;
+    rate_shape = conclude(rate, "sf_rate_order") > 0;
   }
   if (cross_auto && rate_shape) {
-    OrderChoice cross{aic};
+    OrderChoice cross{o};
     if (best) cross.offer(0, std::move(*best));  // the separable form at the chosen rate order, fitted above
     for (int order = best ? 1 : 0; order <= kMaxAutoCrossOrder; ++order) {
       oc.surface_options = with_order(surface_options, "sf_cross_order", order);
       cross.fit(order, d, oc, reference_metadata, order == 0);
     }
-    if (!cross.best) fail("triad: surface.sf_cross_order=auto found no order with a finite ", by, " (", cross.criteria.dump(), "); give the order");
-    notes.push_back(str_cat("surface.sf_cross_order=auto: order ", cross.chosen("sf_cross_order"), " chosen by ", by, " (", cross.criteria.dump(), ")"));
-    details["sf_cross_order" + key_suffix] = cross.criteria;
-    best = std::move(cross.best);
+    conclude(cross, "sf_cross_order");
   }
   best->options = o;
   for (auto& n : notes) best->notes.push_back(std::move(n));

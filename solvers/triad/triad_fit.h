@@ -105,9 +105,16 @@ struct TriadFitOptions {
   int surface_window = 30;                  // smoothed: half-width of the centred window, samples
   OptionMap surface_options;          // surface.<key>=<value>: options of the surface kind or its solver;
                                       // classical surfaces without sf_rate_order / sf_cross_order: auto (fit_triad)
-  std::string order_criterion = "bic";  // auto surface orders chosen by bic (the parameters: consistent when the
-                                        // family holds the sensor) or aic (the flights: efficient prediction when
-                                        // it does not, e.g. a FOG's rate ripple); TriadInformationCriterion
+  // How surface.sf_rate_order=auto / sf_cross_order=auto choose among the fitted orders 0..top (fit_triad):
+  //   bic     the lowest BIC: for the parameters, consistent when the family holds the sensor;
+  //   aic     the lowest AIC: for the flights, efficient prediction when no order holds it (a FOG's ripple);
+  //   bic_lr  (the default) BIC's order b, unless a likelihood-ratio test against the top order rejects it:
+  //           then the lowest order o >= b that the test does not reject at level order_test_level,
+  //             Lambda_o = (-2 ln L_o) - (-2 ln L_top) ~ chi^2(k_top - k_o) if order o holds the sensor (Wilks).
+  //           Where the family at b holds the sensor, b (rejected at rate order_test_level); where the data show
+  //           the lack of fit BIC's ln(3R) per parameter outweighs, the order that removes it.
+  std::string order_criterion = "bic_lr";
+  double order_test_level = 0.01;  // bic_lr: the test's level (probability of raising a correct order)
   OptionTable table();
   std::string validate() const;
 };
@@ -132,12 +139,14 @@ struct TriadUncertainty {
 // and a classical surface fitted by its own fitter (sequential_scale=surface) by its coefficients. NaN where the
 // fit's parameters are not all counted that way (greybox or rbf surfaces fitted by their own fitter) or where
 // not every residual is a row (reference=gravity: the turns' residuals).
-// Akaike's criterion from the same likelihood, AIC = sum_i R ln(rss_i / R) + 2 k, for order_criterion=aic.
+// Akaike's criterion from the same likelihood, AIC = sum_i R ln(rss_i / R) + 2 k, for order_criterion=aic; the
+// likelihood itself for order_criterion=bic_lr's test.
 struct TriadInformationCriterion {
   int rows_per_gyro = 0;              // R
   int parameters = 0;                 // k
   std::array<double, 3> rss_radps2{}; // per gyro, over its rows (weighted as the rows are), the surfaces at the
                                       // input they were fitted at (surface_input)
+  double minus_2_ln_l = NAN;         // sum_i R ln(rss_i / R): -2 ln L up to a constant that depends on R only
   double bic = NAN;
   double aic = NAN;
 };
