@@ -54,8 +54,13 @@ def fit_bic(fit):
     return "" if ic.get("bic") is None else ic["bic"]
 
 
+def rate_order(fit):
+    """The classical surfaces' rate order the fit used (auto: the one order_criterion chose), "" for other surfaces."""
+    return fit["summary"]["details"].get("surface_sf_rate_order", "")
+
+
 def cross_order(fit):
-    """The classical surfaces' cross order the fit used (auto: the one BIC chose), "" for other surfaces."""
+    """The classical surfaces' cross order the fit used (auto: the one order_criterion chose), "" for other surfaces."""
     return fit["summary"]["details"].get("surface_sf_cross_order", "")
 
 
@@ -194,11 +199,11 @@ class Experiment:
             for r in keep:
                 r.setdefault("training", "rate_sweep")
                 for k in r:
-                    if k not in ("training", "sensor", "surfaces", "estimation", "cross_order"):
+                    if k not in ("training", "sensor", "surfaces", "estimation", "rate_order", "cross_order"):
                         r[k] = int(r[k]) if k == "seed" else float(r[k]) if r[k] not in ("", None) else ""  # bic: none for rbf rows
             rows = keep + rows
         cols = ["training", "sensor", "surfaces", "estimation", "seed", "offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in c["flights"]]
-        write_csv(os.path.join(self.out, "compare.csv"), rows, cols + ["bic", "cross_order", "time_s"])
+        write_csv(os.path.join(self.out, "compare.csv"), rows, cols + ["bic", "rate_order", "cross_order", "time_s"])
         text = "# Joint against sequential estimation\n\nTraining trajectories: %s. Criterion of fit (end error; long flight after 1 h; noise-free flights) on %s. " \
                "Per group: the noise-free fit (seed 0), then the noisy seeds (10 deg/h; how many: joint_wins' denominator) paired by seed: median of " \
                "joint/sequential with a 95 %% bootstrap interval of that median, runs where joint <= sequential, and the two-sided sign-test p of " \
@@ -217,7 +222,7 @@ class Experiment:
         rows = self.parallel(self.compare_row, jobs)
         flights = self.cfg["compare"]["flights"]
         cols = ["training", "sensor", "surfaces", "estimation", "seed", "offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in flights]
-        write_csv(os.path.join(self.out, "compare_more.csv"), rows, cols + ["bic", "cross_order", "time_s"])
+        write_csv(os.path.join(self.out, "compare_more.csv"), rows, cols + ["bic", "rate_order", "cross_order", "time_s"])
         out = []
         for g in paired_summary(rows, flights, seeds):
             if not g["quantity"].endswith("_m") and g["quantity"] != "offdiag_rms_err_urad":
@@ -254,7 +259,7 @@ class Experiment:
         err = np.sqrt(np.nanmean([(m[i, j] - planted[i, j]) ** 2 for (i, j) in OFF])) * 1e6
         model = self.run.path("models", tag, "seed%d.json" % seed)
         row = {"training": train, "sensor": sname, "surfaces": kind, "estimation": est, "seed": seed, "offdiag_rms_err_urad": err,
-               "train_rms_dph": float(np.mean(fit["residual_rms_dph"])), "bic": fit_bic(fit), "cross_order": cross_order(fit),
+               "train_rms_dph": float(np.mean(fit["residual_rms_dph"])), "bic": fit_bic(fit), "rate_order": rate_order(fit), "cross_order": cross_order(fit),
                "time_s": fit["summary"]["time_s"]}
         for flight in c["flights"]:
             row[flight + "_m"] = self.cof(model, sensor, flight)
@@ -541,18 +546,19 @@ class Experiment:
                     key = (g["training"], g["sensor"], g["surfaces"])
                     verdicts.setdefault(key, []).append(word)
                     medians.setdefault(key, []).append(g["median_ratio"])
-            orders = {}
+            orders = {}  # "rate/cross" where the row has both, else the cross order
             for r in cmp:
                 if r.get("cross_order") not in (None, "") and int(r["seed"]) > 0:
-                    orders.setdefault((r["training"], r["sensor"], r["surfaces"], r["estimation"]), []).append(r["cross_order"])
-            # The CLI's defaults: classical surfaces with the cross order BIC chooses (kind `classical`), and rbf.
+                    order = "%s/%s" % (r["rate_order"], r["cross_order"]) if r.get("rate_order") not in (None, "") else r["cross_order"]
+                    orders.setdefault((r["training"], r["sensor"], r["surfaces"], r["estimation"]), []).append(order)
+            # The CLI's defaults: classical surfaces with the orders order_criterion=bic_lr chooses (kind `classical`), and rbf.
             default = {k: v for k, v in verdicts.items() if k[2] in ("classical", "rbf")}
             if any(k[2] == "classical" for k in orders):
-                lines.append("* Cross order BIC chose for the default classical surfaces (sf_cross_order=auto), noisy seeds: %s." % "; ".join(
+                lines.append("* Orders (rate / cross) the default classical surfaces chose (auto, order_criterion=bic_lr), noisy seeds: %s." % "; ".join(
                     "%s/%s/%s %s" % (k[0], k[1], k[3], ", ".join("order %s in %d" % (o, v.count(o)) for o in sorted(set(v))))
                     for k, v in sorted(orders.items()) if k[2] == "classical"))
-            for label, groups in (("the CLI's default surfaces (classical = sf_cross_order auto, rbf)", default),
-                                  ("every surface family fitted (also classical_separable, classical_cross2)", verdicts)):
+            for label, groups in (("the CLI's default surfaces (classical = orders auto by bic_lr, rbf)", default),
+                                  ("every surface family fitted (also classical_bic, classical_aic, classical_separable, classical_cross2)", verdicts)):
                 worse = ["%s/%s/%s %s" % (k + (f,)) for k, v in sorted(groups.items()) for f, w in zip(flights, v) if w == "worse"]
                 above = ["%s/%s/%s %s %s" % (k + (f, fmt(m, 6))) for k, v in sorted(groups.items()) for f, m in zip(flights, medians[k]) if m > 1]
                 nonlinear = {k: v for k, v in groups.items() if k[1] == "rate_nonlinear"}
