@@ -591,6 +591,7 @@ nlohmann::json BayesFit::details(double y_scale) const {
     j["model_error"] = model_error_note;
     j["model_error_figures_dph2"] = {{"added", model_error_var * to_dph2}, {"excess", model_error_excess * to_dph2},
                                      {"standard_error", model_error_standard_error * to_dph2}, {"reach", model_error_reach}};
+    j["cv_rms_dph"] = std::sqrt(cv_mse * to_dph2);
   }
   if (noise) j["noise_model_dph"] = scaled(*noise, y_scale * 180.0 / 3.14159265358979323846 * 3600.0).to_json();
   return j;
@@ -688,6 +689,7 @@ BayesFit fit_bayes(const BayesProblem& p, const BayesFitOptions& o, SolveMonitor
     const ModelErrorEstimate e = model_error_by_cv(p, fit, time_axis(p).t_s, mo);
     fit.model_error_var = e.variance;
     fit.model_error_excess = e.mean_excess, fit.model_error_standard_error = e.standard_error, fit.model_error_reach = e.reach;
+    fit.cv_mse = e.cv_mse;
     fit.model_error_note = e.describe(p.report_scale);
   }
   return fit;

@@ -81,6 +81,7 @@ struct BayesFit {
   double model_error_var = 0.0;  // misfit variance added to the predictive variance (y units^2; model_error.h)
   std::string model_error_note;  // how it was estimated
   double model_error_excess = 0.0, model_error_standard_error = 0.0, model_error_reach = 1.0;  // the estimate's figures (y units^2)
+  double cv_mse = 0.0;  // model_error=cv: the folds' mean squared prediction residual (ModelErrorEstimate), y units^2
   Termination termination = Termination::converged;
   std::string message;
   int evaluations = 0;

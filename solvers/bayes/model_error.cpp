@@ -187,7 +187,8 @@ ModelErrorEstimate model_error_by_cv(const BayesProblem& p, const BayesFit& fit,
   const std::vector<int> fold = folds_of(p.x, o.blocks, out.folds, out.fold_kind);
   const bool level_folds = out.fold_kind != "time blocks";
   std::vector<double> excess;
-  double null_variance = 0.0;
+  double null_variance = 0.0, squared_residuals = 0.0;
+  Eigen::Index predicted = 0;
   for (int k = 0; k < out.folds; ++k) {
     std::vector<Eigen::Index> rows;
     for (Eigen::Index i = 0; i < n; ++i)
@@ -222,9 +223,11 @@ ModelErrorEstimate model_error_by_cv(const BayesProblem& p, const BayesFit& fit,
       hk.row(static_cast<Eigen::Index>(r)) = h.row(rows[r]);
       ek(static_cast<Eigen::Index>(r)) = p.y(rows[r]) - h.row(rows[r]).dot(mean);
     }
+    squared_residuals += ek.squaredNorm(), predicted += ek.size();
     const FoldExcess f = fold_excess(rows, ek, hk, llt, p.x, fit.widths, noise, t_s, o.groups);
     if (f.valid) excess.push_back(f.value), null_variance += f.null_variance;
   }
+  if (predicted > 0) out.cv_mse = squared_residuals / static_cast<double>(predicted);
   if (excess.size() < 2) return out;
   const double k = static_cast<double>(excess.size());
   double mean = 0.0;

@@ -51,6 +51,9 @@ struct ModelErrorEstimate {
   double reach = 1.0;           // the share of the excess taken as the misfit between the folds' inputs
   int folds = 0;
   std::string fold_kind;        // "levels of input k" or "time blocks"
+  double cv_mse = 0.0;          // mean squared residual of every fold's samples predicted from the other folds,
+                                // y units^2: noise plus misfit plus the estimate's variance, comparable between
+                                // models fitted to the same recording (same folds)
   std::string describe(double to_dph) const;
 };
 
