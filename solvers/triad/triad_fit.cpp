@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/stats.h"
 #include "core/recording.h"
+#include "core/stats.h"
 #include "core/units.h"
 #include "model/classical_model.h"
 #include "model/gaussian_node.h"
