@@ -38,6 +38,17 @@ std::vector<double> unit_times(Eigen::Index n) {
   return t;
 }
 
+// A rate cycle and a temperature scan: input 0 = sin(2 pi i / period + phase), input 1 a ramp -1..1 over the n
+// samples.
+Eigen::MatrixXd sine_and_ramp(Eigen::Index n, double period, double phase = 0.0) {
+  Eigen::MatrixXd x(n, 2);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i);
+    x(i, 0) = std::sin(2 * M_PI * t / period + phase), x(i, 1) = -1 + 2 * t / static_cast<double>(n - 1);
+  }
+  return x;
+}
+
 // The covariance the whitener stands for, written out: white v I + Gauss-Markov s^2 exp(-|t_i - t_j|/tau)
 // + a random walk started at zero at the first sample, q min(k_i, k_j) (k in sample intervals).
 Eigen::MatrixXd noise_covariance(const NoiseModel& m, const std::vector<double>& t) {
@@ -302,11 +313,7 @@ TEST(BayesFit, GaussMarkovDriftIsNoiseNotSurface) {
   // A smooth function of two inputs cycling in time, plus Gauss-Markov drift (tau 150 samples) and white noise.
   const Eigen::Index n = 4000;
   Drawn d;
-  d.x.resize(n, 2);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double t = static_cast<double>(i);
-    d.x(i, 0) = std::sin(2 * M_PI * t / 97.0), d.x(i, 1) = -1 + 2 * t / static_cast<double>(n - 1);
-  }
+  d.x = sine_and_ramp(n, 97.0);
   d.truth = (1.5 * d.x.col(0).array() * d.x.col(1).array() + 0.5 * (3 * d.x.col(0).array()).sin()).matrix();
   RandomStream r(31, "gm");
   const double phi = std::exp(-1.0 / 150.0);
@@ -415,7 +422,9 @@ TEST(BayesFit, ARandomWalkKeepsItsIntensity) {
   const double intensity = m.rw_q + (m.gm_var > 0 ? 2 * m.gm_var * m.dt_s / m.gm_tau_s : 0.0);
   EXPECT_GT(intensity, 0.5 * q) << fit.noise_choice;
   EXPECT_LT(intensity, 2.0 * q) << fit.noise_choice;
-  if (m.gm_var > m.white_var) EXPECT_GT(m.gm_tau_s, 0.5 * static_cast<double>(n)) << fit.noise_choice;
+  if (m.gm_var > m.white_var) {
+    EXPECT_GT(m.gm_tau_s, 0.5 * static_cast<double>(n)) << fit.noise_choice;
+  }
 }
 
 TEST(BayesFit, MisfitCorrelatedInTimeIsNotTakenForDriftWhereTheInputsRevisit) {
@@ -630,11 +639,7 @@ Coverage sweep_with_ripple(const std::string& groups, double ripple, int seeds, 
   for (int seed = 1; seed <= seeds; ++seed) {
     const Eigen::Index n = 4000;
     BayesProblem p;
-    p.x.resize(n, 2);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double t = static_cast<double>(i);
-      p.x(i, 0) = std::sin(2 * M_PI * t / 41.0 + 0.3 * seed), p.x(i, 1) = -1 + 2 * t / static_cast<double>(n - 1);
-    }
+    p.x = sine_and_ramp(n, 41.0, 0.3 * seed);
     p.y = truth(p.x);
     RandomStream r(static_cast<std::uint64_t>(seed), "sweep-ripple");
     for (Eigen::Index i = 0; i < n; ++i) p.y(i) += r.normal();
@@ -662,11 +667,7 @@ Coverage sweep_with_ripple(const std::string& groups, double ripple, int seeds, 
 TEST(BayesFit, CrossValidatedErrorIsTheBlocksPredictedFromTheOtherBlocks) {
   const Eigen::Index n = 3000;
   BayesProblem p;
-  p.x.resize(n, 2);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double t = static_cast<double>(i);
-    p.x(i, 0) = std::sin(2 * M_PI * t / 37.3), p.x(i, 1) = -1 + 2 * t / static_cast<double>(n - 1);  // no repeated levels
-  }
+  p.x = sine_and_ramp(n, 37.3);  // no repeated levels
   p.y = (0.8 * p.x.col(0).array() + 0.2 * p.x.col(0).array().cube() + 0.5 * p.x.col(1).array().cube()).matrix();
   RandomStream r(5, "cv-mse");
   for (Eigen::Index i = 0; i < n; ++i) p.y(i) += r.normal();
@@ -744,11 +745,7 @@ TEST(BayesFit, SlowGaussMarkovDriftKeepsTheBandHonest) {
   Coverage c;
   for (std::uint64_t seed = 1; seed <= 8; ++seed) {
     Drawn d;
-    d.x.resize(n, 2);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double t = static_cast<double>(i);
-      d.x(i, 0) = std::sin(2 * M_PI * t / 37.0), d.x(i, 1) = -1 + 2 * t / static_cast<double>(n - 1);
-    }
+    d.x = sine_and_ramp(n, 37.0);
     auto truth = [](const Eigen::MatrixXd& x) { return (x.col(0).array() * (1 + 0.5 * x.col(1).array()) + 0.5 * x.col(1).array().square()).matrix().eval(); };
     d.y = truth(d.x);
     RandomStream r(seed, "slow-gm");

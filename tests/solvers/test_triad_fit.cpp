@@ -768,7 +768,9 @@ TEST(TriadFit, ClassicalSurfacesChooseTheRateOrderTheProgrammeDetermines) {
     EXPECT_LT(f.uncertainty.misalignment_sigma(i, i), 100e-6) << i;
     EXPECT_NEAR(f.model.misalignment(i, i), t.truth.misalignment(i, i), 4.0 * f.uncertainty.misalignment_sigma(i, i)) << i;
     for (int j = 0; j < 3; ++j)
-      if (j != i) EXPECT_NEAR(f.model.misalignment(i, j), t.truth.misalignment(i, j), 4.0 * f.uncertainty.misalignment_sigma(i, j)) << i << j;
+      if (j != i) {
+        EXPECT_NEAR(f.model.misalignment(i, j), t.truth.misalignment(i, j), 4.0 * f.uncertainty.misalignment_sigma(i, j)) << i << j;
+      }
   }
   // The thesis's order: the same data, M_ii ten times less determined; and no residual below the noise, as
   // an input carrying its own sample's noise gave (by about 1/61 of the variance per spare power).
