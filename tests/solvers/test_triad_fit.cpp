@@ -722,7 +722,7 @@ FewMagnitudeTriad few_magnitude_triad(int run, double noise, std::uint64_t seed)
   for (double rate : {20.0, 45.0})
     for (int a = 0; a < 3; ++a)
       for (double sign : {1.0, -1.0}) turns.emplace_back(sign * Eigen::Vector3d::Unit(a), rate);
-  for (const Eigen::Vector3d v : {Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(1, 0, 1), Eigen::Vector3d(0, 1, 1), Eigen::Vector3d(1, 1, 1)})
+  for (const Eigen::Vector3d& v : {Eigen::Vector3d(1, 1, 0), Eigen::Vector3d(1, 0, 1), Eigen::Vector3d(0, 1, 1), Eigen::Vector3d(1, 1, 1)})
     for (double sign : {1.0, -1.0}) turns.emplace_back(sign * v.normalized(), 30.0);
   std::vector<Eigen::Vector3d> rates;
   for (const auto& [u, rate] : turns)
