@@ -639,6 +639,7 @@ namespace {
 // One comparison of nested orders (TriadFitOptions::order_criterion): every candidate fit kept by its order,
 // every candidate's criterion (or why it was no candidate) recorded by its order, then one chosen.
 struct OrderChoice {
+  explicit OrderChoice(const TriadFitOptions& o) : options(o) {}
   const TriadFitOptions& options;
   std::map<int, TriadFit> fits;
   nlohmann::json criteria = nlohmann::json::object();  // bic_lr: BIC's
