@@ -1072,6 +1072,8 @@ TEST(TriadFit, TheLikelihoodRatioTestRaisesBicsOrderOnlyWhereTheDataShowItsLackO
   EXPECT_GE(raised, 2);
   EXPECT_LT(test_sum, 0.85 * bic_sum);
   o.order_test_level = 0.5;
+  EXPECT_EQ(o.validate(), "");
+  o.order_test_level = 0.7;
   EXPECT_NE(o.validate().find("order_test_level"), std::string::npos);
 }
 
