@@ -54,14 +54,10 @@ def fit_bic(fit):
     return "" if ic.get("bic") is None else ic["bic"]
 
 
-def rate_order(fit):
-    """The classical surfaces' rate order the fit used (auto: the one order_criterion chose), "" for other surfaces."""
-    return fit["summary"]["details"].get("surface_sf_rate_order", "")
-
-
-def cross_order(fit):
-    """The classical surfaces' cross order the fit used (auto: the one order_criterion chose), "" for other surfaces."""
-    return fit["summary"]["details"].get("surface_sf_cross_order", "")
+def surface_order(fit, key):
+    """The classical surfaces' order `key` (sf_rate_order, sf_cross_order) the fit used (auto: the one
+    order_criterion chose), "" for other surfaces."""
+    return fit["summary"]["details"].get("surface_" + key, "")
 
 
 def sign_test_p(wins, n):
@@ -259,7 +255,7 @@ class Experiment:
         err = np.sqrt(np.nanmean([(m[i, j] - planted[i, j]) ** 2 for (i, j) in OFF])) * 1e6
         model = self.run.path("models", tag, "seed%d.json" % seed)
         row = {"training": train, "sensor": sname, "surfaces": kind, "estimation": est, "seed": seed, "offdiag_rms_err_urad": err,
-               "train_rms_dph": float(np.mean(fit["residual_rms_dph"])), "bic": fit_bic(fit), "rate_order": rate_order(fit), "cross_order": cross_order(fit),
+               "train_rms_dph": float(np.mean(fit["residual_rms_dph"])), "bic": fit_bic(fit), "rate_order": surface_order(fit, "sf_rate_order"), "cross_order": surface_order(fit, "sf_cross_order"),
                "time_s": fit["summary"]["time_s"]}
         for flight in c["flights"]:
             row[flight + "_m"] = self.cof(model, sensor, flight)

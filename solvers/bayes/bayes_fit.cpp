@@ -4,9 +4,9 @@
 #include <nlopt.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <set>
-#include <cmath>
 #include <sstream>
 
 #include "core/bounded_search.h"

@@ -702,15 +702,15 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   nlohmann::json details = nlohmann::json::object();
   std::optional<TriadFit> best;
   bool rate_shape = true;  // a rate order 0 has no rate shape for the temperature to move
-  const bool aic = o.order_criterion == "aic";
-  const std::string by = aic ? "AIC" : o.order_criterion == "bic" ? "BIC" : str_cat("BIC and a likelihood-ratio test at level ", o.order_test_level);
   // Chooses among `choice`'s candidates for `key`: the chosen fit, its order in the surface options, the note.
   auto conclude = [&](OrderChoice& choice, const char* key) {
+    const std::string name = choice.aic() ? "AIC" : "BIC";  // the criterion the candidates were compared by
     const std::optional<int> chosen = choice.choose();
-    if (!chosen) fail("triad: surface.", key, "=auto found no order with a finite ", aic ? "AIC" : "BIC", " (", choice.criteria.dump(), "); give the order");
+    if (!chosen) fail("triad: surface.", key, "=auto found no order with a finite ", name, " (", choice.criteria.dump(), "); give the order");
+    const std::string by = o.order_criterion == "bic_lr" ? str_cat(name, " and a likelihood-ratio test at level ", o.order_test_level) : name;
     notes.push_back(str_cat("surface.", key, "=auto: order ", *chosen, " chosen by ", by, " (", choice.criteria.dump(),
                             choice.tests.empty() ? "" : str_cat("; tests against the top order ", choice.tests.dump()), ")"));
-    details[str_cat(key, aic ? "_aic" : "_bic")] = choice.criteria;
+    details[str_cat(key, choice.aic() ? "_aic" : "_bic")] = choice.criteria;
     if (!choice.tests.empty()) details[str_cat(key, "_lr")] = choice.tests;
     surface_options = with_order(surface_options, key, *chosen);
     best = std::move(choice.fits.at(*chosen));
