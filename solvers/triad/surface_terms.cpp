@@ -88,6 +88,7 @@ class RbfTerm : public SurfaceTerm {
       fail("triad: the RBF weight penalty is ", penalty_.rows(), " x ", penalty_.cols(), " for ", start.nodes(), " nodes");
     }
     if (target_.size() != penalty_.rows()) fail("triad: the RBF weight penalty has ", penalty_.rows(), " rows and ", target_.size(), " targets");
+    if (start.output_factor > 0) fail("triad: a joint RBF surface's output factor must be its measured rate");
   }
   int nodes() const override { return static_cast<int>(start_.nodes()); }
   int node_size() const override { return static_cast<int>(NodeBlock<double>::size(start_.dimension())); }
@@ -96,13 +97,21 @@ class RbfTerm : public SurfaceTerm {
     start_.pack_node(j, b.data());
     return b;
   }
-  int input_size() const override { return static_cast<int>(start_.dimension()); }
+  // The normalised inputs, then (scaled by the rate) the raw rate.
+  bool scaled() const { return start_.output_factor == 0; }
+  int input_size() const override { return static_cast<int>(start_.dimension()) + (scaled() ? 1 : 0); }
   void inputs(double rate, double temp_c, double* x) const override {
     const double raw[2] = {rate, temp_c};
     start_.normalizer.apply(raw, x);
+    if (scaled()) x[start_.dimension()] = rate;
   }
   double node_output(const double* x, const double* block, double* gradient) const override {
-    return gyrosid::node_output(x, {block, start_.dimension()}, gradient);
+    const double out = gyrosid::node_output(x, {block, start_.dimension()}, gradient);
+    if (!scaled()) return out;
+    const double g = x[start_.dimension()];
+    if (gradient)
+      for (int e = 0; e < node_size(); ++e) gradient[e] *= g;
+    return g * out;
   }
   const Eigen::MatrixXd& weight_penalty() const override { return penalty_; }
   const Eigen::VectorXd& weight_target() const override { return target_; }
@@ -129,19 +138,17 @@ std::unique_ptr<SurfaceTerm> rbf_term(const RbfNetwork& start, Eigen::MatrixXd p
   return std::make_unique<RbfTerm>(start, std::move(penalty), std::move(target));
 }
 
-Eigen::MatrixXd ols_ridge_penalty(const RbfNetwork& net, const Eigen::MatrixXd& x, double lambda) {
-  if (!(lambda > 0.0) || net.nodes() == 0) return {};
-  const Eigen::MatrixXd h = gaussian_columns(x, net.centres, net.widths);
-  const Eigen::MatrixXd r = h.householderQr().matrixQR().topRows(net.nodes()).triangularView<Eigen::Upper>();
+Eigen::MatrixXd ols_ridge_penalty(const Eigen::MatrixXd& h, double lambda) {
+  if (!(lambda > 0.0) || h.cols() == 0) return {};
+  const Eigen::MatrixXd r = h.householderQr().matrixQR().topRows(h.cols()).triangularView<Eigen::Upper>();
   const Eigen::VectorXd diag = r.diagonal();
   if ((diag.array().abs() == 0.0).any()) fail("triad: the RBF surface's node columns are linearly dependent at the training inputs");
   return std::sqrt(lambda) * diag.cwiseInverse().asDiagonal() * r;
 }
 
-Eigen::MatrixXd owned_column_rows(const RbfNetwork& net, const Eigen::MatrixXd& x, const Eigen::MatrixXd& owned, double weight) {
-  if (net.nodes() == 0 || owned.cols() == 0) return {};
-  if (owned.rows() != x.rows()) fail("triad: ", owned.rows(), " owned-column samples for ", x.rows(), " inputs");
-  const Eigen::MatrixXd h = gaussian_columns(x, net.centres, net.widths);
+Eigen::MatrixXd owned_column_rows(const Eigen::MatrixXd& h, const Eigen::MatrixXd& owned, double weight) {
+  if (h.cols() == 0 || owned.cols() == 0) return {};
+  if (owned.rows() != h.rows()) fail("triad: ", owned.rows(), " owned-column samples for ", h.rows(), " node-column rows");
   Eigen::MatrixXd rows = owned.transpose() * h;
   for (Eigen::Index j = 0; j < owned.cols(); ++j) {
     const double norm = owned.col(j).norm();

@@ -48,22 +48,25 @@ class SurfaceTerm {
 // scale factor; rate and temperature scaling from the training samples.
 std::unique_ptr<SurfaceTerm> classical_term(const ClassicalOptions& options, const Eigen::VectorXd& rates,
                                             const Eigen::VectorXd& temps);
-// An RBF network's nodes, started from `start` (its constant must be zero: the triad's bias holds it), with
-// the weight penalty |P w - t|^2 (P empty: none; t empty: zero).
+// An RBF network's nodes, started from `start` (its constant must be zero: the triad's bias holds it, or M_ii
+// when its output is multiplied by the measured rate), with the weight penalty |P w - t|^2 (P empty: none; t
+// empty: zero). A network with an output factor (rbf_network.h) must take it from the measured rate: its
+// nodes' columns are then g phi_j(T, g).
 std::unique_ptr<SurfaceTerm> rbf_term(const RbfNetwork& start, Eigen::MatrixXd penalty = {}, Eigen::VectorXd target = {});
 
 // Orr's global ridge as the OLS fitter applied it (solvers/ols/forward_selection.h): lambda |g|^2 on the
 // weights g of the selected columns orthogonalised in selection order, H = W U with U unit upper triangular,
-// so g = U w. From the Householder QR H = Q R at the training inputs x (normalised), U = diag(R)^-1 R and
-// P = sqrt(lambda) U; lambda in the units of the fitter's cost. Empty for lambda <= 0 or no nodes.
-Eigen::MatrixXd ols_ridge_penalty(const RbfNetwork& net, const Eigen::MatrixXd& x, double lambda);
+// so g = U w. From the Householder QR H = Q R of the node columns H at the fitter's training inputs (N x m),
+// U = diag(R)^-1 R and P = sqrt(lambda) U; lambda in the units of the joint cost. Empty for lambda <= 0 or no
+// nodes.
+Eigen::MatrixXd ols_ridge_penalty(const Eigen::MatrixXd& h, double lambda);
 
 // Rows that measure an RBF surface's share of columns the triad owns (gyro i's own rate, its bias polynomial):
-// weight * a_j' H / |a_j| for each column a_j of `owned` (N x p, at the training samples), H the node columns
-// at the normalised inputs x. An RBF of the rate can mimic M_ii g and one of temperature b(T): left free,
+// weight * a_j' H / |a_j| for each column a_j of `owned` (N x p, at the training samples), H the surface's node
+// columns there (N x m, as the joint problem's rows see them). An RBF of the rate can mimic M_ii g and one of temperature b(T): left free,
 // M_ii and b trade against combinations of weights the noise chooses (the surface then interpolates and
 // extrapolates badly). Held at their start values (t = rows * w0) with a weight far above the data's, the
 // surface keeps the share the sequential fit gave it and M_ii and b keep theirs.
-Eigen::MatrixXd owned_column_rows(const RbfNetwork& net, const Eigen::MatrixXd& x, const Eigen::MatrixXd& owned, double weight);
+Eigen::MatrixXd owned_column_rows(const Eigen::MatrixXd& h, const Eigen::MatrixXd& owned, double weight);
 
 }  // namespace gyrosid

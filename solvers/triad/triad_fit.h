@@ -55,6 +55,26 @@
 // that variant): noise-free flights agree to 3 digits from 0.01 to 1e4; with noise, weights of 100 and more
 // agree and weaker ones let the noise move M_ii.
 //
+// What an RBF surface models (rbf_form). error (default): the rate error e_i(T, g_i) itself. scale_factor: a
+// relative scale-factor error r_i(T, g_i) and the surface e_i = g_i r_i - the classical surface's form with an RBF
+// for its polynomials. The network's selection fits r = e / g on the samples where the gyro turns at
+// rbf_min_rate_dps or more (the fitter's ridge, chosen on r's heteroscedastic noise, is not carried over); the
+// sequential fit then has the classical surfaces' second stage (M_ii, b and the weights, off-diagonals and G held)
+// and the joint fit moves the weights of g phi_j with everything. Why: a gyro's gain at small signals (at rest in
+// a turn of another axis it outputs the cross term m_ij w_j times that gain) differs from the mean scale factor
+// over the turns that M_ii carries by -550 ppm on the reference FOG; a relative network holds that as its value
+// r(T, 0), an additive one needs a slope at zero rate its nodes cannot make. The static bias beyond b_i(T) is then
+// nobody's: bias_order carries it. Measured (experiments/triad_misalignment, compare, 20 seeds; width 0.6, since
+// turns come only at plateaus 40 C apart; joint medians short / medium / long, m, scale_factor against error):
+//   rate sweep:     FOG 0.127 / 0.122 / 2.92e4 against 0.716 / 0.569 / 3.44e4; control 0.0659 / 0.0845 / 2.46e4
+//                   against 0.0568 / 0.245 / 2.41e4;
+//   diagonal sweep: FOG 0.22 / 0.147 / 3.43e4 against 0.561 / 0.362 / 3.13e4; control 0.0578 / 0.091 / 2.49e4
+//                   against 0.0464 / 0.23 / 3.05e4;
+//   one diagonal:   FOG 0.459 / 0.423 / 1.29e5 against 0.678 / 0.441 / 8.67e4 (its joint fit loses to its
+//                   sequential 1.4x / 2.0x / 1.8x); control 0.069 / 0.0989 / 2.42e4 against 0.0527 / 0.249 / 2.77e4.
+// So it is the better form on balanced programmes' medium flights (3-4x) and the FOG's short ones, the worse on the
+// unbalanced programme's FOG; error stays the default.
+//
 // The surfaces' rate input while fitting (surface_input). Fitted at the *recorded* output (measured), every
 // surface column carries the very noise its row fits: errors in variables. A rate polynomial then spends its
 // weakly determined combinations - those that vanish at the training rates - on that noise and swings between
@@ -100,6 +120,8 @@ struct TriadFitOptions {
   std::string surface_solver = "ols"; // rbf surfaces: the RBF solver of the sequential fit / joint start
   std::string rbf_joint = "weights";  // joint rbf: weights (centres, widths held) | nodes (everything moves)
   std::string rbf_diagonal = "mean";  // rbf surfaces: what M_ii carries, mean | zero_rate (below)
+  std::string rbf_form = "error";     // rbf surfaces: error e_i(T, g) | scale_factor e_i = g r_i(T, g) (below)
+  double rbf_min_rate_dps = 1.0;      // rbf_form=scale_factor: r is fitted where |g| >= this
   std::string sequential_scale = "triad";  // sequential classical: who carries the constant scale factor (below)
   std::string surface_input = "smoothed";  // the rate the surfaces are fitted at: smoothed | measured (below)
   int surface_window = 30;                  // smoothed: half-width of the centred window, samples

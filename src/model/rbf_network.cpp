@@ -1,5 +1,6 @@
 #include "model/rbf_network.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -26,7 +27,8 @@ double RbfNetwork::predict(const double* x) const {
   const Eigen::Index d = dimension();
   if (d > 16) fail("rbf: at most 16 input features");
   normalizer.apply(x, xn);
-  return evaluate_normalised(xn);
+  const double f = evaluate_normalised(xn);
+  return output_factor < 0 ? f : x[output_factor] * f;
 }
 
 void RbfNetwork::pack_node(Eigen::Index j, double* block) const {
@@ -56,6 +58,7 @@ Eigen::MatrixXd RbfNetwork::regressors(const Eigen::MatrixXd& x) const {
   Eigen::MatrixXd h(x.rows(), nodes() + 1);
   h.leftCols(nodes()) = basis(normalizer.apply(x));
   h.col(nodes()).setOnes();
+  if (output_factor >= 0) h = x.col(output_factor).asDiagonal() * h;
   return h;
 }
 
@@ -89,6 +92,7 @@ nlohmann::json RbfNetwork::parameters_json() const {
                       {"widths", rows_of(widths)},
                       {"weights_radps", std::vector<double>(weights.data(), weights.data() + weights.size())},
                       {"bias_radps", bias}};
+  if (output_factor >= 0) j["output_factor"] = features()[static_cast<std::size_t>(output_factor)];
   if (weight_posterior) j["posterior"] = weight_posterior->to_json();
   return j;
 }
@@ -103,6 +107,13 @@ std::unique_ptr<RbfNetwork> RbfNetwork::from_json(const nlohmann::json& j, std::
   const auto w = j.at("weights_radps").get<std::vector<double>>();
   net->weights = Eigen::Map<const Eigen::VectorXd>(w.data(), static_cast<Eigen::Index>(w.size()));
   net->bias = j.value("bias_radps", 0.0);
+  if (j.contains("output_factor")) {
+    const auto name = j["output_factor"].get<std::string>();
+    const auto& f = net->features();
+    const auto it = std::find(f.begin(), f.end(), name);
+    if (it == f.end()) fail("rbf model: output_factor '", name, "' is none of its features");
+    net->output_factor = it - f.begin();
+  }
   if (net->centres.rows() != net->weights.size() || net->widths.rows() != net->weights.size()) {
     fail("rbf model: ", net->centres.rows(), " centres, ", net->widths.rows(), " widths, ", net->weights.size(), " weights");
   }
@@ -126,7 +137,8 @@ void RbfNetwork::export_c_body(CExport& out) const {
   out.array("widths", r.data(), r.size());
   out.array("weights", weights.data(), static_cast<std::size_t>(m));
   const std::string p = out.prefix;
-  out.source << "\n/* Gaussian RBF network: f = b + sum_j w_j exp(-sum_k ((x_k - o_k)/s_k - c_jk)^2 / r_jk^2). */\n"
+  out.source << "\n/* Gaussian RBF network: f = b + sum_j w_j exp(-sum_k ((x_k - o_k)/s_k - c_jk)^2 / r_jk^2)"
+             << (output_factor >= 0 ? str_cat(", output x[", output_factor, "] f (a relative error)") : std::string()) << ". */\n"
              << "double " << p << "_predict(const double* x) {\n"
              << "  double xn[" << d << "];\n"
              << "  double f = " << std::hexfloat << bias << std::defaultfloat << ";\n"
@@ -140,7 +152,7 @@ void RbfNetwork::export_c_body(CExport& out) const {
              << "    }\n"
              << "    f += " << p << "_weights[j] * exp(-z);\n"
              << "  }\n"
-             << "  return f;\n"
+             << "  return " << (output_factor >= 0 ? str_cat("x[", output_factor, "] * f") : std::string("f")) << ";\n"
              << "}\n";
 }
 

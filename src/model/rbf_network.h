@@ -2,9 +2,15 @@
 //
 //   f(x) = b + sum_j w_j exp(-z_j(x)),   z_j(x) = sum_k (x~_k - c_jk)^2 / r_jk^2,   x~ = normalised x
 //
-// Centres c and widths r live in normalised input units; weights w and the optional constant b in rad/s.
+// Centres c and widths r live in normalised input units; weights w and the optional constant b in rad/s
+// (dimensionless for a relative network, below; the model file's keys keep the _radps suffix).
 // A network trained by a Bayesian solver also carries the posterior of (w_1..w_m, b): regressors
 // h(x) = [phi_1(x~) .. phi_m(x~), 1].
+//
+// Optionally the output is multiplied by one of the raw inputs (output_factor = k): F(x) = x_k f(x). With k the
+// measured rate the network is a relative scale-factor error r(T, g) and F = g r the rate error it causes - the
+// classical surface's form [s_T(T) + s_w(g)] g (thesis s5.3.2) with an RBF for the scale factor. Everything
+// else (weights, posterior) is f's; predict, regressors and the C export apply the factor.
 #pragma once
 
 #include <Eigen/Core>
@@ -29,7 +35,8 @@ class RbfNetwork : public CalibrationModel {
   static std::unique_ptr<RbfNetwork> from_json(const nlohmann::json& j, std::vector<std::string> features,
                                                ModelTarget target);
 
-  // Normalised-space evaluation and the basis matrix Phi (N x m), Phi_ij = exp(-z_j(x_i)).
+  // Normalised-space evaluation of f (without the output factor) and the basis matrix Phi (N x m),
+  // Phi_ij = exp(-z_j(x_i)).
   double evaluate_normalised(const double* xn) const;
   Eigen::MatrixXd basis(const Eigen::MatrixXd& xn) const;
 
@@ -47,6 +54,7 @@ class RbfNetwork : public CalibrationModel {
   Eigen::MatrixXd widths;   // m x d
   Eigen::VectorXd weights;  // m
   double bias = 0.0;
+  Eigen::Index output_factor = -1;  // the input the output is multiplied by (above); -1: none
   std::optional<WeightPosterior> weight_posterior;  // over (weights, bias), when trained by a Bayesian solver
 };
 

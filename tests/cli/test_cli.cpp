@@ -409,11 +409,14 @@ TEST_F(Cli, TriadCalibrationCompensationAndCriterionOfFit) {
   r = run("calibrate --model triad --recording " + path("six.csv") + " --solver lbfgs --out " + path("x.json"));
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.output, HasSubstr("ceres"));
-  for (const char* bad : {"order_criterion=aicc", "order_test_level=0.7"}) {
+  for (const char* bad : {"order_criterion=aicc", "order_test_level=0.7", "rbf_form=scale_factor", "rbf_form=relative"}) {
     r = run("calibrate --model triad --recording " + path("six.csv") + " --surfaces classical --set " + bad + " --out " + path("x.json"));
     EXPECT_EQ(r.status, 2) << bad;
     EXPECT_THAT(r.output, HasSubstr(std::string(bad).substr(0, std::string(bad).find('=')))) << bad;
   }
+  r = run("calibrate --model triad --recording " + path("six.csv") + " --surfaces rbf --set rbf_form=scale_factor --set rbf_diagonal=zero_rate --out " + path("x.json"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("rbf_diagonal=zero_rate"));
   r = run("calibrate --model triad --recording " + path("comp.csv") + " --surfaces greybox --joint --out " + path("x.json"));
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.output, HasSubstr("sequential"));

@@ -97,11 +97,26 @@ inline std::unique_ptr<CalibrationModel> sample_hybrid() {
   return std::make_unique<HybridModel>(scaling, terms, beta, std::move(rbf), std::move(posterior));
 }
 
-// Every registered kind's sample, by kind name.
+// The rbf sample as a relative error: its output multiplied by the measured rate (RbfNetwork::output_factor).
+inline std::unique_ptr<CalibrationModel> sample_relative_rbf() {
+  auto net = sample_rbf();
+  auto& rbf = dynamic_cast<RbfNetwork&>(*net);
+  rbf.weights *= 1e3, rbf.bias *= 1e3;  // dimensionless (a few 1e-3) rather than rad/s
+  rbf.output_factor = 0;
+  return net;
+}
+
+// Samples of options a kind's plain sample does not use, run through the same suite: name -> kind.
+inline const std::map<std::string, std::string>& sample_variants() {
+  static const std::map<std::string, std::string> variants{{"rbf_relative", "rbf"}};
+  return variants;
+}
+
+// Every registered kind's sample, by kind name (and every variant's, by its name).
 inline const std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>>& model_samples() {
   static const std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>> samples{
       {"rbf", sample_rbf}, {"classical", sample_classical}, {"greybox", sample_greybox}, {"explained", sample_explained},
-      {"hybrid", sample_hybrid}};
+      {"hybrid", sample_hybrid}, {"rbf_relative", sample_relative_rbf}};
   return samples;
 }
 

@@ -48,7 +48,8 @@ TEST(ModelKinds, EveryRegisteredKindHasASample) {
 
 TEST_P(ModelKind, JsonRoundTripReproducesEveryPrediction) {
   const auto m = sample();
-  EXPECT_EQ(m->kind(), GetParam());
+  const auto variant = testing_support::sample_variants().find(GetParam());
+  EXPECT_EQ(m->kind(), variant == testing_support::sample_variants().end() ? GetParam() : variant->second);
   const auto path = dir() / "model.json";
   save_model(path, *m, {{"note", "test"}});
   const auto back = load_model(path);
@@ -137,6 +138,27 @@ TEST(ModelFiles, MalformedFilesAreClearErrors) {
 
 INSTANTIATE_TEST_SUITE_P(EveryKind, ModelKind, ::testing::ValuesIn(model_kinds().names()),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+std::vector<std::string> variant_names() {
+  std::vector<std::string> out;
+  for (const auto& [name, kind] : testing_support::sample_variants()) out.push_back(name);
+  return out;
+}
+INSTANTIATE_TEST_SUITE_P(Variants, ModelKind, ::testing::ValuesIn(variant_names()),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+// The relative rbf is the plain one times the measured rate, at every probe point and in its regressors.
+TEST(RbfNetwork, AnOutputFactorMultipliesTheNetworkByThatInput) {
+  const auto relative = testing_support::sample_relative_rbf();
+  auto plain = std::make_unique<RbfNetwork>(dynamic_cast<const RbfNetwork&>(*relative));
+  plain->output_factor = -1;
+  for (const auto& x : probe_points()) EXPECT_DOUBLE_EQ(relative->predict(x.data()), x[0] * plain->predict(x.data())) << x[0] << ", " << x[1];
+  plain->weight_posterior = WeightPosterior::of_covariance(1e-6 * Eigen::MatrixXd::Identity(plain->nodes() + 1, plain->nodes() + 1), 0.0);
+  auto scaled = std::make_unique<RbfNetwork>(*plain);
+  scaled->output_factor = 0;
+  const Eigen::MatrixXd x = (Eigen::MatrixXd(3, 2) << 0.5, 10.0, -1.2, 30.0, 0.0, 20.0).finished();
+  const Eigen::MatrixXd h = plain->regressors(x), hs = scaled->regressors(x);
+  for (Eigen::Index i = 0; i < x.rows(); ++i) EXPECT_EQ(hs.row(i), (x(i, 0) * h.row(i)).eval()) << i;
+}
 
 }  // namespace
 }  // namespace gyrosid

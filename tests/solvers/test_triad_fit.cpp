@@ -508,6 +508,41 @@ TEST(TriadFit, ZeroRateGaugeRecoversTheZeroRateScaleFactorBesideAnRbfSurface) {
   EXPECT_LT(between_rates_rms_dph(joint, m), 0.5 * between_rates_rms_dph(sequential, m));
 }
 
+// rbf_form=scale_factor: the network is a relative scale-factor error r(T, g), the surface g r - the classical
+// surface's form. Planted: the FOG-like law of the last test, s = -3e-4 w^2 (0 at rest), a scale factor proper:
+// the gyro's input (its cross terms with it) scaled by 1 + s. An additive network must make the zero-rate gain's
+// departure from 1 + M_ii (M_ii: the mean scale factor over the turns, in the default gauge) as a slope at zero
+// rate; a relative one makes it as a value, r(T, 0), interpolated between the turns - so the small-signal gain
+// (1 + M_ii) / (1 - r(T, 0)) is the planted 1 + M_ii^true in the mean gauge, which the additive network gets
+// only in the zero-rate gauge. The joint fit recovers the off-diagonals; the sequential fit (its second stage:
+// M_ii, b and the weights with the first stage's off-diagonals held, which the diagonal turns bias) does not.
+TEST(TriadFit, ARelativeRbfCarriesTheZeroRateGainAsAValueInTheMeanGauge) {
+  const TriadModel m = planted_rbf_triad([](int) { return Eigen::Vector2d(0.0, -3e-4); });
+  const TriadData train = noisy_turns_training(m, 11);
+  TriadFitOptions o = rbf_surface_fit();
+  o.rbf_form = "scale_factor";
+  const auto [joint, sequential] = fit_both_ways(train, o);
+  for (int a = 0; a < 3; ++a) {
+    const auto aa = static_cast<std::size_t>(a);
+    const auto& net = dynamic_cast<const RbfNetwork&>(*joint.model.surfaces[aa]);
+    EXPECT_EQ(net.output_factor, 0) << a;
+    EXPECT_EQ(dynamic_cast<const RbfNetwork&>(*sequential.model.surfaces[aa]).output_factor, 0) << a;
+    EXPECT_GT(std::abs(joint.model.misalignment(a, a) - m.misalignment(a, a)), 4e-4) << a;  // the mean gauge
+    for (double temp : {0.0, 25.0, 50.0}) {
+      const double raw[2] = {0.0, temp};
+      double xn[2];
+      net.normalizer.apply(raw, xn);
+      const double gain = (1.0 + joint.model.misalignment(a, a)) / (1.0 - net.evaluate_normalised(xn));
+      EXPECT_NEAR(gain, 1.0 + m.misalignment(a, a), 1e-4) << a << " at " << temp << " C";
+    }
+    EXPECT_LE(joint.residual_rms_dph[aa], sequential.residual_rms_dph[aa]) << a;
+  }
+  EXPECT_LT(max_off_diagonal_error(joint.model.misalignment, m.misalignment), 2e-5);
+  EXPECT_GT(max_off_diagonal_error(sequential.model.misalignment, m.misalignment), 5e-5);
+  // Between the training rates (deg/h): joint 4.5, sequential 12.2.
+  EXPECT_LT(between_rates_rms_dph(joint, m), 0.5 * between_rates_rms_dph(sequential, m));
+}
+
 // Hand turns known by gravity (reference=gravity, solvers/triad/gravity_turns.h): holds at random attitudes,
 // turns between them at a constant body rate (so the sampled rotations compose exactly), outputs from a
 // planted M (scale factors and misalignment) and biases, specific force from each hold's attitude. Noise-free,
