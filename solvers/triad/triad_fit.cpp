@@ -39,6 +39,7 @@ OptionTable TriadFitOptions::table() {
       .choice("sequential_scale", &sequential_scale, {"triad", "surface"}, "sequential classical surfaces: triad = the second stage re-estimates M_ii (against the reference rate) and b with the surfaces, off-diagonals and G held - the joint fit's parametrisation; surface = the surface fitter's own constant scale factor on the measured output (its residual is then (1 - s_0) times the output residual)")
       .choice("rbf_joint", &rbf_joint, {"weights", "nodes"}, "joint rbf surfaces: weights moves the weights of the sequential fit's nodes (its centres and widths held: its cost can only fall); nodes moves centres and widths too")
       .choice("rbf_diagonal", &rbf_diagonal, {"mean", "zero_rate"}, "rbf surfaces: what M_ii carries - mean = the first stage's mean scale factor over the turns, the surface's share of M_ii's column held; zero_rate = the zero-rate scale factor, the surface's mean slope at zero rate held at 0 (the off-diagonals then the zero-rate cross gains: much better on a FOG's short and medium flights from balanced programmes, much worse from unbalanced ones)")
+      .choice("rbf_bias", &rbf_bias, {"held", "free"}, "joint rbf surfaces (rbf_form=error, rbf_diagonal=mean): held = the bias polynomials stay at the sequential fit's, so the joint fit moves M and the weights and leaves the static response (which M does not act on) as the sequential fit found it; free = the bias polynomials move too, and take misfit from the turning rows into the static response between the temperature plateaus")
       .choice("rbf_form", &rbf_form, {"error", "scale_factor"}, "rbf surfaces: error = the network is the rate error e(T, g); scale_factor = the network is a relative scale-factor error r(T, g) and e = g r (the classical surface's form; fitted where |g| >= rbf_min_rate_dps; the static bias is then b(T)'s alone; with turns only at temperature plateaus far apart give the network a width that bridges them, e.g. surface.width=0.6)")
       .real("rbf_min_rate_dps", &rbf_min_rate_dps, 1e-6, 1e3, "rbf_form=scale_factor: the relative error is fitted on the samples where the gyro turns at least this fast, deg/s")
       .choice("order_criterion", &order_criterion, {"bic_lr", "bic", "aic"}, "how surface.sf_rate_order=auto / sf_cross_order=auto choose: bic_lr (the default: BIC's order, raised to the lowest order a likelihood-ratio test against the top order does not reject at order_test_level - BIC where the family holds the sensor, the order that removes the lack of fit where it does not, e.g. a FOG's rate ripple), bic (Schwarz: for the parameters, consistent when the family holds the sensor) or aic (Akaike: for prediction at the flights - higher orders, larger sigmas of M_ii)")
@@ -145,6 +146,17 @@ void hold_node_shapes(NlsProblem& p, const TriadLayout& layout) {
   }
 }
 
+// rbf_bias=held (triad_fit.h): in a problem with additive RBF nodes in the mean gauge, every bias coefficient held
+// at its start value - the sequential fit's.
+bool holds_rbf_bias(const TriadFitOptions& o) {
+  return o.surfaces == "rbf" && o.rbf_bias == "held" && o.rbf_form == "error" && o.rbf_diagonal == "mean";
+}
+void hold_bias(NlsProblem& p, const TriadLayout& layout) {
+  for (int b : layout.bias) {
+    for (int e = 0; e < p.block(b).size(); ++e) p.fix(b, e);
+  }
+}
+
 // hold_cross_axis: M's off-diagonal entries and G held at the spec's start values (the sequential fit's second
 // stage, classical surfaces).
 // `start`: a solved stage of the same spec whose values the problem starts from (its free entries and the held).
@@ -167,6 +179,7 @@ Stage run_stage(const TriadData& d, const TriadRows& rows, const TriadProblemSpe
   }
   if (turns) add_gravity_turns(s.problem, d, *turns, spec, s.layout, 3, whiten_turns);  // group 3: the turns' own noise level
   if (o.rbf_joint == "weights") hold_node_shapes(s.problem, s.layout);
+  if (holds_rbf_bias(o) && !s.layout.nodes[0].empty()) hold_bias(s.problem, s.layout);
   const auto free = s.problem.free_entries();  // copy: fixing changes the free set
   // M, b and G are the anchors: a linear surface coefficient within `collinearity` of their span (a rate shape
   // seen at one rate only looks like M_ii) is held; node parameters only when exactly undetermined.
@@ -669,6 +682,12 @@ TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std:
   }
   std::array<std::unique_ptr<SurfaceTerm>, 3> terms;
   Stage first;
+  std::optional<TriadUncertainty> bias_stage;  // rbf_bias=held: the stage that determined the bias polynomials
+  if (o.estimation == "joint" && holds_rbf_bias(o)) {
+    TriadModel scratch = spec.start;
+    std::vector<std::string> ignored;
+    bias_stage = uncertainty_of(stage, o.g_sensitivity, o.max_sigma, scratch, ignored);
+  }
   if ((o.estimation == "joint" || triad_scale) && o.surfaces != "none") {
     joint_terms(d, o, bias_order, surface_rate, sequential_surfaces, stages, spec, terms, fit.notes);
     const bool held_stage = triad_scale || rbf_zero_rate;
@@ -688,6 +707,10 @@ TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std:
   if (!stage.covariance.ok) fit.notes.push_back("covariance: " + stage.covariance.message);
   fit.uncertainty = triad_scale ? sequential_uncertainty(first, stage, o.g_sensitivity, o.max_sigma, fit.model, fit.notes)
                                 : uncertainty_of(stage, o.g_sensitivity, o.max_sigma, fit.model, fit.notes);
+  if (bias_stage) {  // held in the joint solve: their sigmas are the first stage's
+    fit.uncertainty.bias_sigma = bias_stage->bias_sigma;
+    fit.uncertainty.bias_known = bias_stage->bias_known;
+  }
   finish(fit, stage, d, rows, surface_rate);
   fit.summary = stage.summary;
   information_criterion(fit, stage, triad_scale ? &first : nullptr, o.estimation == "sequential" && !triad_scale ? sequential_surfaces : decltype(sequential_surfaces){},

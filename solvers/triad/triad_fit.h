@@ -120,6 +120,7 @@ struct TriadFitOptions {
   std::string surface_solver = "ols"; // rbf surfaces: the RBF solver of the sequential fit / joint start
   std::string rbf_joint = "weights";  // joint rbf: weights (centres, widths held) | nodes (everything moves)
   std::string rbf_diagonal = "mean";  // rbf surfaces: what M_ii carries, mean | zero_rate (below)
+  std::string rbf_bias = "held";      // joint rbf surfaces: the bias polynomials held at the sequential fit's | free (below)
   std::string rbf_form = "error";     // rbf surfaces: error e_i(T, g) | scale_factor e_i = g r_i(T, g) (below)
   double rbf_min_rate_dps = 1.0;      // rbf_form=scale_factor: r is fitted where |g| >= this
   std::string sequential_scale = "triad";  // sequential classical: who carries the constant scale factor (below)

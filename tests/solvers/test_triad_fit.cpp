@@ -477,6 +477,21 @@ TEST(TriadFit, JointRbfWeightsRefineTheSequentialFitAndRecoverThePlantedTriad) {
   // 105 deg/s).
   EXPECT_LT(between_rates_rms_dph(joint, m), 6.0);
   EXPECT_GT(between_rates_rms_dph(sequential, m), 5.0 * between_rates_rms_dph(joint, m));
+  // rbf_bias=held (the default): the bias polynomials are the sequential fit's, its network's constant folded into
+  // the constant term, with the sequential fit's sigmas; rbf_bias=free moves them.
+  o.rbf_bias = "free";
+  const TriadFit joint_free = fit_triad(train, o);
+  for (int a = 0; a < 3; ++a) {
+    const auto ai = static_cast<std::size_t>(a);
+    Eigen::VectorXd expected = sequential.model.bias.coefficients[ai];
+    expected(0) += dynamic_cast<const RbfNetwork&>(*sequential.model.surfaces[ai]).bias;
+    EXPECT_TRUE(joint.model.bias.coefficients[ai].isApprox(expected, 1e-12)) << a;
+    EXPECT_GT((joint_free.model.bias.coefficients[ai] - expected).cwiseAbs().maxCoeff(), dph_to_radps(1e-3)) << a;
+    for (Eigen::Index k = 0; k < expected.size(); ++k) {
+      EXPECT_TRUE(joint.uncertainty.bias_known[ai][static_cast<std::size_t>(k)]) << a << k;
+      EXPECT_NEAR(joint.uncertainty.bias_sigma[ai](k), sequential.uncertainty.bias_sigma[ai](k), 1e-12) << a << k;
+    }
+  }
 }
 
 // rbf_diagonal=zero_rate: M_ii is the zero-rate scale factor and the surface carries the rate
