@@ -321,22 +321,6 @@ std::vector<Eigen::Index> turning_rows(const Eigen::MatrixX3d& surface_rate, int
   return out;
 }
 
-TriadData rows_of(const TriadData& d, const std::vector<Eigen::Index>& rows) {
-  TriadData out;
-  const auto n = static_cast<Eigen::Index>(rows.size());
-  out.gyro.resize(n, 3);
-  out.temp_c.resize(n, 3);
-  out.reference.resize(n, 3);
-  for (Eigen::Index r = 0; r < n; ++r) {
-    const Eigen::Index k = rows[static_cast<std::size_t>(r)];
-    out.t_s.push_back(d.t_s[static_cast<std::size_t>(k)]);
-    out.gyro.row(r) = d.gyro.row(k);
-    out.temp_c.row(r) = d.temp_c.row(k);
-    out.reference.row(r) = d.reference.row(k);
-  }
-  return out;
-}
-
 // rbf_form=scale_factor (triad_fit.h): gyro a's relative error r = e / g fitted by the RBF solver on the rows where
 // it turns (turning_rows; there r's noise is the output's divided by |g|), its output then multiplied by the
 // measured rate - e = g r(T, g).
@@ -348,7 +332,11 @@ std::shared_ptr<const CalibrationModel> fit_scale_factor_network(const TriadData
     fail("triad: rbf_form=scale_factor: gyro ", kAxes[a], " turns at ", min_rate_dps, " deg/s or more on ", rows.size(),
          " samples - too few to fit its scale factor (rbf_min_rate_dps, or rbf_form=error)");
   }
-  const TriadData turning = rows_of(at, rows);
+  TriadData turning;
+  turning.gyro = at.gyro(rows, Eigen::all);
+  turning.temp_c = at.temp_c(rows, Eigen::all);
+  turning.reference = at.reference(rows, Eigen::all);
+  for (const Eigen::Index k : rows) turning.t_s.push_back(at.t_s[static_cast<std::size_t>(k)]);
   Eigen::VectorXd relative(turning.size());
   for (Eigen::Index r = 0; r < turning.size(); ++r) relative(r) = error(rows[static_cast<std::size_t>(r)]) / turning.gyro(r, a);
   CalibrationResult fitted = calibrate(axis_recording(turning, a, &relative), request);

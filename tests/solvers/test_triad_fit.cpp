@@ -420,6 +420,10 @@ TriadModel planted_rbf_triad(SfRate sf_rate) {
   return m;
 }
 
+// A FOG-like scale factor that falls with the rate squared, the same on every gyro: s = -3e-4 w^2 (w in rad/s:
+// -1300 ppm at 120 deg/s, 0 at rest).
+TriadModel fog_like_rbf_triad() { return planted_rbf_triad([](int) { return Eigen::Vector2d(0.0, -3e-4); }); }
+
 // Their training: turns at -120..120 deg/s by 10 at 0, 25 and 50 C, 4 samples each, 10 deg/h white noise; and
 // their fit options (RBF surfaces, BIC-selected width-0.3 nodes).
 TriadData noisy_turns_training(const TriadModel& m, unsigned seed) {
@@ -499,7 +503,7 @@ TEST(TriadFit, JointRbfWeightsRefineTheSequentialFitAndRecoverThePlantedTriad) {
 // 120 deg/s, 0 at rest), so the planted M_ii is the zero-rate gain. The zero-rate gauge recovers it and the
 // off-diagonals; the mean gauge reports M_ii shifted by the mean scale factor over the turns.
 TEST(TriadFit, ZeroRateGaugeRecoversTheZeroRateScaleFactorBesideAnRbfSurface) {
-  const TriadModel m = planted_rbf_triad([](int) { return Eigen::Vector2d(0.0, -3e-4); });
+  const TriadModel m = fog_like_rbf_triad();
   const TriadData train = noisy_turns_training(m, 11);
   TriadFitOptions o = rbf_surface_fit();
   o.rbf_diagonal = "zero_rate";
@@ -532,7 +536,7 @@ TEST(TriadFit, ZeroRateGaugeRecoversTheZeroRateScaleFactorBesideAnRbfSurface) {
 // only in the zero-rate gauge. The joint fit recovers the off-diagonals; the sequential fit (its second stage:
 // M_ii, b and the weights with the first stage's off-diagonals held, which the diagonal turns bias) does not.
 TEST(TriadFit, ARelativeRbfCarriesTheZeroRateGainAsAValueInTheMeanGauge) {
-  const TriadModel m = planted_rbf_triad([](int) { return Eigen::Vector2d(0.0, -3e-4); });
+  const TriadModel m = fog_like_rbf_triad();
   const TriadData train = noisy_turns_training(m, 11);
   TriadFitOptions o = rbf_surface_fit();
   o.rbf_form = "scale_factor";
