@@ -18,6 +18,7 @@
 #include "solvers/nls/nls_covariance.h"
 #include "solvers/nls/nls_solver.h"
 #include "solvers/solver.h"
+#include "solvers/triad/auto_estimation.h"
 #include "solvers/triad/gravity_turns.h"
 #include "solvers/triad/triad_problem.h"
 
@@ -26,7 +27,8 @@ namespace gyrosid {
 OptionTable TriadFitOptions::table() {
   OptionTable t("triad");
   t.choice("surfaces", &surfaces, {"none", "classical", "greybox", "rbf"}, "each gyro's remaining error surface e_i(T, g)")
-      .choice("estimation", &estimation, {"joint", "sequential"}, "one problem for everything, or M and b first and the surfaces after")
+      .choice("estimation", &estimation, {"joint", "sequential", "auto"}, "joint: one problem for everything; sequential: M and b first and the surfaces after; auto: both, and the joint fit returned only where a test rejects the sequential fit's restriction (M separable from the surfaces) - on balanced programmes the restricted fit is the more efficient (solvers/triad/auto_estimation.h)")
+      .real("coupling_test_level", &coupling_test_level, 1e-9, 0.5, "estimation=auto: the test's level, at most the chance of returning the joint fit where the sequential fit's restriction holds")
       .choice("solver", &solver, nls_solvers().names(), "least-squares back-end (solvers/nls)")
       .integer("bias_order", &bias_order, 0, 6, "order of each gyro's bias polynomial in temperature")
       .flag("g_sensitivity", &g_sensitivity, "estimate the g-sensitivity matrix G (needs accel_{x,y,z}_mps2)")
@@ -93,6 +95,7 @@ std::string TriadFitOptions::validate() const {
   if (order_criterion != "bic_lr" && order_criterion != "bic" && order_criterion != "aic")
     return str_cat("order_criterion must be bic_lr, bic or aic, not '", order_criterion, "'");
   if (!(order_test_level > 0.0 && order_test_level <= 0.5)) return str_cat("order_test_level must lie in (0, 0.5], not ", order_test_level);
+  if (!(coupling_test_level > 0.0 && coupling_test_level <= 0.5)) return str_cat("coupling_test_level must lie in (0, 0.5], not ", coupling_test_level);
   for (const char* key : kOrderKeys) {
     if (!order_auto(effective_surface_options(surfaces, surface_options), key)) continue;
     if (surfaces != "classical") return str_cat("surface.", key, "=auto needs surfaces=classical");
@@ -102,7 +105,7 @@ std::string TriadFitOptions::validate() const {
   }
   try {
     make_nls_solver(solver, solver_options);
-    if (surfaces == "greybox" && estimation == "joint") {
+    if (surfaces == "greybox" && estimation != "sequential") {
       return "surfaces=greybox is fitted by its own solver (thermal-lag search, ridge): use estimation=sequential, or classical/rbf surfaces for a joint solve";
     }
     if (rbf_form == "scale_factor" && surfaces != "rbf") return "rbf_form=scale_factor needs surfaces=rbf";
@@ -111,7 +114,7 @@ std::string TriadFitOptions::validate() const {
     }
     if (surfaces == "rbf") {
       make_solver(surface_solver, surface_options);
-    } else if (surfaces == "classical" && estimation == "joint") {
+    } else if (surfaces == "classical" && estimation != "sequential") {
       classical_surface_options(surface_options);
     } else if (surfaces == "none" && !surface_options.empty()) {
       return "surface.* options given but surfaces=none";
@@ -225,10 +228,25 @@ std::vector<std::pair<double, double>> block_sigma(const Stage& s, int block) {
 
 bool is_fixed(const NlsProblem& p, int block, int entry) { return p.block(block).fixed[static_cast<std::size_t>(entry)]; }
 
+// TriadUncertainty::misalignment_covariance from a stage: the covariance of the M entries it estimated.
+Eigen::Matrix<double, 9, 9> misalignment_covariance_of(const Stage& s) {
+  Eigen::Matrix<double, 9, 9> c = Eigen::Matrix<double, 9, 9>::Constant(NAN);
+  if (!s.covariance.ok) return c;
+  std::vector<std::pair<int, Eigen::Index>> at;  // (3 i + j, index among the free entries)
+  const auto& free = s.problem.free_entries();
+  for (std::size_t k = 0; k < free.size(); ++k)
+    for (int i = 0; i < 3; ++i)
+      if (free[k].block == s.layout.misalignment[static_cast<std::size_t>(i)]) at.emplace_back(3 * i + free[k].entry, static_cast<Eigen::Index>(k));
+  for (const auto& [a, ka] : at)
+    for (const auto& [b, kb] : at) c(a, b) = s.covariance.covariance(ka, kb);
+  return c;
+}
+
 // Sigmas and determined entries of M, b and G from a stage; M and G entries above max_sigma are set to
 // nominal in `model` and reported.
 TriadUncertainty uncertainty_of(const Stage& s, bool g_sensitivity, double max_sigma, TriadModel& model, std::vector<std::string>& notes) {
   TriadUncertainty u;
+  u.misalignment_covariance = misalignment_covariance_of(s);
   if (g_sensitivity) u.g_sensitivity_sigma = Eigen::Matrix3d::Constant(NAN);
   for (int i = 0; i < 3; ++i) {
     const auto ai = static_cast<std::size_t>(i);
@@ -295,6 +313,9 @@ TriadUncertainty sequential_uncertainty(const Stage& first, const Stage& second,
         u.misalignment_inflation(i, j) = u1.misalignment_inflation(i, j);
         u.misalignment_known[ai][aj] = u1.misalignment_known[ai][aj];
         if (!u1.misalignment_known[ai][aj]) model.misalignment(i, j) = 0.0;
+        for (int k = 0; k < 3; ++k)
+          for (int l = 0; l < 3; ++l)
+            if (l != k) u.misalignment_covariance(3 * i + j, 3 * k + l) = u1.misalignment_covariance(3 * i + j, 3 * k + l);
       }
       if (g_sensitivity) {
         (*u.g_sensitivity_sigma)(i, j) = (*u1.g_sensitivity_sigma)(i, j);
@@ -529,11 +550,6 @@ TriadModel start_model(const TriadData& d, int bias_order) {
   return m;
 }
 
-std::string reference_mode(const TriadFitOptions& o, const std::string& metadata) {
-  if (o.reference != "auto") return o.reference;
-  return metadata == "angle" || metadata == "gravity" ? metadata : "rate";
-}
-
 void finish(TriadFit& fit, const Stage& s, const TriadData& d, const TriadRows& rows, const Eigen::MatrixX3d& surface_rate) {
   // Every row carries one sample's noise sigma_s = N / sqrt(dt).
   const double dt = median_sample_interval(d.t_s);
@@ -613,7 +629,7 @@ TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std:
   if (d.size() < 4) fail("triad: ", d.size(), " samples are too few");
   TriadFit fit;
   fit.options = o;
-  const std::string mode = reference_mode(o, reference_metadata);
+  const std::string mode = triad_reference_mode(o, reference_metadata);
   std::vector<GravityTurn> turns;
   if (mode == "gravity") {
     if (o.surfaces != "none" || o.g_sensitivity) fail("triad: reference=gravity estimates M and the biases only (surfaces=none, no g_sensitivity)");
@@ -778,6 +794,7 @@ struct OrderChoice {
 // summary's details and a note.
 TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata) {
   if (auto p = o.validate(); !p.empty()) fail("triad: ", p);
+  if (o.estimation == "auto") return fit_triad_auto(d, o, reference_metadata);
   OptionMap surface_options = effective_surface_options(o.surfaces, o.surface_options);
   const bool rate_auto = order_auto(surface_options, "sf_rate_order"), cross_auto = order_auto(surface_options, "sf_cross_order");
   if (!rate_auto && !cross_auto) return fit_triad_once(d, o, reference_metadata);
@@ -822,6 +839,11 @@ TriadFit fit_triad(const TriadData& d, const TriadFitOptions& o, const std::stri
   for (auto& n : notes) best->notes.push_back(std::move(n));
   for (auto& [key, value] : details.items()) best->summary.details[key] = value;
   return *best;
+}
+
+std::string triad_reference_mode(const TriadFitOptions& o, const std::string& metadata) {
+  if (o.reference != "auto") return o.reference;
+  return metadata == "angle" || metadata == "gravity" ? metadata : "rate";
 }
 
 }  // namespace gyrosid

@@ -113,7 +113,9 @@ namespace gyrosid {
 
 struct TriadFitOptions {
   std::string surfaces = "none";      // none | classical | greybox | rbf
-  std::string estimation = "joint";   // joint | sequential
+  std::string estimation = "joint";   // joint | sequential | auto (both, the joint returned where a test rejects
+                                      // the sequential fit's restriction: auto_estimation.h)
+  double coupling_test_level = 0.01;  // estimation=auto: the test's level
   std::string solver = "ceres";       // a solvers/nls back-end: ceres | nlopt | ipopt
   OptionMap solver_options;           // nls.<key>=<value>
   int bias_order = 2;                 // b_i(T) polynomial order (reduced to 0 when the temperature is constant)
@@ -151,6 +153,9 @@ struct TriadUncertainty {
   Eigen::Matrix3d misalignment_sigma = Eigen::Matrix3d::Constant(NAN);
   Eigen::Matrix3d misalignment_inflation = Eigen::Matrix3d::Constant(NAN);
   std::array<std::array<bool, 3>, 3> misalignment_known{};  // determined by the data
+  // Covariance of vec(M) (entry 3 i + j): NaN for entries not estimated, and between entries estimated in
+  // different stages (a sequential fit's M_ii and off-diagonals).
+  Eigen::Matrix<double, 9, 9> misalignment_covariance = Eigen::Matrix<double, 9, 9>::Constant(NAN);
   std::array<Eigen::VectorXd, 3> bias_sigma;               // per coefficient, rad/s
   std::array<std::vector<bool>, 3> bias_known;
   std::optional<Eigen::Matrix3d> g_sensitivity_sigma;
@@ -195,5 +200,9 @@ struct TriadFit {
 };
 
 TriadFit fit_triad(const TriadData& data, const TriadFitOptions& options, const std::string& reference_metadata = "");
+
+// How the fit's rows are formed: options.reference, or for reference=auto the recording's metadata 'reference'
+// (angle, gravity; anything else: rate).
+std::string triad_reference_mode(const TriadFitOptions& options, const std::string& reference_metadata);
 
 }  // namespace gyrosid

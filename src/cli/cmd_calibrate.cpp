@@ -19,7 +19,7 @@ namespace {
 
 struct CalibrateOptions {
   std::string config, recording, model, solver, out, features, target, normalization, help_for, surfaces;
-  bool joint = false, sequential = false;
+  bool joint = false, sequential = false, auto_estimation = false;
   std::vector<std::string> set;
 };
 
@@ -44,12 +44,12 @@ void run_calibrate(CalibrateOptions o) {
     return;
   }
   if (o.model == "triad") {
-    if (o.joint && o.sequential) fail("--joint and --sequential exclude each other");
+    if (int(o.joint) + int(o.sequential) + int(o.auto_estimation) > 1) fail("--joint, --sequential and --auto exclude each other");
     if (o.recording.empty() || o.out.empty()) fail("--recording and --out are required");
-    calibrate_triad({o.recording, o.out, o.solver, o.surfaces, o.joint ? "joint" : o.sequential ? "sequential" : "", o.set});
+    calibrate_triad({o.recording, o.out, o.solver, o.surfaces, o.joint ? "joint" : o.sequential ? "sequential" : o.auto_estimation ? "auto" : "", o.set});
     return;
   }
-  if (!o.surfaces.empty() || o.joint || o.sequential) fail("--surfaces, --joint and --sequential apply to --model triad");
+  if (!o.surfaces.empty() || o.joint || o.sequential || o.auto_estimation) fail("--surfaces, --joint, --sequential and --auto apply to --model triad");
   // A YAML config gives defaults; command-line values win.
   CalibrationRequest request;
   if (!o.config.empty()) {
@@ -103,6 +103,7 @@ void register_calibrate(CLI::App& app, Action& action) {
   cmd->add_option("--surfaces", o->surfaces, "triad: per-gyro error surfaces none (default), classical, greybox or rbf");
   cmd->add_flag("--joint", o->joint, "triad: estimate everything in one least-squares problem (default)");
   cmd->add_flag("--sequential", o->sequential, "triad: misalignment and biases first, then the surfaces");
+  cmd->add_flag("--auto", o->auto_estimation, "triad: both, and the joint fit kept only where a test on M rejects the sequential fit (the surfaces couple with M)");
   cmd->add_option("--set", o->set, "Solver or model option key=value (repeatable); see --options-of");
   cmd->add_option("--features", o->features, "Model inputs, comma-separated (default measured_rate,temperature)");
   cmd->add_option("--target", o->target, "error (default: model the rate error) or corrected_rate");

@@ -38,7 +38,8 @@ void calibrate_triad(const TriadCalibrateRequest& r) {
   const nlohmann::json training = {{"recording", rec.source()}, {"samples", rec.rows()}, {"options", map}};
   write_file_atomic(r.out, triad_fit_json(fit, training).dump(1) + "\n");
 
-  std::cout << "wrote " << r.out << ": triad model, " << o.estimation << ", surfaces " << o.surfaces << ", " << o.solver << " "
+  const std::string estimation = o.estimation == "auto" ? "auto (" + fit.summary.details["estimation_chosen"].get<std::string>() + " returned)" : o.estimation;
+  std::cout << "wrote " << r.out << ": triad model, " << estimation << ", surfaces " << o.surfaces << ", " << o.solver << " "
             << to_string(fit.summary.termination) << ", " << format_significant(fit.summary.time_s, 3) << " s\n";
   const char* axes[] = {"x", "y", "z"};
   for (int i = 0; i < 3; ++i) {

@@ -409,7 +409,7 @@ TEST_F(Cli, TriadCalibrationCompensationAndCriterionOfFit) {
   r = run("calibrate --model triad --recording " + path("six.csv") + " --solver lbfgs --out " + path("x.json"));
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.output, HasSubstr("ceres"));
-  for (const char* bad : {"order_criterion=aicc", "order_test_level=0.7", "rbf_form=scale_factor", "rbf_form=relative"}) {
+  for (const char* bad : {"order_criterion=aicc", "order_test_level=0.7", "rbf_form=scale_factor", "rbf_form=relative", "coupling_test_level=0.7"}) {
     r = run("calibrate --model triad --recording " + path("six.csv") + " --surfaces classical --set " + bad + " --out " + path("x.json"));
     EXPECT_EQ(r.status, 2) << bad;
     EXPECT_THAT(r.output, HasSubstr(std::string(bad).substr(0, std::string(bad).find('=')))) << bad;
@@ -417,10 +417,22 @@ TEST_F(Cli, TriadCalibrationCompensationAndCriterionOfFit) {
   r = run("calibrate --model triad --recording " + path("six.csv") + " --surfaces rbf --set rbf_form=scale_factor --set rbf_diagonal=zero_rate --out " + path("x.json"));
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.output, HasSubstr("rbf_diagonal=zero_rate"));
-  r = run("calibrate --model triad --recording " + path("comp.csv") + " --surfaces greybox --joint --out " + path("x.json"));
+  for (const char* mode : {"--joint", "--auto"}) {
+    r = run("calibrate --model triad --recording " + path("comp.csv") + " --surfaces greybox " + mode + " --out " + path("x.json"));
+    EXPECT_EQ(r.status, 2) << mode;
+    EXPECT_THAT(r.output, HasSubstr("sequential")) << mode;
+  }
+  r = run("calibrate --model triad --recording " + path("six.csv") + " --surfaces classical --joint --auto --out " + path("x.json"));
   EXPECT_EQ(r.status, 2);
-  EXPECT_THAT(r.output, HasSubstr("sequential"));
+  EXPECT_THAT(r.output, HasSubstr("exclude each other"));
   EXPECT_FALSE(fs::exists(path("x.json")));
+  // --auto on the six-position programme (balanced: single-axis turns) keeps the sequential fit, and says why.
+  r = run("calibrate --model triad --recording " + path("six.csv") + " --surfaces classical --set surface.sf_rate_order=2 --set surface.sf_cross_order=0 --auto --out " +
+          path("auto.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("auto (sequential returned)"));
+  const nlohmann::json test = read_json(path("auto.json"))["summary"]["details"]["coupling_test"];
+  EXPECT_LT(test["statistic"].get<double>(), test["critical"].get<double>());
 }
 
 TEST_F(Cli, HelpTeaches) {

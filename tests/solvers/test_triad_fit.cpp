@@ -706,13 +706,52 @@ TEST(TriadFit, CrossOrderAutoTakesTheCrossTermOnlyWhenTheSensorHasOne) {
   EXPECT_NE(rbf.validate().find("needs surfaces=classical"), std::string::npos);
 }
 
-// The planted cross-term triad on the one-diagonal design with 10 deg/h white noise (seeded).
-TriadData noisy_outputs_of_planted_cross_triad(std::uint64_t seed) {
-  TriadData d = outputs_of(planted_with_cross_terms(), {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}});
+// `d` with 10 deg/h white noise on every output (seeded).
+TriadData with_white_noise(TriadData d, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0.0, dph_to_radps(10.0));
   for (Eigen::Index k = 0; k < d.gyro.size(); ++k) d.gyro(k) += noise(rng);
   return d;
+}
+
+// The planted cross-term triad on the one-diagonal design with 10 deg/h white noise (seeded).
+TriadData noisy_outputs_of_planted_cross_triad(std::uint64_t seed) {
+  return with_white_noise(outputs_of(planted_with_cross_terms(), {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}}), seed);
+}
+
+// estimation=auto (solvers/triad/auto_estimation.h). Single-axis turns separate M from the surfaces: the two fits'
+// M agree (exactly, by Frisch-Waugh-Lovell, where the surface family holds the sensor: T measured 1e-10..3e-9)
+// and the test keeps the sequential fit (20 noise draws; at level 0.01 a true restriction is rejected at most that
+// often). One body diagonal besides: the sequential M takes the planted rate shape as misalignment (5.8e-5 rad
+// noise-free), the test rejects it (T measured 2920 against 21.7) and returns the joint fit.
+TEST(TriadFit, AutoEstimationReturnsTheJointFitOnlyWhereTheSurfacesCoupleWithM) {
+  const TriadModel m = planted_with_cross_terms();
+  TriadFitOptions o = classical_options(1);
+  o.estimation = "auto";
+  const TriadData balanced = outputs_of(m, {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
+  int rejected = 0;
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const TriadFit f = fit_triad(with_white_noise(balanced, seed), o);
+    const nlohmann::json& test = f.summary.details["coupling_test"];
+    EXPECT_EQ(test["dof"], 9) << seed;
+    rejected += test["rejected"].get<bool>() ? 1 : 0;
+    EXPECT_EQ(f.summary.details["estimation_chosen"], test["rejected"].get<bool>() ? "joint" : "sequential") << seed;
+  }
+  EXPECT_LE(rejected, 1);
+
+  const TriadData one_diagonal = noisy_outputs_of_planted_cross_triad(7);
+  const TriadFit chosen = fit_triad(one_diagonal, o);
+  const auto [joint, sequential] = fit_both_ways(one_diagonal, classical_options(1));
+  const nlohmann::json& test = chosen.summary.details["coupling_test"];
+  EXPECT_GT(test["statistic"].get<double>(), 10.0 * test["critical"].get<double>());
+  EXPECT_EQ(chosen.summary.details["estimation_chosen"], "joint");
+  EXPECT_EQ((chosen.model.misalignment - joint.model.misalignment).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_LT(max_off_diagonal_error(joint.model.misalignment, m.misalignment), 0.5 * max_off_diagonal_error(sequential.model.misalignment, m.misalignment));
+  // The covariance the test uses carries the reported sigmas on its diagonal, in both modes.
+  for (const TriadFit* f : {&joint, &sequential})
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        EXPECT_NEAR(std::sqrt(f->uncertainty.misalignment_covariance(3 * i + j, 3 * i + j)), f->uncertainty.misalignment_sigma(i, j), 1e-9 * f->uncertainty.misalignment_sigma(i, j)) << i << j;
 }
 
 // The triad's classical surfaces choose their cross order by BIC unless told (surface.sf_cross_order absent =

@@ -1,0 +1,97 @@
+#include "solvers/triad/auto_estimation.h"
+
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+#include "core/error.h"
+#include "core/format.h"
+#include "core/stats.h"
+
+namespace gyrosid {
+
+nlohmann::json CouplingTest::json() const {
+  return {{"statistic", statistic},
+          {"dof", dof},
+          {"critical", critical},
+          {"level", level},
+          {"entries", entries},
+          {"rejected", rejected},
+          {"definition", "T = d' V_joint^+ d, d = vec(M_joint - M_sequential) over the entries both fits determined; the sequential fit's "
+                         "restriction (M separable from the surfaces) rejected when T > chi^2_{1-level}(dof) (solvers/triad/auto_estimation.h)"}};
+}
+
+CouplingTest coupling_test(const TriadFit& joint, const TriadFit& sequential, double level) {
+  static constexpr const char* kAxes[] = {"x", "y", "z"};
+  std::vector<int> at;  // vec(M) indices 3 i + j
+  CouplingTest t;
+  t.level = level;
+  const auto& cov = joint.uncertainty.misalignment_covariance;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      const auto ai = static_cast<std::size_t>(i), aj = static_cast<std::size_t>(j);
+      if (!joint.uncertainty.misalignment_known[ai][aj] || !sequential.uncertainty.misalignment_known[ai][aj]) continue;
+      if (!std::isfinite(cov(3 * i + j, 3 * i + j))) continue;
+      at.push_back(3 * i + j);
+      t.entries.push_back(std::string("M_") + kAxes[i] + kAxes[j]);
+    }
+  }
+  if (at.empty()) fail("triad: estimation=auto: no entry of M was determined (with a covariance) by both the joint and the sequential fit");
+  const auto n = static_cast<Eigen::Index>(at.size());
+  Eigen::VectorXd d(n);
+  Eigen::MatrixXd v(n, n);
+  for (Eigen::Index a = 0; a < n; ++a) {
+    const int ka = at[static_cast<std::size_t>(a)];
+    d(a) = joint.model.misalignment(ka / 3, ka % 3) - sequential.model.misalignment(ka / 3, ka % 3);
+    for (Eigen::Index b = 0; b < n; ++b) v(a, b) = cov(ka, at[static_cast<std::size_t>(b)]);
+  }
+  if (!v.allFinite()) fail("triad: estimation=auto: the joint fit's covariance of M is incomplete");
+  // The pseudo-inverse on V's numerical range: a direction the joint fit leaves (nearly) undetermined carries
+  // no test.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(v);
+  const Eigen::VectorXd lambda = eig.eigenvalues();
+  const Eigen::VectorXd projected = eig.eigenvectors().transpose() * d;
+  const double floor = 1e-12 * lambda.maxCoeff();
+  for (Eigen::Index k = 0; k < n; ++k) {
+    if (!(lambda(k) > floor)) continue;
+    t.statistic += projected(k) * projected(k) / lambda(k);
+    ++t.dof;
+  }
+  if (t.dof == 0) fail("triad: estimation=auto: the joint fit's covariance of M is zero");
+  t.critical = stats::chi2_quantile(1.0 - level, t.dof);
+  t.rejected = t.statistic > t.critical;
+  return t;
+}
+
+TriadFit fit_triad_auto(const TriadData& data, const TriadFitOptions& options, const std::string& reference_metadata) {
+  TriadFitOptions joint_options = options, sequential_options = options;
+  joint_options.estimation = "joint";
+  sequential_options.estimation = "sequential";
+  auto single = [&](const std::string& why) {
+    TriadFit f = fit_triad(data, joint_options, reference_metadata);
+    f.options = options;
+    f.notes.insert(f.notes.begin(), "estimation=auto: " + why + " - the joint fit returned");
+    f.summary.details["estimation"] = "auto";
+    f.summary.details["estimation_chosen"] = "joint";
+    return f;
+  };
+  if (options.surfaces == "none") return single("without surfaces the joint and the sequential fit are the same problem");
+  if (triad_reference_mode(options, reference_metadata) == "angle") return single("with an angle reference only the joint fit has surfaces");
+  TriadFit joint = fit_triad(data, joint_options, reference_metadata);
+  TriadFit sequential = fit_triad(data, sequential_options, reference_metadata);
+  const CouplingTest test = coupling_test(joint, sequential, options.coupling_test_level);
+  const double time_s = joint.summary.time_s + sequential.summary.time_s;
+  TriadFit chosen = std::move(test.rejected ? joint : sequential);
+  chosen.options = options;
+  chosen.summary.time_s = time_s;
+  chosen.summary.details["estimation"] = "auto";
+  chosen.summary.details["estimation_chosen"] = test.rejected ? "joint" : "sequential";
+  chosen.summary.details["coupling_test"] = test.json();
+  chosen.notes.insert(chosen.notes.begin(), str_cat(
+      "estimation=auto: ", test.rejected ? "the joint fit returned - the sequential fit's M differs from it by T = " : "the sequential fit returned - its M agrees with the joint fit's, T = ",
+      format_significant(test.statistic, 3), test.rejected ? " > " : " <= ", format_significant(test.critical, 3), " (chi^2, ", test.dof, " dof, level ",
+      test.level, test.rejected ? "): the surfaces couple with M on this programme" : "): the programme separates M from the surfaces, and the restricted fit is the more efficient"));
+  return chosen;
+}
+
+}  // namespace gyrosid
