@@ -3,7 +3,7 @@
 biases and per-gyro surfaces - its statistics, joint against sequential, triads from an independent
 generator, and real sessions against imucal's own result.
 
-    experiments/triad_misalignment/run.py [mc|compare|more|independent|real|summary|all] [--gyrosid build/gyrosid]
+    experiments/triad_misalignment/run.py [mc|compare|more|auto|independent|real|summary|all] [--gyrosid build/gyrosid]
                                           [--out experiments/triad_misalignment/results] [--jobs 2] [--force]
                                           [--kinds rbf] [--seeds N] [--cells training/sensor/kind,...]
 
@@ -11,6 +11,7 @@ Each part writes results/<part>.md (+ .csv); intermediates (recordings, models) 
 and results/models/ and are reused on a rerun. See README.md for what each part answers.
 """
 import argparse
+import csv
 import concurrent.futures
 import math
 import os
@@ -66,15 +67,18 @@ def sign_test_p(wins, n):
     return min(1.0, 2.0 * sum(math.comb(n, i) for i in range(k + 1)) / 2.0 ** n)
 
 
-def paired_summary(rows, flights, seeds):
-    """Per training, sensor, surface kind and quantity: joint against sequential, paired by seed."""
+def paired_summary(rows, flights, seeds, first="joint", second="sequential"):
+    """Per training, sensor, surface kind and quantity: `first` (joint) against `second` (sequential) estimation,
+    paired by seed; the columns keep the names joint / seq."""
     out = []
     val = lambda r, k: float(r[k])
     groups = sorted({(r["training"], r["sensor"], r["surfaces"]) for r in rows})
     for train, sensor, kind in groups:
         pick = lambda est: {int(r["seed"]): r for r in rows if (r["training"], r["sensor"], r["surfaces"], r["estimation"]) == (train, sensor, kind, est)}
-        j, q = pick("joint"), pick("sequential")
+        j, q = pick(first), pick(second)
         noisy = [s for s in seeds if s in j and s in q]
+        if not noisy:
+            continue
         for key in ["offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in flights]:
             a, b = np.array([val(j[s], key) for s in noisy]), np.array([val(q[s], key) for s in noisy])
             ratio = a / b
@@ -88,6 +92,23 @@ def paired_summary(rows, flights, seeds):
                         "ci_lo": float(np.percentile(boot, 2.5)), "ci_hi": float(np.percentile(boot, 97.5)),
                         "joint_wins": "%d/%d" % (wins, len(noisy)), "sign_p": sign_test_p(wins, len(noisy))})
     return out
+
+
+def comparative_target_lines(who, label, groups, medians, flights):
+    """The comparative targets' lines for one set of cells: `groups` maps (training, sensor, surfaces) to each flight's
+    interval verdict (better / worse / tie against sequential), `medians` to its median paired ratio."""
+    verdict = lambda ok: "met" if ok else "missed"
+    worse = ["%s/%s/%s %s" % (k + (f,)) for k, v in sorted(groups.items()) for f, w in zip(flights, v) if w == "worse"]
+    above = ["%s/%s/%s %s %s" % (k + (f, fmt(m, 6))) for k, v in sorted(groups.items()) for f, m in zip(flights, medians[k]) if m > 1]
+    nonlinear = {k: v for k, v in groups.items() if k[1] == "rate_nonlinear"}
+    not_better = ["%s/%s %s %s" % (k[0], k[2], f, w) for k, v in sorted(nonlinear.items()) for f, w in zip(flights, v) if w != "better"]
+    not_below = ["%s/%s %s %s" % (k[0], k[2], f, fmt(m, 6)) for k, v in sorted(nonlinear.items()) for f, m in zip(flights, medians[k]) if not m < 1]
+    return ["* %s at least as good as sequential on every flight, %s:" % (who, label),
+            "  interval criterion (no flight's interval above 1): %s - %s;" % ("; ".join(worse) or "no flight worse", verdict(not worse)),
+            "  literal criterion (every median ratio <= 1): %s - %s." % ("; ".join(above) or "none above 1", verdict(not above)),
+            "* Strictly better when rate-nonlinear, %s:" % label,
+            "  interval criterion (every flight's interval below 1): not better: %s - %s;" % ("; ".join(not_better) or "none", verdict(not not_better)),
+            "  literal criterion (every median ratio < 1): not below 1: %s - %s." % ("; ".join(not_below) or "none", verdict(not not_below))]
 
 
 class Experiment:
@@ -239,6 +260,34 @@ class Experiment:
         write_text(os.path.join(self.out, "compare_more.md"), text)
         print(text)
 
+    def auto(self):
+        """estimation=auto (--auto: both fits, the joint kept where a test on M rejects the sequential fit's restriction,
+        solvers/triad/auto_estimation.h) on every training and sensor, for the CLI's default surfaces (--kinds, default
+        classical,rbf): against the compare's sequential and joint rows of the same recordings, paired by seed."""
+        c = self.cfg["compare"]
+        kinds = self.kinds or ["classical", "rbf"]
+        seeds = c["seeds"][:self.seeds or None]
+        jobs = [(train, sname, kind, "auto", seed) for train in c["trainings"] for sname in c["sensors"]
+                for kind in kinds if kind in c["trainings"][train]["kinds"] for seed in [0] + seeds]
+        rows = self.parallel(self.compare_row, jobs)
+        flights = c["flights"]
+        cols = ["training", "sensor", "surfaces", "estimation", "chosen", "seed", "offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in flights]
+        write_csv(os.path.join(self.out, "compare_auto.csv"), rows, cols + ["time_s"])
+        both = rows + [r for r in csv.DictReader(open(os.path.join(self.out, "compare.csv"))) if r["surfaces"] in kinds]
+        chosen = {}
+        for r in rows:
+            if int(r["seed"]) > 0:
+                chosen.setdefault((r["training"], r["sensor"], r["surfaces"]), []).append(r["chosen"])
+        text = ("# estimation=auto against sequential and joint\n\n`run.py auto`: the CLI's `--auto` (solvers/triad/auto_estimation.h) on the "
+                "compare's recordings, %d noisy seeds; columns as in compare.md, with auto in the place of joint. Fits that returned the joint "
+                "one, per cell: %s.\n\n" % (len(seeds), "; ".join("%s/%s/%s %d of %d" % (k + (v.count("joint"), len(v))) for k, v in sorted(chosen.items()))))
+        for second in ("sequential", "joint"):
+            table = [dict(g, **{k: fmt(g[k], 5) for k in ("noise_free_ratio", "median_ratio") if g[k] != ""})
+                     for g in paired_summary(both, flights, seeds, "auto", second) if g["quantity"] != "train_rms_dph"]
+            text += "## auto against %s\n\n" % second + markdown_table(table, PAIRED_COLUMNS) + "\n"
+        write_text(os.path.join(self.out, "compare_auto.md"), text)
+        print(text)
+
     def compare_row(self, job):
         """One fit of the compare (training, sensor, surface kind, estimation, seed) and its flights' criterion of fit."""
         c = self.cfg["compare"]
@@ -255,6 +304,7 @@ class Experiment:
         err = np.sqrt(np.nanmean([(m[i, j] - planted[i, j]) ** 2 for (i, j) in OFF])) * 1e6
         model = self.run.path("models", tag, "seed%d.json" % seed)
         row = {"training": train, "sensor": sname, "surfaces": kind, "estimation": est, "seed": seed, "offdiag_rms_err_urad": err,
+               "chosen": fit["summary"]["details"].get("estimation_chosen", est),
                "train_rms_dph": float(np.mean(fit["residual_rms_dph"])), "bic": fit_bic(fit), "rate_order": surface_order(fit, "sf_rate_order"), "cross_order": surface_order(fit, "sf_cross_order"),
                "time_s": fit["summary"]["time_s"]}
         for flight in c["flights"]:
@@ -555,17 +605,25 @@ class Experiment:
                     for k, v in sorted(orders.items()) if k[2] == "classical"))
             for label, groups in (("the CLI's default surfaces (classical = orders auto by bic_lr, rbf)", default),
                                   ("every surface family fitted (also classical_bic, classical_aic, classical_separable, classical_cross2)", verdicts)):
-                worse = ["%s/%s/%s %s" % (k + (f,)) for k, v in sorted(groups.items()) for f, w in zip(flights, v) if w == "worse"]
-                above = ["%s/%s/%s %s %s" % (k + (f, fmt(m, 6))) for k, v in sorted(groups.items()) for f, m in zip(flights, medians[k]) if m > 1]
-                nonlinear = {k: v for k, v in groups.items() if k[1] == "rate_nonlinear"}
-                not_better = ["%s/%s %s %s" % (k[0], k[2], f, w) for k, v in sorted(nonlinear.items()) for f, w in zip(flights, v) if w != "better"]
-                not_below = ["%s/%s %s %s" % (k[0], k[2], f, fmt(m, 6)) for k, v in sorted(nonlinear.items()) for f, m in zip(flights, medians[k]) if not m < 1]
-                lines.append("* Joint at least as good as sequential on every flight, %s:" % label)
-                lines.append("  interval criterion (no flight's interval above 1): %s - %s;" % ("; ".join(worse) or "no flight worse", verdict(not worse)))
-                lines.append("  literal criterion (every median ratio <= 1): %s - %s." % ("; ".join(above) or "none above 1", verdict(not above)))
-                lines.append("* Strictly better when rate-nonlinear, %s:" % label)
-                lines.append("  interval criterion (every flight's interval below 1): not better: %s - %s;" % ("; ".join(not_better) or "none", verdict(not not_better)))
-                lines.append("  literal criterion (every median ratio < 1): not below 1: %s - %s." % ("; ".join(not_below) or "none", verdict(not not_below)))
+                lines += comparative_target_lines("Joint", label, groups, medians, flights)
+        auto = read("compare_auto.csv")
+        if cmp and auto:
+            verdicts, medians = {}, {}
+            for g in paired_summary(auto + cmp, flights, self.cfg["compare"]["seeds"], "auto", "sequential"):
+                if g["quantity"].endswith("_m"):
+                    key = (g["training"], g["sensor"], g["surfaces"])
+                    verdicts.setdefault(key, []).append("better" if g["ci_hi"] < 1 else "worse" if g["ci_lo"] > 1 else "tie")
+                    medians.setdefault(key, []).append(g["median_ratio"])
+            chosen = {}
+            for r in auto:
+                if int(r["seed"]) > 0:
+                    chosen.setdefault((r["training"], r["sensor"], r["surfaces"]), []).append(r["chosen"])
+            lines.append("* estimation=auto (`--auto`, compare_auto.md): the joint fit returned in %s; the sequential in every other fit." % "; ".join(
+                "%s/%s/%s %d of %d" % (k + (v.count("joint"), len(v))) for k, v in sorted(chosen.items()) if "joint" in v))
+            lines += comparative_target_lines("Auto", "the CLI's default surfaces", verdicts, medians, flights)
+            coupled = sorted(k for k, v in chosen.items() if k[1] == "rate_nonlinear" and "joint" in v)
+            lines.append("  where the test found the surfaces coupled with M (auto returned the joint fit): %s." % "; ".join(
+                "%s/%s %s" % (k[0], k[2], ", ".join("%s %s %s" % (f, fmt(m, 4), w) for f, m, w in zip(flights, medians[k], verdicts[k]))) for k in coupled))
         more = read("compare_more.csv")
         if more:
             seeds = sorted({int(r["seed"]) for r in more if int(r["seed"]) > 0})
@@ -609,19 +667,19 @@ class Experiment:
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("part", nargs="?", default="all", choices=["mc", "compare", "more", "independent", "real", "summary", "all"])
+    p.add_argument("part", nargs="?", default="all", choices=["mc", "compare", "more", "auto", "independent", "real", "summary", "all"])
     add_gyrosid_argument(p)
     p.add_argument("--out", default=os.path.join(HERE, "results"))
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--force", action="store_true")
     p.add_argument("--seeds", type=int, default=0, help="compare: only the first N noisy seeds of config.yaml (0: all); more: seeds 1..N (0: 60)")
-    p.add_argument("--kinds", default="", help="compare: refit only these surface kinds (comma-separated), keep the others' rows")
+    p.add_argument("--kinds", default="", help="compare: refit only these surface kinds (comma-separated), keep the others' rows; auto: the kinds to fit (default classical,rbf)")
     p.add_argument("--cells", default="", help="more: compare cells training/sensor/kind, comma-separated")
     args = p.parse_args()
     e = Experiment(args)
-    parts = {"mc": e.monte_carlo, "compare": e.compare, "more": e.more, "independent": e.independent, "real": e.real, "summary": e.summary}
+    parts = {"mc": e.monte_carlo, "compare": e.compare, "more": e.more, "auto": e.auto, "independent": e.independent, "real": e.real, "summary": e.summary}
     for name, fn in parts.items():
-        if args.part == name or (args.part == "all" and name != "more"):
+        if args.part == name or (args.part == "all" and name not in ("more", "auto")):
             fn()
 
 

@@ -32,6 +32,9 @@
 //               predicted 1.7): the two fits then differ where the training does not tell them apart.
 //               With the same parametrisation the two differ only by the off-diagonals (and G) and agree
 //               exactly where the design separates them from the surfaces (Frisch-Waugh-Lovell).
+//   auto        both, and the joint fit returned only where a specification test on M rejects the sequential
+//               fit's restriction (the surfaces couple with M); else the sequential fit, then the efficient one
+//               (auto_estimation.h).
 //
 // What M_ii carries beside an RBF surface (rbf_diagonal). An additive surface e_i(T, g_i) and M_ii trade along
 // a direction the data barely see: the nodes can mimic most of M_ii's column. Something fixes that gauge.
