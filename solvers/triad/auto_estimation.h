@@ -15,7 +15,8 @@
 // one that difference is the variance of d, and V_joint >= it, so this T is conservative - it rejects a true
 // restriction with probability at most `level`. (The sequential first stage leaves the surfaces out of its rows,
 // so it is efficient only approximately; measured on the study's 20 seeds of balanced programmes the largest
-// |d_k| / sigma_k is 0.7 against 30-38 on the one-diagonal programme.)
+// |d_k| / sigma_k is 0.7 against 30-38 on the one-diagonal programme, and `run.py auto` kept the sequential fit
+// in 200 of 200 balanced fits and returned the joint one in 40 of 40 one-diagonal FOG fits.)
 #pragma once
 
 #include <string>
