@@ -95,6 +95,8 @@ std::string TriadFitOptions::validate() const {
   if (order_criterion != "bic_lr" && order_criterion != "bic" && order_criterion != "aic")
     return str_cat("order_criterion must be bic_lr, bic or aic, not '", order_criterion, "'");
   if (!(order_test_level > 0.0 && order_test_level <= 0.5)) return str_cat("order_test_level must lie in (0, 0.5], not ", order_test_level);
+  if (estimation != "joint" && estimation != "sequential" && estimation != "auto")
+    return str_cat("estimation must be joint, sequential or auto, not '", estimation, "'");
   if (!(coupling_test_level > 0.0 && coupling_test_level <= 0.5)) return str_cat("coupling_test_level must lie in (0, 0.5], not ", coupling_test_level);
   for (const char* key : kOrderKeys) {
     if (!order_auto(effective_surface_options(surfaces, surface_options), key)) continue;

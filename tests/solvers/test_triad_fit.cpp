@@ -752,6 +752,12 @@ TEST(TriadFit, AutoEstimationReturnsTheJointFitOnlyWhereTheSurfacesCoupleWithM) 
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         EXPECT_NEAR(std::sqrt(f->uncertainty.misalignment_covariance(3 * i + j, 3 * i + j)), f->uncertainty.misalignment_sigma(i, j), 1e-9 * f->uncertainty.misalignment_sigma(i, j)) << i << j;
+  TriadFitOptions bad = o;
+  bad.estimation = "both";
+  EXPECT_NE(bad.validate().find("estimation must be joint, sequential or auto"), std::string::npos);
+  bad.estimation = "auto";
+  bad.coupling_test_level = 0.0;
+  EXPECT_NE(bad.validate().find("coupling_test_level"), std::string::npos);
 }
 
 // The triad's classical surfaces choose their cross order by BIC unless told (surface.sf_cross_order absent =
