@@ -120,6 +120,7 @@ class Experiment:
         self.kinds = args.kinds.split(",") if getattr(args, "kinds", None) else []
         self.seeds = getattr(args, "seeds", 0)
         self.cells = getattr(args, "cells", "")
+        self.estimation = getattr(args, "estimation", "")
 
     def sensor(self, path):
         return path if path.startswith("builtin:") else os.path.join(HERE, path)
@@ -140,9 +141,15 @@ class Experiment:
         s10 = c["planted"]["scale_factor_at_10dps_ppm"] * 1e-6
         for i, a in enumerate(AXES):  # exact diagonal: (1 + s) cos-product - 1, to second order in the angles
             planted[i, i] = (1 + s10) * (1 - 0.5 * float(sums[a] @ sums[a])) - 1
-        noise_free = self.simulate_and_fit(c["sensor"], c["trajectory"], 0, c["calibrate"], "mc")
+        # --estimation: the same recordings fitted in that mode, written to monte_carlo_<mode>.md (default: the
+        # config's arguments - the CLI's default, joint - to monte_carlo.md).
+        calibrate = c["calibrate"] + (["--" + self.estimation] if self.estimation else [])
+        name = "monte_carlo" + ("_" + self.estimation if self.estimation else "")
+        tag = "mc" + ("_" + self.estimation if self.estimation else "")
+        fit = lambda s: self.simulate_and_fit_tagged(c["sensor"], c["trajectory"], s, calibrate, tag, "mc")
+        noise_free = fit(0)
         seeds = list(range(c["first_seed"], c["first_seed"] + c["runs"]))
-        fits = self.parallel(lambda s: self.simulate_and_fit(c["sensor"], c["trajectory"], s, c["calibrate"], "mc"), seeds)
+        fits = self.parallel(fit, seeds)
         est = np.array([matrix(f) for f in fits])
         sig = np.array([matrix(f, "sigma") for f in fits])
         t0 = np.array([f["bias_dph"]["temperature_c"] for f in fits])
@@ -174,13 +181,13 @@ class Experiment:
         z_off = np.array([(est[:, i, j] - planted[i, j]) / sig[:, i, j] for (i, j) in OFF]).T
         runs_all_inside = float(np.mean(np.all(np.abs(z_off) <= 3, axis=1)))
         cols = ["entry", "unit", "planted", "noise_free", "bias", "bias_in_sigma", "sigma_mc", "sigma_reported", "floor", "cover_1sigma", "inside_3sigma"]
-        write_csv(os.path.join(self.out, "monte_carlo.csv"), rows, cols)
+        write_csv(os.path.join(self.out, name + ".csv"), rows, cols)
         off = [r for r in rows if r["unit"] == "urad"]
         text = "# Monte Carlo: %d simulated triads, six positions + 10 deg/s turns, 10 deg/h white noise\n\n" % len(fits)
         text += ("Sensor `%s`, trajectory `%s`, fit `gyrosid calibrate --model triad %s`. Planted M: eq 3.72 from the "
                  "config's angles (off-diagonal, first order; the exact chain differs by < 1e-9), diagonal (1 + s(10 deg/s)) "
                  "times the cosine product, minus 1. Bias: the config's polynomial at the fit's reference temperature.\n\n"
-                 % (c["sensor"], c["trajectory"], " ".join(c["calibrate"])))
+                 % (c["sensor"], c["trajectory"], " ".join(calibrate)))
         text += markdown_table(rows, cols, ["entry", "unit", "planted", "noise-free fit", "bias", "bias / (sd/sqrt(n))", "sigma (MC)",
                                             "sigma (reported)", "floor", "1-sigma coverage", "inside 3 sigma"])
         text += ("\nOff-diagonal: reported sigma %s..%s urad (floor %s urad), MC sigma %s..%s urad; 1-sigma coverage %s..%s "
@@ -190,7 +197,10 @@ class Experiment:
                     fmt(min(r["cover_1sigma"] for r in off)), fmt(max(r["cover_1sigma"] for r in off)),
                     fmt(float(np.mean(np.abs(z_off) <= 1))), fmt(min(r["inside_3sigma"] for r in off), 4),
                     fmt(max(r["inside_3sigma"] for r in off), 4), fmt(float(np.mean(np.abs(z_off) <= 3)), 4), fmt(runs_all_inside, 4)))
-        write_text(os.path.join(self.out, "monte_carlo.md"), text)
+        chosen = [f["summary"]["details"].get("estimation_chosen") for f in fits]
+        if self.estimation == "auto":
+            text += "\nestimation=auto returned the joint fit in %d of %d runs, the sequential in the others.\n" % (chosen.count("joint"), len(fits))
+        write_text(os.path.join(self.out, name + ".md"), text)
         print(text)
 
 
@@ -675,6 +685,8 @@ def main():
     p.add_argument("--seeds", type=int, default=0, help="compare: only the first N noisy seeds of config.yaml (0: all); more: seeds 1..N (0: 60)")
     p.add_argument("--kinds", default="", help="compare: refit only these surface kinds (comma-separated), keep the others' rows; auto: the kinds to fit (default classical,rbf)")
     p.add_argument("--cells", default="", help="more: compare cells training/sensor/kind, comma-separated")
+    p.add_argument("--estimation", default="", choices=["", "joint", "sequential", "auto"],
+                   help="mc: fit the same recordings in this mode, results/monte_carlo_<mode>.md (default: the CLI's default, monte_carlo.md)")
     args = p.parse_args()
     e = Experiment(args)
     parts = {"mc": e.monte_carlo, "compare": e.compare, "more": e.more, "auto": e.auto, "independent": e.independent, "real": e.real, "summary": e.summary}
