@@ -79,7 +79,17 @@ TriadFit fit_triad_auto(const TriadData& data, const TriadFitOptions& options, c
   if (triad_reference_mode(options, reference_metadata) == "angle") return single("with an angle reference only the joint fit has surfaces");
   TriadFit joint = fit_triad(data, joint_options, reference_metadata);
   TriadFit sequential = fit_triad(data, sequential_options, reference_metadata);
-  const CouplingTest test = coupling_test(joint, sequential, options.coupling_test_level);
+  CouplingTest test;
+  try {
+    test = coupling_test(joint, sequential, options.coupling_test_level);
+  } catch (const Error& e) {  // no determined entry of M to compare: keep the fit that needs no restriction
+    joint.options = options;
+    joint.summary.time_s += sequential.summary.time_s;
+    joint.summary.details["estimation"] = "auto";
+    joint.summary.details["estimation_chosen"] = "joint";
+    joint.notes.insert(joint.notes.begin(), str_cat("estimation=auto: the test could not be made (", e.what(), ") - the joint fit returned"));
+    return joint;
+  }
   const double time_s = joint.summary.time_s + sequential.summary.time_s;
   TriadFit chosen = std::move(test.rejected ? joint : sequential);
   chosen.options = options;

@@ -45,6 +45,8 @@ CouplingTest coupling_test(const TriadFit& joint, const TriadFit& sequential, do
 // Both fits of `data` (options.estimation = joint, sequential), the test, and the chosen fit with the test in its
 // notes and summary details (estimation_chosen, coupling_test); its time_s the two fits' together. With
 // surfaces=none the two are one fit, and with an angle reference only the joint one exists: that fit, noted.
+// Where the test cannot be made (no entry of M determined by both fits, e.g. every sigma above max_sigma) the
+// joint fit, noted.
 TriadFit fit_triad_auto(const TriadData& data, const TriadFitOptions& options, const std::string& reference_metadata);
 
 }  // namespace gyrosid

@@ -752,6 +752,13 @@ TEST(TriadFit, AutoEstimationReturnsTheJointFitOnlyWhereTheSurfacesCoupleWithM) 
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         EXPECT_NEAR(std::sqrt(f->uncertainty.misalignment_covariance(3 * i + j, 3 * i + j)), f->uncertainty.misalignment_sigma(i, j), 1e-9 * f->uncertainty.misalignment_sigma(i, j)) << i << j;
+  // No entry of M left to compare (every sigma above max_sigma): the joint fit, with the reason.
+  TriadFitOptions untestable = o;
+  untestable.max_sigma = 1e-12;
+  const TriadFit fallback = fit_triad(one_diagonal, untestable);
+  EXPECT_EQ(fallback.summary.details["estimation_chosen"], "joint");
+  EXPECT_FALSE(fallback.summary.details.contains("coupling_test"));
+  EXPECT_NE(fallback.notes.front().find("the test could not be made"), std::string::npos);
   TriadFitOptions bad = o;
   bad.estimation = "both";
   EXPECT_NE(bad.validate().find("estimation must be joint, sequential or auto"), std::string::npos);
