@@ -63,45 +63,49 @@ CouplingTest coupling_test(const TriadFit& joint, const TriadFit& sequential, do
   return t;
 }
 
+namespace {
+
+// `f` as estimation=auto's result: the options asked for, which fit it is (summary details) and why (first note).
+TriadFit as_auto(TriadFit f, const TriadFitOptions& options, const char* chosen, const std::string& why) {
+  f.options = options;
+  f.summary.details["estimation"] = "auto";
+  f.summary.details["estimation_chosen"] = chosen;
+  f.notes.insert(f.notes.begin(), "estimation=auto: " + why);
+  return f;
+}
+
+}  // namespace
+
 TriadFit fit_triad_auto(const TriadData& data, const TriadFitOptions& options, const std::string& reference_metadata) {
   TriadFitOptions joint_options = options, sequential_options = options;
   joint_options.estimation = "joint";
   sequential_options.estimation = "sequential";
-  auto single = [&](const std::string& why) {
-    TriadFit f = fit_triad(data, joint_options, reference_metadata);
-    f.options = options;
-    f.notes.insert(f.notes.begin(), "estimation=auto: " + why + " - the joint fit returned");
-    f.summary.details["estimation"] = "auto";
-    f.summary.details["estimation_chosen"] = "joint";
-    return f;
-  };
-  if (options.surfaces == "none") return single("without surfaces the joint and the sequential fit are the same problem");
-  if (triad_reference_mode(options, reference_metadata) == "angle") return single("with an angle reference only the joint fit has surfaces");
+  if (options.surfaces == "none") {
+    return as_auto(fit_triad(data, joint_options, reference_metadata), options, "joint",
+                   "without surfaces the joint and the sequential fit are the same problem - the joint fit returned");
+  }
+  if (triad_reference_mode(options, reference_metadata) == "angle") {
+    return as_auto(fit_triad(data, joint_options, reference_metadata), options, "joint",
+                   "with an angle reference only the joint fit has surfaces - the joint fit returned");
+  }
   TriadFit joint = fit_triad(data, joint_options, reference_metadata);
   TriadFit sequential = fit_triad(data, sequential_options, reference_metadata);
+  const double time_s = joint.summary.time_s + sequential.summary.time_s;
   CouplingTest test;
   try {
     test = coupling_test(joint, sequential, options.coupling_test_level);
   } catch (const Error& e) {  // no determined entry of M to compare: keep the fit that needs no restriction
-    joint.options = options;
-    joint.summary.time_s += sequential.summary.time_s;
-    joint.summary.details["estimation"] = "auto";
-    joint.summary.details["estimation_chosen"] = "joint";
-    joint.notes.insert(joint.notes.begin(), str_cat("estimation=auto: the test could not be made (", e.what(), ") - the joint fit returned"));
-    return joint;
+    joint.summary.time_s = time_s;
+    return as_auto(std::move(joint), options, "joint", str_cat("the test could not be made (", e.what(), ") - the joint fit returned"));
   }
-  const double time_s = joint.summary.time_s + sequential.summary.time_s;
   TriadFit chosen = std::move(test.rejected ? joint : sequential);
-  chosen.options = options;
   chosen.summary.time_s = time_s;
-  chosen.summary.details["estimation"] = "auto";
-  chosen.summary.details["estimation_chosen"] = test.rejected ? "joint" : "sequential";
   chosen.summary.details["coupling_test"] = test.json();
-  chosen.notes.insert(chosen.notes.begin(), str_cat(
-      "estimation=auto: ", test.rejected ? "the joint fit returned - the sequential fit's M differs from it by T = " : "the sequential fit returned - its M agrees with the joint fit's, T = ",
+  const std::string why = str_cat(
+      test.rejected ? "the joint fit returned - the sequential fit's M differs from it by T = " : "the sequential fit returned - its M agrees with the joint fit's, T = ",
       format_significant(test.statistic, 3), test.rejected ? " > " : " <= ", format_significant(test.critical, 3), " (chi^2, ", test.dof, " dof, level ",
-      test.level, test.rejected ? "): the surfaces couple with M on this programme" : "): the programme separates M from the surfaces, and the restricted fit is the more efficient"));
-  return chosen;
+      test.level, test.rejected ? "): the surfaces couple with M on this programme" : "): the programme separates M from the surfaces, and the restricted fit is the more efficient");
+  return as_auto(std::move(chosen), options, test.rejected ? "joint" : "sequential", why);
 }
 
 }  // namespace gyrosid
