@@ -94,6 +94,20 @@ def paired_summary(rows, flights, seeds, first="joint", second="sequential"):
     return out
 
 
+def interval_word(g):
+    """A paired_summary row's verdict by its 95 % interval: better / worse when it lies below / above 1, else tie."""
+    return "better" if g["ci_hi"] < 1 else "worse" if g["ci_lo"] > 1 else "tie"
+
+
+def chosen_by_cell(rows):
+    """Per (training, sensor, surfaces): the fit estimation=auto returned on each noisy seed."""
+    chosen = {}
+    for r in rows:
+        if int(r["seed"]) > 0:
+            chosen.setdefault((r["training"], r["sensor"], r["surfaces"]), []).append(r["chosen"])
+    return chosen
+
+
 def comparative_target_lines(who, label, groups, medians, flights):
     """The comparative targets' lines for one set of cells: `groups` maps (training, sensor, surfaces) to each flight's
     interval verdict (better / worse / tie against sequential), `medians` to its median paired ratio."""
@@ -284,10 +298,7 @@ class Experiment:
         cols = ["training", "sensor", "surfaces", "estimation", "chosen", "seed", "offdiag_rms_err_urad", "train_rms_dph"] + [f + "_m" for f in flights]
         write_csv(os.path.join(self.out, "compare_auto.csv"), rows, cols + ["time_s"])
         both = rows + [r for r in csv.DictReader(open(os.path.join(self.out, "compare.csv"))) if r["surfaces"] in kinds]
-        chosen = {}
-        for r in rows:
-            if int(r["seed"]) > 0:
-                chosen.setdefault((r["training"], r["sensor"], r["surfaces"]), []).append(r["chosen"])
+        chosen = chosen_by_cell(rows)
         text = ("# estimation=auto against sequential and joint\n\n`run.py auto`: the CLI's `--auto` (solvers/triad/auto_estimation.h) on the "
                 "compare's recordings, %d noisy seeds; columns as in compare.md, with auto in the place of joint. Fits that returned the joint "
                 "one, per cell: %s.\n\n" % (len(seeds), "; ".join("%s/%s/%s %d of %d" % (k + (v.count("joint"), len(v))) for k, v in sorted(chosen.items()))))
@@ -591,8 +602,7 @@ class Experiment:
             # below 1, else a tie. Literal: the median ratio itself <= 1 (at least as good), < 1 (strictly better).
             verdicts, medians = {}, {}
             for g in paired_summary(cmp, flights, self.cfg["compare"]["seeds"]):
-                lo, hi = g["ci_lo"], g["ci_hi"]
-                word = "better" if hi < 1 else "worse" if lo > 1 else "tie"
+                word = interval_word(g)
                 if g["quantity"] == "offdiag_rms_err_urad":
                     lines.append("* Joint vs sequential, %s training, %s sensor, %s surfaces (compare.md; median joint/sequential over %s seeds "
                                  "[95 %% interval], joint wins, sign-test p):" % (g["training"], g["sensor"], g["surfaces"], g["joint_wins"].split("/")[1]))
@@ -622,12 +632,9 @@ class Experiment:
             for g in paired_summary(auto + cmp, flights, self.cfg["compare"]["seeds"], "auto", "sequential"):
                 if g["quantity"].endswith("_m"):
                     key = (g["training"], g["sensor"], g["surfaces"])
-                    verdicts.setdefault(key, []).append("better" if g["ci_hi"] < 1 else "worse" if g["ci_lo"] > 1 else "tie")
+                    verdicts.setdefault(key, []).append(interval_word(g))
                     medians.setdefault(key, []).append(g["median_ratio"])
-            chosen = {}
-            for r in auto:
-                if int(r["seed"]) > 0:
-                    chosen.setdefault((r["training"], r["sensor"], r["surfaces"]), []).append(r["chosen"])
+            chosen = chosen_by_cell(auto)
             lines.append("* estimation=auto (`--auto`, compare_auto.md): the joint fit returned in %s; the sequential in every other fit." % "; ".join(
                 "%s/%s/%s %d of %d" % (k + (v.count("joint"), len(v))) for k, v in sorted(chosen.items()) if "joint" in v))
             lines += comparative_target_lines("Auto", "the CLI's default surfaces", verdicts, medians, flights)
