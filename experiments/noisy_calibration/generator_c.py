@@ -29,9 +29,10 @@ from gyrosid_experiments import write_recording  # noqa: E402
 THETA = np.array([40.0, 25.0, 8.0, 300.0, 120.0, -1500.0, 60.0, 40.0, 350.0])
 NAMES = ["bias", "bias_tanh", "bias_bump", "sf", "sf_T", "sf_u2", "sf_uT", "sf_ripple", "sf_u3"]
 RATE_MAX_DPS = 150.0
+RIPPLE_PERIOD_DPS = 55.0  # sf_ripple's period in the true rate; another value makes the counterfactual sensor C'
 
 
-def columns(w_dps, temp_c):
+def columns(w_dps, temp_c, ripple_period_dps=RIPPLE_PERIOD_DPS):
     """The law's columns G (N x 9), deg/h per unit theta: e = G theta."""
     w = np.asarray(w_dps, float)
     t = np.asarray(temp_c, float)
@@ -39,12 +40,12 @@ def columns(w_dps, temp_c):
     dt = (t - 20.0) / 50.0
     k = 1e-6 * w * 3600.0
     return np.column_stack([np.ones_like(w), np.tanh((t - 10.0) / 25.0), np.exp(-((t + 20.0) / 15.0) ** 2),
-                            k, k * dt, k * u ** 2, k * u * dt, k * np.cos(2 * math.pi * w / 55.0) * (1 + 0.01 * t),
+                            k, k * dt, k * u ** 2, k * u * dt, k * np.cos(2 * math.pi * w / ripple_period_dps) * (1 + 0.01 * t),
                             k * np.abs(u) ** 3])
 
 
-def error_dph(w_dps, temp_c):
-    return columns(w_dps, temp_c) @ THETA
+def error_dph(w_dps, temp_c, ripple_period_dps=RIPPLE_PERIOD_DPS):
+    return columns(w_dps, temp_c, ripple_period_dps) @ THETA
 
 
 def programme(name, rng_phase):
@@ -84,10 +85,11 @@ def noise_dph(t, white_dph_at_1hz, gm_sigma_dph, gm_tau_s, rng):
     return n
 
 
-def generate(path, programme_name, white_dph, gm_sigma_dph=0.0, gm_tau_s=0.0, seed=1, noise_free=False):
+def generate(path, programme_name, white_dph, gm_sigma_dph=0.0, gm_tau_s=0.0, seed=1, noise_free=False,
+             ripple_period_dps=RIPPLE_PERIOD_DPS):
     rng = np.random.default_rng(seed)
     t, w, temp = programme(programme_name, rng.uniform(0, 2 * math.pi))
-    e = error_dph(w, temp)
+    e = error_dph(w, temp, ripple_period_dps)
     if not noise_free:
         e = e + noise_dph(t, white_dph, gm_sigma_dph, gm_tau_s, rng)
     meta = ["# format: gyrosid-recording/1\n", "# sensor: sensor C (experiments/noisy_calibration/generator_c.py)\n",
@@ -95,6 +97,16 @@ def generate(path, programme_name, white_dph, gm_sigma_dph=0.0, gm_tau_s=0.0, se
             "# description: programme %s, white %g deg/h at 1 Hz, Gauss-Markov %g deg/h tau %g s%s\n" % (
                 programme_name, white_dph, gm_sigma_dph, gm_tau_s, ", noise-free" if noise_free else "")]
     write_recording(path, meta, {"t_s": t, "ref_rate_dps": w, "temp_c": temp, "gyro_dps": w + e / 3600.0})
+
+
+def write_grid(path, temp_spec, rate_spec, ripple_period_dps=RIPPLE_PERIOD_DPS):
+    """A noise-free recording over the (T, omega) grid: temp_spec, rate_spec = (first, last, count)."""
+    tt, ww = np.meshgrid(np.linspace(*temp_spec[:2], int(temp_spec[2])), np.linspace(*rate_spec[:2], int(rate_spec[2])),
+                         indexing="ij")
+    w, temp = ww.ravel(), tt.ravel()
+    write_recording(path, ["# format: gyrosid-recording/1\n", "# sensor: sensor C, (T, omega) grid, noise-free\n"],
+                    {"t_s": np.arange(len(w), dtype=float), "ref_rate_dps": w, "temp_c": temp,
+                     "gyro_dps": w + error_dph(w, temp, ripple_period_dps) / 3600.0})
 
 
 def whiten(t, x, white_dph_at_1hz, gm_sigma_dph, gm_tau_s):
@@ -141,9 +153,11 @@ def main():
     ap.add_argument("--gm-tau-s", type=float, default=0.0)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--noise-free", action="store_true")
+    ap.add_argument("--ripple-period-dps", type=float, default=RIPPLE_PERIOD_DPS,
+                    help="sf_ripple's period (55: sensor C; 1375/30 = 45.83: sensor C', the same staircase data)")
     ap.add_argument("--out", required=True)
     a = ap.parse_args()
-    generate(a.out, a.programme, a.white_dph, a.gm_sigma_dph, a.gm_tau_s, a.seed, a.noise_free)
+    generate(a.out, a.programme, a.white_dph, a.gm_sigma_dph, a.gm_tau_s, a.seed, a.noise_free, a.ripple_period_dps)
 
 
 if __name__ == "__main__":

@@ -19,7 +19,6 @@ import argparse
 import csv
 import hashlib
 import json
-import math
 import os
 import subprocess
 import sys
@@ -253,13 +252,7 @@ class Experiment:
             generator_c.generate(heldout, c["heldout"], 0.0, seed=999, noise_free=True)
         grid = self.run.path("data", "c", "grid.csv")
         if not os.path.exists(grid):
-            t0, t1, nt = c["grid"]["temp_c"]
-            w0, w1, nw = c["grid"]["rate_dps"]
-            tt, ww = np.meshgrid(np.linspace(t0, t1, nt), np.linspace(w0, w1, nw), indexing="ij")
-            w, temp = ww.ravel(), tt.ravel()
-            write_recording(grid, ["# format: gyrosid-recording/1\n", "# sensor: sensor C, (T, omega) grid, noise-free\n"],
-                            {"t_s": np.arange(len(w), dtype=float), "ref_rate_dps": w, "temp_c": temp,
-                             "gyro_dps": w + generator_c.error_dph(w, temp) / 3600.0})
+            generator_c.write_grid(grid, c["grid"]["temp_c"], c["grid"]["rate_dps"])
         return grid, heldout
 
     def sensor_c(self, only=None):
