@@ -1,9 +1,11 @@
 #include "solvers/bayes/hybrid_fit.h"
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/recording.h"
 #include "core/units.h"
 #include "model/dataset.h"
+#include "model/held_inputs.h"
 #include "model/terms/term_kinds.h"
 #include "solvers/common/candidates.h"
 
@@ -55,6 +57,61 @@ std::vector<Term> HybridOptions::terms() const {
   return t;
 }
 
+namespace {
+
+// A column is determined when more than this share of its norm lies outside the span of the ones kept before it.
+constexpr double kIndependentShare = 1e-6;
+
+// The physics terms restricted to what the recording determines, and what was left out and why.
+struct IdentifiedPhysics {
+  std::vector<Term> terms;
+  std::vector<std::string> left_out;  // column names
+  std::string note;                   // empty when nothing was left out
+};
+
+// The columns are taken in the terms' order (bias, its temperature polynomial, the scale factor by rising
+// orders), each kept when more than kIndependentShare of it lies outside the span of those kept before it
+// (Gram-Schmidt, twice). An input the recording holds (held_inputs.h) is set to its mean for this test, so its
+// higher orders fall on the lower ones: a thermal soak at rest keeps no scale factor, a rate table at one
+// temperature no temperature terms, a table at three rates no u^2 beside u^0 (at u = 0, +-1 they agree).
+IdentifiedPhysics identified_physics(const std::vector<Term>& terms, const Signals& s, const TermScaling& scaling) {
+  const HeldInputs held = held_inputs(s.rate, s.temp_c);
+  Signals test = s;
+  if (held.temperature) test.temp_c.setConstant(s.temp_c.mean());
+  if (held.rate) test.rate.setConstant(s.rate.mean());
+  const CoilTemperature coil{test.temp_c, Eigen::VectorXd::Zero(s.size())};  // steady state, as HybridModel
+  Eigen::MatrixXd basis(s.size(), 0);
+  IdentifiedPhysics out;
+  for (const Term& term : terms) {
+    const Eigen::MatrixXd c = term_columns(term, test, coil, scaling);
+    const std::vector<std::string> names = term.column_names();
+    std::vector<int> kept;
+    std::vector<std::string> dropped;
+    for (int k = 0; k < term.size(); ++k) {
+      Eigen::VectorXd r = c.col(k);
+      for (int pass = 0; pass < 2; ++pass) r -= basis * (basis.transpose() * r);
+      if (r.norm() > kIndependentShare * c.col(k).norm()) {
+        kept.push_back(k);
+        basis.conservativeResize(Eigen::NoChange, basis.cols() + 1);
+        basis.rightCols(1) = r / r.norm();
+      } else {
+        dropped.push_back(names[static_cast<std::size_t>(k)]);
+      }
+    }
+    const std::optional<Term> restricted = term.subset(kept);
+    if (restricted && restricted->size() != static_cast<int>(kept.size())) {
+      fail("hybrid: the recording does not determine every column of the ", term.kind(), " term (",
+           join(dropped), "); give a grid the recording covers, or leave the surface out");
+    }
+    if (restricted) out.terms.push_back(*restricted);
+    out.left_out.insert(out.left_out.end(), dropped.begin(), dropped.end());
+  }
+  if (!out.left_out.empty()) out.note = held.left_out_note(out.left_out);
+  return out;
+}
+
+}  // namespace
+
 std::unique_ptr<HybridModel> fit_hybrid(const Recording& recording, const HybridOptions& o, SolveSummary& summary) {
   const Dataset d = make_dataset(recording, default_features(), ModelTarget::error);
   if (!d.reference.allFinite()) fail("hybrid: the training recording has no reference rate (ref_rate_dps)");
@@ -65,7 +122,8 @@ std::unique_ptr<HybridModel> fit_hybrid(const Recording& recording, const Hybrid
   Signals s;
   s.t_s = d.t_s, s.rate = wt.col(0), s.temp_c = wt.col(1);
   const TermScaling scaling = TermScaling::of(s);
-  const std::vector<Term> terms = o.terms();
+  const IdentifiedPhysics physics = identified_physics(o.terms(), s, scaling);
+  const std::vector<Term>& terms = physics.terms;
   const HybridModel structure(scaling, terms, Eigen::VectorXd::Zero([&] {
     Eigen::Index c = 0;
     for (const auto& t : terms) c += t.size();
@@ -86,6 +144,7 @@ std::unique_ptr<HybridModel> fit_hybrid(const Recording& recording, const Hybrid
     f = fit_bayes(p, o, monitor);
     nlohmann::json details = f.details(y_scale);
     details["physics_columns"] = p.fixed.cols();
+    if (!physics.note.empty()) details["physics_left_out"] = {{"columns", physics.left_out}, {"note", physics.note}};
     return SolveOutcome{f.termination, f.message, details};
   });
   summary.details["nodes"] = f.centres.rows();

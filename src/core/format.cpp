@@ -27,4 +27,10 @@ double parse_c_double(const char* begin, char** end) {
   return strtod_l(begin, end, c_locale);
 }
 
+std::string join(const std::vector<std::string>& items, std::string_view separator) {
+  std::string out;
+  for (std::size_t i = 0; i < items.size(); ++i) (out += i ? separator : std::string_view{}) += items[i];
+  return out;
+}
+
 }  // namespace gyrosid

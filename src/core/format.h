@@ -2,6 +2,8 @@
 #pragma once
 
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace gyrosid {
 
@@ -11,6 +13,9 @@ std::string format_number(double value);
 
 // For humans (reports, console): `digits` significant digits, no trailing zeros ("0.1666", "1.2e-05").
 std::string format_significant(double value, int digits = 4);
+
+// The items with `separator` between them ("a, b, c").
+std::string join(const std::vector<std::string>& items, std::string_view separator = ", ");
 
 // strtod in the C locale whatever the process locale is (recordings, flight CSVs: "numbers in C locale").
 double parse_c_double(const char* begin, char** end);

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/units.h"
+#include "model/held_inputs.h"
 
 namespace gyrosid {
 
@@ -142,6 +143,29 @@ Eigen::MatrixXd classical_columns(const ClassicalModel& m, const ClassicalOption
   return a;
 }
 
+namespace {
+
+// Names of classical_columns' columns, after the model file's fields.
+std::vector<std::string> classical_column_names(const ClassicalOptions& o) {
+  std::vector<std::string> out;
+  for (int k = 0; k <= o.bias_order; ++k) out.push_back(str_cat("bias v^", k));
+  for (int k = 1; k <= o.sf_temperature_order; ++k) out.push_back(str_cat("sf_temperature v^", k));
+  for (int k = 0; k <= o.sf_rate_order; ++k) out.push_back(str_cat("sf_rate u^", k));
+  for (int j = 1; j <= o.sf_cross_order; ++j)
+    for (int k = 1; k <= o.sf_rate_order; ++k) out.push_back(str_cat("sf_cross v^", j, " u^", k));
+  return out;
+}
+
+// Whether column c of classical_columns is a scale-factor column (every one is proportional to the rate);
+// with `with_temperature`, only those that also depend on the temperature (sf_temperature, sf_cross).
+bool classical_column_has_rate(const ClassicalOptions& o, Eigen::Index c, bool with_temperature) {
+  const Eigen::Index sf_t = o.bias_order + 1, sf_w = sf_t + o.sf_temperature_order, cross = sf_w + o.sf_rate_order + 1;
+  if (c < sf_t) return false;
+  return with_temperature ? (c < sf_w || c >= cross) : true;
+}
+
+}  // namespace
+
 std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const ClassicalOptions& o, SolveSummary* summary) {
   if (auto p = o.validate(); !p.empty()) fail("classical model: ", p);
   if (data.features.size() != 2 || data.features[0] != "measured_rate" || data.features[1] != "temperature") {
@@ -154,14 +178,28 @@ std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const Classic
     model->rate_scale = std::max(w.cwiseAbs().maxCoeff(), 1e-6);
     model->temperature_reference = 0.5 * (temp.maxCoeff() + temp.minCoeff());
     model->temperature_scale = std::max(0.5 * (temp.maxCoeff() - temp.minCoeff()), 1.0);
-    const Eigen::MatrixXd a = classical_columns(*model, o, w, temp);
+    const Eigen::MatrixXd all = classical_columns(*model, o, w, temp);
+    // Columns in an input the recording holds are left out (coefficient 0): on a recording at rest the
+    // rate columns would otherwise fit the noise in the measured rate (held_inputs.h).
+    const HeldInputs held = held_inputs(data.reference, temp);
+    std::vector<Eigen::Index> kept;
+    std::vector<std::string> left_out;
+    const std::vector<std::string> names = classical_column_names(o);
+    for (Eigen::Index c = 0; c < all.cols(); ++c) {
+      const bool in_temperature = (c >= 1 && c <= o.bias_order) || classical_column_has_rate(o, c, true);
+      const bool in_rate = classical_column_has_rate(o, c, false);
+      if ((held.temperature && in_temperature) || (held.rate && in_rate)) left_out.push_back(names[static_cast<std::size_t>(c)]);
+      else kept.push_back(c);
+    }
+    const Eigen::MatrixXd a = all(Eigen::all, kept);
     const Eigen::Index p = a.cols(), n = data.size();
     if (n < 2 * p) fail("classical model: ", n, " samples for ", p, " coefficients");
     // Column scaling, then pivoted QR.
     const Eigen::VectorXd col_norm = a.colwise().norm().transpose().cwiseMax(1e-300);
     const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a * col_norm.cwiseInverse().asDiagonal());
     if (qr.rank() < p) fail("classical model: the recording does not determine all ", p, " coefficients (rank ", qr.rank(), "); lower the polynomial orders or cover more temperatures and rates");
-    const Eigen::VectorXd coeff = qr.solve(data.target).cwiseQuotient(col_norm);
+    Eigen::VectorXd coeff = Eigen::VectorXd::Zero(all.cols());
+    coeff(kept) = qr.solve(data.target).cwiseQuotient(col_norm);
     const int nb = o.bias_order, nt = o.sf_temperature_order, nw = o.sf_rate_order;
     model->bias = coeff.head(nb + 1);
     model->sf_temperature = Eigen::VectorXd::Zero(nt + 1);
@@ -169,13 +207,14 @@ std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const Classic
     model->sf_rate = coeff.segment(nb + 1 + nt, nw + 1);
     const int nc = o.sf_cross_order;
     model->sf_cross = Eigen::Map<const Eigen::MatrixXd>(coeff.tail(nc * nw).data(), nw, nc).transpose();
-    const double rss = (a * coeff - data.target).squaredNorm();
+    const double rss = (all * coeff - data.target).squaredNorm();
     monitor.iteration(0.5 * rss);
     const auto diag = qr.matrixR().diagonal().cwiseAbs();
-    return SolveOutcome{Termination::converged, "linear least squares by column-pivoted QR",
-                        {{"samples", n}, {"parameters", p},
-                         {"rms_residual_dph", units::radps_to_dph(std::sqrt(rss / static_cast<double>(n)))},
-                         {"condition_estimate", diag.maxCoeff() / diag.minCoeff()}}};
+    nlohmann::json details = {{"samples", n}, {"parameters", p},
+                              {"rms_residual_dph", units::radps_to_dph(std::sqrt(rss / static_cast<double>(n)))},
+                              {"condition_estimate", diag.maxCoeff() / diag.minCoeff()}};
+    if (!left_out.empty()) details["physics_left_out"] = {{"columns", left_out}, {"note", held.left_out_note(left_out)}};
+    return SolveOutcome{Termination::converged, "linear least squares by column-pivoted QR", details};
   });
   if (summary) *summary = s;
   return model;

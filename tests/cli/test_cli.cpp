@@ -537,5 +537,31 @@ TEST_F(Cli, CalibrateWithoutOptionsChoosesAPresetFromTheNoise) {
   EXPECT_EQ(read_recording(path("comp.csv")).column("compensated_sigma_dps").size(), 1111u);
 }
 
+// A rate table run at one chamber temperature, and a soak at rest: the default calibration fits what the
+// recording determines and says what it left out (both used to stop on a rank-deficient physics design).
+TEST_F(Cli, CalibrateWithoutOptionsLeavesOutWhatAHeldInputCannotDetermine) {
+  ASSERT_EQ(run("simulate --seed 4 --samples 2222 --out " + path("noisy.csv")).status, 0);
+  Recording one_temperature = read_recording(path("noisy.csv"));
+  one_temperature.set_column("temp_c", std::vector<double>(one_temperature.rows(), 25.0));
+  write_recording(one_temperature, path("one_temperature.csv"));
+  Result r = run("calibrate --recording " + path("one_temperature.csv") + " --out " + path("t.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("physics: the temperature stays within 0 C of 25 C: the recording does not determine dT^1"));
+  EXPECT_THAT(r.output, HasSubstr("the calibration holds at this temperature only"));
+  Recording at_rest = read_recording(path("noisy.csv"));
+  std::vector<double> gyro = at_rest.column("gyro_dps");
+  const std::vector<double>& ref = at_rest.column("ref_rate_dps");
+  for (std::size_t i = 0; i < gyro.size(); ++i) gyro[i] -= ref[i];  // the same errors, the table at rest
+  at_rest.set_column("gyro_dps", gyro);
+  at_rest.set_column("ref_rate_dps", std::vector<double>(gyro.size(), 0.0));
+  write_recording(at_rest, path("at_rest.csv"));
+  for (const char* model : {"", " --model classical"}) {
+    r = run("calibrate --recording " + path("at_rest.csv") + model + " --out " + path("r.json"));
+    ASSERT_EQ(r.status, 0) << model << r.output;
+    EXPECT_THAT(r.output, HasSubstr("the rate within 0 deg/s of 0 deg/s")) << model;
+    EXPECT_THAT(r.output, HasSubstr("the scale factor is not calibrated")) << model;
+  }
+}
+
 }  // namespace
 }  // namespace gyrosid

@@ -40,7 +40,7 @@ Dataset random_dataset(std::size_t n, std::uint64_t seed) {
     d.t_s.push_back(static_cast<double>(i));
   }
   d.measured = d.x.col(0);
-  d.reference = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+  d.reference = d.x.col(0);  // the error is planted in the target; the rates are the true ones
   d.target = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
   return d;
 }
@@ -107,11 +107,51 @@ TEST(ClassicalModel, CrossTermsRecoverARateShapeThatMovesWithTemperature) {
   EXPECT_GT(s.details["rms_residual_dph"].get<double>(), 3.0);
 }
 
-TEST(ClassicalModel, RejectsADegenerateRecording) {
-  Dataset d = random_dataset(100, 2);
-  d.x.col(1).setConstant(25.0);  // one temperature: the temperature polynomials are not determined
+// A rate table at one temperature and a soak at rest: the columns in the held input are left out (coefficient 0,
+// named in the summary) and the rest is recovered - at rest the rate columns would otherwise fit the noise in
+// the measured rate. Three table rates cannot carry a sixth-order rate polynomial: that is still an error.
+TEST(ClassicalModel, LeavesOutWhatAHeldInputCannotDetermine) {
+  ClassicalModel truth(default_features(), ModelTarget::error);
+  truth.rate_scale = dps_to_radps(100), truth.temperature_reference = 20, truth.temperature_scale = 40;
+  truth.bias = Eigen::Vector4d(dph_to_radps(-15), dph_to_radps(3), dph_to_radps(-1.5), dph_to_radps(0.7));
+  truth.sf_temperature = Eigen::Vector3d(0, 120e-6, -40e-6);
+  truth.sf_rate.resize(7);
+  truth.sf_rate << 50e-6, 30e-6, -700e-6, 20e-6, 60e-6, 0, -10e-6;
+  auto plant = [&](Dataset& d) {
+    for (Eigen::Index i = 0; i < d.size(); ++i) {
+      const double x[2] = {d.x(i, 0), d.x(i, 1)};
+      d.target(i) = truth.predict(x);
+    }
+  };
+  Dataset one_temperature = random_dataset(2000, 2);
+  one_temperature.x.col(1).setConstant(25.0);
+  plant(one_temperature);
+  SolveSummary s;
+  auto fit = fit_classical(one_temperature, ClassicalOptions{}, &s);
+  EXPECT_EQ(s.details["physics_left_out"]["columns"].get<std::vector<std::string>>(),
+            (std::vector<std::string>{"bias v^1", "bias v^2", "bias v^3", "sf_temperature v^1", "sf_temperature v^2"}));
+  for (double w : {-100.0, -7.0, 0.5, 88.0}) {
+    const double x[2] = {dps_to_radps(w), 25.0};
+    EXPECT_NEAR(fit->predict(x), truth.predict(x), 1e-12 * dps_to_radps(1)) << w << " deg/s";
+  }
+  Dataset at_rest = random_dataset(2000, 4);
+  RandomStream r(4, "at-rest");
+  for (Eigen::Index i = 0; i < at_rest.size(); ++i) at_rest.x(i, 0) = at_rest.reference(i) = 0.0;
+  plant(at_rest);
+  for (Eigen::Index i = 0; i < at_rest.size(); ++i) {  // the gyro's noise is all its rate input holds at rest
+    at_rest.x(i, 0) = at_rest.target(i) += dph_to_radps(5.0) * r.normal();
+  }
+  fit = fit_classical(at_rest, ClassicalOptions{}, &s);
+  EXPECT_EQ(s.details["physics_left_out"]["columns"].size(), 2u + 7u);
+  EXPECT_TRUE(fit->sf_rate.isZero() && fit->sf_temperature.isZero());
+  for (double t : {-20.0, 0.0, 33.3, 60.0}) {
+    const double x[2] = {0.0, t};
+    EXPECT_NEAR(radps_to_dph(fit->predict(x)), radps_to_dph(truth.predict(x)), 0.5) << t << " C";
+  }
+  Dataset three_rates = random_dataset(300, 5);
+  for (Eigen::Index i = 0; i < three_rates.size(); ++i) three_rates.x(i, 0) = three_rates.reference(i) = dps_to_radps(100.0 * (i % 3 - 1));
   try {
-    fit_classical(d, ClassicalOptions{});
+    fit_classical(three_rates, ClassicalOptions{});
     FAIL();
   } catch (const Error& e) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr("does not determine all"));

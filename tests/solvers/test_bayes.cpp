@@ -7,10 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <optional>
 
 #include "core/random.h"
+#include "core/units.h"
 #include "model/gaussian_node.h"
 #include "sensor/noise_model.h"
 #include "sim/simulate.h"
@@ -783,6 +785,63 @@ TEST(HybridFit, FindsTheNetworkALevelledSoakSupportsOnlyWithUnequalWidths) {
   EXPECT_GT(with_network.details["effective_parameters"].get<double>(), 2.0);
   const auto widths = with_network.details["width"];
   EXPECT_LT(widths[0].get<double>(), 0.5 * widths[1].get<double>()) << widths;
+}
+
+// Recordings that do not vary an input, and a table at three rates: the hybrid leaves out exactly the physics
+// columns the recording cannot determine (they used to stop the fit: "fixed column k is a combination"), says
+// so, and recovers the planted physics it keeps. Planted, deg/h: e = 40 + 8 dT - 3 dT^2 (dT = (T - 20) / 40)
+// + 3600 w (300 + 150 u + 80 u^2) ppm, u = w / 100 deg/s, plus 2 deg/h of white noise at 1 Hz.
+Recording planted_recording(const std::function<double(double)>& rate_dps, const std::function<double(double)>& temp_c) {
+  const int n = 3000;
+  RandomStream r(11, "hybrid-left-out");
+  std::vector<double> t(n), w(n), temp(n), gyro(n);
+  for (int i = 0; i < n; ++i) {
+    t[i] = i, w[i] = rate_dps(i), temp[i] = temp_c(i);
+    const double dt = (temp[i] - 20.0) / 40.0, u = w[i] / 100.0;
+    const double e_dph = 40 + 8 * dt - 3 * dt * dt + 3600 * w[i] * (300 + 150 * u + 80 * u * u) * 1e-6 + 2.0 * r.normal();
+    gyro[i] = w[i] + e_dph / 3600.0;
+  }
+  Recording rec("<planted>");
+  rec.set_column("t_s", t), rec.set_column("ref_rate_dps", w), rec.set_column("temp_c", temp), rec.set_column("gyro_dps", gyro);
+  return rec;
+}
+
+double planted_error_dph(double w_dps, double temp_c) {
+  const double dt = (temp_c - 20.0) / 40.0, u = w_dps / 100.0;
+  return 40 + 8 * dt - 3 * dt * dt + 3600 * w_dps * (300 + 150 * u + 80 * u * u) * 1e-6;
+}
+
+std::vector<std::string> left_out(const SolveSummary& s) {
+  if (!s.details.contains("physics_left_out")) return {};
+  return s.details["physics_left_out"]["columns"].get<std::vector<std::string>>();
+}
+
+TEST(HybridFit, LeavesOutThePhysicsTheRecordingDoesNotDetermine) {
+  HybridOptions o;
+  o.noise = "white", o.nodes = 0, o.bias_order = 2;
+  auto sweep = [](double i) { return 100.0 * std::sin(2 * M_PI * i / 97.0); };
+  auto ramp = [](double i) { return -20.0 + 80.0 * i / 2999.0; };
+  // A rate table at one temperature: every dT column goes; the rate law at 25 C is recovered.
+  SolveSummary s;
+  auto m = fit_hybrid(planted_recording(sweep, [](double) { return 25.0; }), o, s);
+  EXPECT_EQ(left_out(s), (std::vector<std::string>{"dT^1", "dT^2", "w dT^1 u^0", "w dT^1 u^1", "w dT^1 u^2", "w dT^1 u^3",
+                                                    "w dT^2 u^0", "w dT^2 u^1", "w dT^2 u^2", "w dT^2 u^3"}));
+  EXPECT_NE(s.details["physics_left_out"]["note"].get<std::string>().find("temperature stays within 0 C of 25 C"), std::string::npos);
+  for (double w : {-90.0, -30.0, 0.0, 45.0, 90.0}) {
+    EXPECT_NEAR(units::radps_to_dph(m->error_at(units::dps_to_radps(w), 25.0)), planted_error_dph(w, 25.0), 0.3) << w;
+  }
+  // A thermal soak at rest: every scale-factor column goes; the bias over temperature is recovered.
+  m = fit_hybrid(planted_recording([](double) { return 0.0; }, ramp), o, s);
+  EXPECT_EQ(left_out(s).size(), 12u);
+  EXPECT_EQ(left_out(s).front(), "w dT^0 u^0");
+  for (double temp : {-15.0, 10.0, 35.0, 55.0}) EXPECT_NEAR(units::radps_to_dph(m->error_at(0.0, temp)), planted_error_dph(0.0, temp), 0.3) << temp;
+  // A table at three rates (0, +-100 deg/s) over a temperature ramp: u^2 and u^3 agree with u^0 and u^1 there.
+  m = fit_hybrid(planted_recording([](double i) { return 100.0 * (static_cast<int>(i / 50) % 3 - 1); }, ramp), o, s);
+  EXPECT_EQ(left_out(s), (std::vector<std::string>{"w dT^0 u^2", "w dT^0 u^3", "w dT^1 u^2", "w dT^1 u^3", "w dT^2 u^2", "w dT^2 u^3"}));
+  for (double w : {-100.0, 0.0, 100.0}) EXPECT_NEAR(units::radps_to_dph(m->error_at(units::dps_to_radps(w), 30.0)), planted_error_dph(w, 30.0), 0.3) << w;
+  // A recording that varies both keeps every column.
+  fit_hybrid(planted_recording(sweep, ramp), o, s);
+  EXPECT_TRUE(left_out(s).empty());
 }
 
 }  // namespace
