@@ -1,11 +1,14 @@
 #include "solvers/calibrate.h"
 
+#include <algorithm>
 #include <functional>
 
 #include "core/config.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "model/classical_model.h"
 #include "model/greybox_fit.h"
+#include "model/held_inputs.h"
 #include "solvers/bayes/hybrid_fit.h"
 #include "solvers/common/candidates.h"
 #include "solvers/solver.h"
@@ -92,10 +95,27 @@ std::unique_ptr<ModelFitter> greybox_fitter(const CalibrationRequest& r) {
   });
 }
 
+// A network of the measured rate that models the rate error, on a recording that holds the table's rate
+// (held_inputs.h): the input then varies by the error alone (m = w + e, w held), and the network would
+// interpolate the error as a function of itself - a calibration that returns the table rate in training and
+// nothing anywhere else.
+void refuse_a_held_rate(const Dataset& d, ModelTarget target) {
+  const bool rate_in = std::find(d.features.begin(), d.features.end(), "measured_rate") != d.features.end();
+  if (target != ModelTarget::error || !rate_in || d.size() == 0 || !d.reference.allFinite()) return;
+  const HeldInputs held = held_inputs(d.reference, Eigen::VectorXd::Zero(d.size()));
+  if (!held.rate) return;
+  fail("rbf: the recording holds the table rate (within ", format_significant(held.rate_span_dps, 2), " deg/s of ",
+       format_significant(held.rate_mean_dps, 3), " deg/s), so the network's measured-rate input varies by the gyro's own "
+       "error only and the network would fit the error as a function of itself; calibrate a recording at rest with "
+       "--model hybrid or --model classical (the bias over temperature), or record over a range of rates");
+}
+
 std::unique_ptr<ModelFitter> rbf_fitter(const CalibrationRequest& r) {
   std::shared_ptr<RbfSolver> solver = make_solver(r.solver, r.options);  // options validated here
   const NormalizationKind normalization = r.normalization;
-  return std::make_unique<DatasetFitter>(default_features(), r.target, [solver, normalization](const Dataset& d, SolveSummary& s) {
+  const ModelTarget target = r.target;
+  return std::make_unique<DatasetFitter>(default_features(), r.target, [solver, normalization, target](const Dataset& d, SolveSummary& s) {
+    refuse_a_held_rate(d, target);
     const RbfProblem problem = make_rbf_problem(d, normalization);
     auto net = std::make_unique<RbfNetwork>(problem.empty_network());
     s = train(*solver, problem, *net);

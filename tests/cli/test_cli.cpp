@@ -561,6 +561,11 @@ TEST_F(Cli, CalibrateWithoutOptionsLeavesOutWhatAHeldInputCannotDetermine) {
     EXPECT_THAT(r.output, HasSubstr("the rate within 0 deg/s of 0 deg/s")) << model;
     EXPECT_THAT(r.output, HasSubstr("the scale factor is not calibrated")) << model;
   }
+  // A network of the measured rate would fit the error as a function of itself there: refused, saying why.
+  r = run("calibrate --recording " + path("at_rest.csv") + " --model rbf --solver bayes --out " + path("b.json"));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("holds the table rate (within 0 deg/s of 0 deg/s)"));
+  EXPECT_FALSE(fs::exists(path("b.json")));
 }
 
 }  // namespace
