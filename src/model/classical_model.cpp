@@ -156,12 +156,15 @@ std::vector<std::string> classical_column_names(const ClassicalOptions& o) {
   return out;
 }
 
-// Whether column c of classical_columns is a scale-factor column (every one is proportional to the rate);
-// with `with_temperature`, only those that also depend on the temperature (sf_temperature, sf_cross).
-bool classical_column_has_rate(const ClassicalOptions& o, Eigen::Index c, bool with_temperature) {
+// The inputs column c of classical_columns depends on: the bias's v^k (k >= 1) on the temperature, every
+// scale-factor column on the rate, sf_temperature's and sf_cross's on both.
+struct ColumnInputs {
+  bool temperature = false, rate = false;
+};
+ColumnInputs classical_column_inputs(const ClassicalOptions& o, Eigen::Index c) {
   const Eigen::Index sf_t = o.bias_order + 1, sf_w = sf_t + o.sf_temperature_order, cross = sf_w + o.sf_rate_order + 1;
-  if (c < sf_t) return false;
-  return with_temperature ? (c < sf_w || c >= cross) : true;
+  if (c < sf_t) return {c > 0, false};
+  return {c < sf_w || c >= cross, true};
 }
 
 }  // namespace
@@ -186,9 +189,8 @@ std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const Classic
     std::vector<std::string> left_out;
     const std::vector<std::string> names = classical_column_names(o);
     for (Eigen::Index c = 0; c < all.cols(); ++c) {
-      const bool in_temperature = (c >= 1 && c <= o.bias_order) || classical_column_has_rate(o, c, true);
-      const bool in_rate = classical_column_has_rate(o, c, false);
-      if ((held.temperature && in_temperature) || (held.rate && in_rate)) left_out.push_back(names[static_cast<std::size_t>(c)]);
+      const ColumnInputs in = classical_column_inputs(o, c);
+      if ((held.temperature && in.temperature) || (held.rate && in.rate)) left_out.push_back(names[static_cast<std::size_t>(c)]);
       else kept.push_back(c);
     }
     const Eigen::MatrixXd a = all(Eigen::all, kept);
