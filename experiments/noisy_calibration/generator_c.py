@@ -24,7 +24,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "lib"))
-from gyrosid_experiments import write_recording  # noqa: E402
+from gyrosid_experiments import read_recording, write_recording  # noqa: E402
 
 THETA = np.array([40.0, 25.0, 8.0, 300.0, 120.0, -1500.0, 60.0, 40.0, 350.0])
 NAMES = ["bias", "bias_tanh", "bias_bump", "sf", "sf_T", "sf_u2", "sf_uT", "sf_ripple", "sf_u3"]
@@ -65,8 +65,16 @@ def programme(name, rng_phase):
         phase = (t / 70.0) % 1.0
         w = 145 * (4 * np.abs(phase - 0.5) - 1)
         temp = 22.5 - 60 * np.cos(2 * math.pi * t / 3600.0)
+    elif name == "heldout_dual":  # held out inside gyrosid's dual scan's envelope: as heldout, +-95 deg/s, -35..60 C
+        t = np.arange(0.0, 3600.0, 1.0)
+        phase = (t / 70.0) % 1.0
+        w = 95 * (4 * np.abs(phase - 0.5) - 1)
+        temp = 12.5 - 47.5 * np.cos(2 * math.pi * t / 3600.0)
+    elif name.startswith("recording:"):  # another tool's programme: the times, table rates and temperatures of a recording
+        _, c = read_recording(name[len("recording:"):])
+        t, w, temp = c["t_s"], c["ref_rate_dps"], c["temp_c"]
     else:
-        raise SystemExit("unknown programme '%s' (sine_sweep, staircase, heldout)" % name)
+        raise SystemExit("unknown programme '%s' (sine_sweep, staircase, heldout, heldout_dual, recording:<path>)" % name)
     return t, w, temp
 
 
@@ -147,7 +155,9 @@ def floor_sigma(cov, w_dps, temp_c):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--programme", default="sine_sweep")
+    ap.add_argument("--programme", default="sine_sweep",
+                    help="sine_sweep, staircase, heldout, heldout_dual, or recording:<path> (e.g. gyrosid's dual scan, "
+                         "simulated noise-free: its times, table rates and temperatures under sensor C's law)")
     ap.add_argument("--white-dph", type=float, default=10.0, help="white noise, deg/h at 1 Hz")
     ap.add_argument("--gm-sigma-dph", type=float, default=0.0)
     ap.add_argument("--gm-tau-s", type=float, default=0.0)
