@@ -8,6 +8,7 @@
 #include "core/bounded_search.h"
 #include "core/error.h"
 #include "core/units.h"
+#include "model/held_inputs.h"
 #include "model/terms/term_kinds.h"
 
 namespace gyrosid {
@@ -176,6 +177,7 @@ std::unique_ptr<GreyboxModel> fit_greybox(const Dataset& data, const GreyboxOpti
                            {"rms_residual_dph", units::radps_to_dph(std::sqrt(rss / static_cast<double>(data.size())))},
                            {"lag_tau_s", lag.tau_s},
                            {"lag_evaluations", o.thermal_lag ? lag.evaluations : 0}};
+    if (const HeldInputs held = held_inputs(s.rate, s.temp_c); held.temperature || held.rate) lag.outcome.details["physics_note"] = held.ridge_note();
     return lag.outcome;
   });
   if (summary) *summary = result;

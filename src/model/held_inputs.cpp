@@ -16,15 +16,32 @@ HeldInputs held_inputs(const Eigen::VectorXd& rate_radps, const Eigen::VectorXd&
   return h;
 }
 
-std::string HeldInputs::left_out_note(const std::vector<std::string>& left_out) const {
+std::string HeldInputs::held() const {
   std::string why;
   if (temperature) why = str_cat("the temperature stays within ", format_significant(temp_span_c, 2), " C of ", format_significant(temp_mean_c, 3), " C");
   if (rate) {
     why += str_cat(why.empty() ? "" : " and ", "the rate within ", format_significant(rate_span_dps, 2), " deg/s of ",
                    format_significant(rate_mean_dps, 3), " deg/s");
   }
+  return why;
+}
+
+namespace {
+
+std::string consequences(const HeldInputs& h) {
+  return str_cat(h.temperature ? "; the calibration holds at this temperature only" : "", h.rate ? "; the scale factor is not calibrated" : "");
+}
+
+}  // namespace
+
+std::string HeldInputs::left_out_note(const std::vector<std::string>& left_out) const {
+  const std::string why = held();
   return str_cat(why, why.empty() ? "" : ": ", "the recording does not determine ", join(left_out), " - left out of the physics",
-                 temperature ? "; the calibration holds at this temperature only" : "", rate ? "; the scale factor is not calibrated" : "");
+                 consequences(*this));
+}
+
+std::string HeldInputs::ridge_note() const {
+  return str_cat(held(), ": the ridge, not the recording, sets the terms in ", temperature && rate ? "them" : "it", consequences(*this));
 }
 
 }  // namespace gyrosid

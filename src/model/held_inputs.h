@@ -20,9 +20,14 @@ struct HeldInputs {
   double temp_span_c = 0.0, temp_mean_c = 0.0;
   double rate_span_dps = 0.0, rate_mean_dps = 0.0;
 
-  // "the temperature stays within 0 C of 25 C: the recording does not determine dT^1, dT^2 - left out of
+  // "the temperature stays within 0 C of 25 C" (and / or the rate); empty when nothing is held.
+  std::string held() const;
+  // For a fit that leaves columns out: "<held>: the recording does not determine dT^1, dT^2 - left out of
   // the physics; the calibration holds at this temperature only".
   std::string left_out_note(const std::vector<std::string>& left_out) const;
+  // For a fit that keeps every column (the grey-box model's ridge sets the undetermined ones toward 0):
+  // "<held>: the ridge, not the recording, sets the terms in it; ...".
+  std::string ridge_note() const;
 };
 
 // From the true (reference) rate, rad/s, and the temperature, C, of a recording.

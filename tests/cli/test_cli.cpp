@@ -548,6 +548,9 @@ TEST_F(Cli, CalibrateWithoutOptionsLeavesOutWhatAHeldInputCannotDetermine) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("physics: the temperature stays within 0 C of 25 C: the recording does not determine dT^1"));
   EXPECT_THAT(r.output, HasSubstr("the calibration holds at this temperature only"));
+  r = run("calibrate --recording " + path("one_temperature.csv") + " --model greybox --out " + path("g.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("physics: the temperature stays within 0 C of 25 C: the ridge, not the recording, sets the terms in it"));
   Recording at_rest = read_recording(path("noisy.csv"));
   std::vector<double> gyro = at_rest.column("gyro_dps");
   const std::vector<double>& ref = at_rest.column("ref_rate_dps");
