@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/format.h"
 
 namespace gyrosid {
 
@@ -154,11 +155,7 @@ void ConfigNode::allow_only(const std::vector<std::string>& allowed) const {
     const std::string key = kv.first.Scalar();
     bool ok = false;
     for (const auto& a : allowed) ok = ok || a == key;
-    if (!ok) {
-      std::string list;
-      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      fail(source_, mark_text(kv.first), " (", child_path(key), "): unknown key '", key, "'; allowed here: ", list);
-    }
+    if (!ok) fail(source_, mark_text(kv.first), " (", child_path(key), "): unknown key '", key, "'; allowed here: ", join(allowed));
   }
 }
 

@@ -56,9 +56,7 @@ bool Recording::has(std::string_view name) const {
 const std::vector<double>& Recording::column(std::string_view name) const {
   for (std::size_t i = 0; i < names_.size(); ++i)
     if (names_[i] == name) return columns_[i];
-  std::string found;
-  for (const auto& n : names_) found += (found.empty() ? "" : ", ") + n;
-  fail(source_, ": no column '", name, "' (columns: ", found, ")");
+  fail(source_, ": no column '", name, "' (columns: ", join(names_), ")");
 }
 
 void Recording::set_column(const std::string& name, std::vector<double> values) {
@@ -141,11 +139,8 @@ void check_recording(const Recording& rec) {
   const std::vector<std::string> required = required_columns(kind, rec);
   for (const auto& name : required) {
     if (!rec.has(name)) {
-      std::string needed, found;
-      for (const auto& n : required) needed += (needed.empty() ? "" : ", ") + n;
-      for (const auto& n : rec.names()) found += (found.empty() ? "" : ", ") + n;
       fail(rec.source(), ":", rec.header_line(), ": missing required column '", name, "' (a ", to_string(kind),
-           "-gyro recording needs ", needed, "; header has ", found, ")");
+           "-gyro recording needs ", join(required), "; header has ", join(rec.names()), ")");
     }
   }
   for (const auto& name : required) {

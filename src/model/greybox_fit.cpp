@@ -7,6 +7,7 @@
 
 #include "core/bounded_search.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/units.h"
 #include "model/held_inputs.h"
 #include "model/terms/term_kinds.h"
@@ -145,9 +146,7 @@ LagSearch search_lag(const std::function<double(double)>& rss_at, const GreyboxO
 std::unique_ptr<GreyboxModel> fit_greybox(const Dataset& data, const GreyboxOptions& o, SolveSummary* summary) {
   if (auto p = o.validate(); !p.empty()) fail("greybox model: ", p);
   if (data.features != greybox_features(o)) {
-    std::string want;
-    for (const auto& f : greybox_features(o)) want += (want.empty() ? "" : ", ") + f;
-    fail("greybox model: features must be ", want);
+    fail("greybox model: features must be ", join(greybox_features(o)));
   }
   if (!data.target.allFinite()) fail("greybox model: the recording has no reference rate (ref_rate_dps) to fit against");
   const Signals s = signals_of(data);

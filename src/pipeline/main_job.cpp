@@ -151,9 +151,7 @@ MainJobResult run_main_job(const MainJobOptions& o) {
   compare_with_truth(result.classical, truth, grid, dir);
   compare_with_truth(result.rbf, truth, grid, dir);
 
-  std::string flights;
-  for (const auto& f : o.flights) flights += (flights.empty() ? "" : ", ") + f;
-  steps.next("criterion of fit on the flights: " + flights);
+  steps.next("criterion of fit on the flights: " + join(o.flights));
   const TriadSensor triad = as_triad(sensor);
   score_flights(o, triad, result);
   steps.next("Monte Carlo on the short flight with the sensor's noise (Anderson-Darling stopping)");

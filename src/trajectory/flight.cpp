@@ -252,9 +252,7 @@ FlightProfile builtin_flight(std::string_view name) {
     p.segments.push_back(with(seg(K::climb, 30.0), &FlightSegment::angle_deg, 5.0));
     p.segments.push_back(seg(K::straight, 7500.0 - p.duration_s()));
   } else {
-    std::string names;
-    for (const auto& n : builtin_flight_names()) names += (names.empty() ? "" : ", ") + n;
-    fail("unknown built-in flight '", name, "'; known: ", names, " (or a .yaml or .csv file)");
+    fail("unknown built-in flight '", name, "'; known: ", join(builtin_flight_names()), " (or a .yaml or .csv file)");
   }
   return p;
 }
