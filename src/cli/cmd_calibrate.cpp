@@ -84,7 +84,7 @@ void run_calibrate(CalibrateOptions o) {
   const nlohmann::json& details = result.summary.details;
   if (details.contains("physics_left_out")) std::cout << "physics: " << details["physics_left_out"]["note"].get<std::string>() << "\n";
   if (details.contains("physics_note")) std::cout << "physics: " << details["physics_note"].get<std::string>() << "\n";
-  if (result.summary.details.contains("noise_choice")) std::cout << "noise model: " << result.summary.details["noise_choice"].get<std::string>() << "\n";
+  if (details.contains("noise_choice")) std::cout << "noise model: " << details["noise_choice"].get<std::string>() << "\n";
   save_model(o.out, *result.model, {{"training", result.training}, {"summary", result.summary}});
   std::cout << "wrote " << o.out << ": " << result.model->kind() << " model";
   const SolveSummary& s = result.summary;
