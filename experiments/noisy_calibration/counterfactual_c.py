@@ -30,7 +30,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "lib"))
 sys.path.insert(0, HERE)
 import generator_c  # noqa: E402
-from gyrosid_experiments import Runner, add_gyrosid_argument, read_recording  # noqa: E402
+from gyrosid_experiments import Runner, add_gyrosid_argument, read_recording, write_text  # noqa: E402
 
 ALIAS_PERIOD_DPS = 1375.0 / 30.0  # the ripple period sensor C's staircase levels cannot tell from 55 deg/s
 SENSORS = ("C", "C'")
@@ -162,10 +162,7 @@ def write_table(path, rows, difference, largest, methods, a):
               "|---|---|---|---|---|---|---|"]
     for m in methods:
         lines.append("| %s | %s |" % (m, " | ".join(str(wins[(m, c)]) for c in columns)))
-    tmp = path + ".tmp"
-    with open(tmp, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    os.replace(tmp, path)
+    write_text(path, "\n".join(lines) + "\n")
     sys.stderr.write("%s written\n" % path)
 
 

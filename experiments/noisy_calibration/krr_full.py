@@ -22,7 +22,9 @@ import numpy as np
 from sklearn.kernel_ridge import KernelRidge
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "lib"))
 sys.path.insert(0, HERE)
+from gyrosid_experiments import write_text  # noqa: E402
 from peers import inputs_and_error  # noqa: E402
 
 
@@ -79,10 +81,7 @@ def main():
             "%.2fx" % (rms / h) if h < rms else "**no** (%.2fx)" % (rms / h)))
         sys.stderr.write("%s: hybrid %.3g, KernelRidge on all %d samples %.3g (%.0f s)\n" % (" ".join(key), h, n, rms, seconds))
     lines += ["", "The hybrid is ahead of KernelRidge on all samples on %d of %d recordings." % (ahead, total)]
-    tmp = a.out + ".tmp"
-    with open(tmp, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    os.replace(tmp, a.out)
+    write_text(a.out, "\n".join(lines) + "\n")
 
 
 if __name__ == "__main__":

@@ -22,7 +22,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "lib"))
 sys.path.insert(0, HERE)
 import generator_c  # noqa: E402
-from gyrosid_experiments import Runner, add_gyrosid_argument, load_json, read_recording  # noqa: E402
+from gyrosid_experiments import Runner, add_gyrosid_argument, load_json, read_recording, write_text  # noqa: E402
 from krr_full import refit  # noqa: E402
 
 
@@ -73,9 +73,7 @@ def main():
             seed, n, cell(ours), coverage, load_json(model)["summary"]["time_s"], cell(score("gp")), cell(score("krr")),
             cell(full), seconds))
         sys.stderr.write(lines[-1] + "\n")
-    with open(a.report + ".tmp", "w") as f:
-        f.write("\n".join(lines) + "\n")
-    os.replace(a.report + ".tmp", a.report)
+    write_text(a.report, "\n".join(lines) + "\n")
 
 
 if __name__ == "__main__":
