@@ -26,7 +26,8 @@
 #include "report/design_report.h"
 #include "report/explain_json.h"
 #include "report/triad_json.h"
-#include "sensor/allan.h"
+#include "noise/allan.h"
+#include "noise/identify.h"
 #include "sensor/sensor_config.h"
 #include "sim/simulate.h"
 #include "solvers/calibrate.h"
@@ -93,8 +94,10 @@ py::array_t<double> predict_py(const Model& m, const py::array_t<double, py::arr
 }
 
 py::dict allan_py(const py::array_t<double, py::array::c_style | py::array::forcecast>& rate_dph, double dt_s) {
-  const std::vector<AllanPoint> curve = overlapping_allan_deviation(from_numpy(rate_dph), dt_s, AllanOptions{});
-  const AllanCoefficients fit = fit_allan(curve);
+  const AllanPhase phase(from_numpy(rate_dph), dt_s);
+  const std::vector<AllanPoint> curve = overlapping_allan_deviation(phase, AllanOptions{});
+  const NoiseIdentification noise = identify_noise(phase);
+  const CompositeNoise& fit = noise.model;
   std::vector<double> tau, adev, lo, hi;
   for (const auto& p : curve) tau.push_back(p.tau_s), adev.push_back(p.adev), lo.push_back(p.ci_low), hi.push_back(p.ci_high);
   py::dict out;
@@ -102,11 +105,20 @@ py::dict allan_py(const py::array_t<double, py::array::c_style | py::array::forc
   out["adev_dph"] = to_numpy(adev.data(), adev.size());
   out["ci_low_dph"] = to_numpy(lo.data(), lo.size());
   out["ci_high_dph"] = to_numpy(hi.data(), hi.size());
-  out["arw_deg_rt_h"] = fit.angle_random_walk / 60.0;
-  out["bias_instability_dph"] = fit.bias_instability;
-  out["rrw_dph_rt_h"] = fit.rate_random_walk * 60.0;
+  out["arw_deg_rt_h"] = fit.white / 60.0;
+  out["bias_instability_dph"] = fit.flicker;
+  out["rrw_dph_rt_h"] = fit.random_walk * 60.0;
   out["quantization_arcsec"] = fit.quantization;
-  out["rate_ramp_dph_per_h"] = fit.rate_ramp * 3600.0;
+  out["rate_ramp_dph_per_h"] = fit.ramp * 3600.0;
+  py::list markov;
+  for (const auto& gm : fit.gauss_markov) {
+    py::dict g;
+    g["sigma_dph"] = gm.sigma, g["tau_s"] = gm.tau_s;
+    markov.append(g);
+  }
+  out["gauss_markov"] = markov;
+  out["model"] = noise.structure.name();
+  out["fit_band_s"] = py::make_tuple(noise.fit_tau_low_s, noise.fit_tau_high_s);
   return out;
 }
 

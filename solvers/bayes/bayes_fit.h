@@ -5,7 +5,7 @@
 // Centres come from a candidate dictionary: a farthest-point subset of the training inputs
 // (solvers/common/candidates.h).
 //
-// Noise: white, or coloured - white + rate random walk + Gauss-Markov (sensor/noise_model.h) fitted by Allan
+// Noise: white, or coloured - white + rate random walk + Gauss-Markov (noise/state_space.h) fitted by Allan
 // deviation to the residual of the white fit, the problem whitened by its Kalman filter (generalised least
 // squares without an N x N covariance, thesis s5.5.3's open problem), and refitted; the noise model is
 // re-estimated from each new residual (`noise_passes`) by the evidence, the random walk kept only where it
@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "core/solve_summary.h"
-#include "sensor/noise_model.h"
+#include "noise/state_space.h"
 #include "solvers/bayes/evidence.h"
 #include "solvers/common/options.h"
 

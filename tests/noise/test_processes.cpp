@@ -6,9 +6,9 @@
 #include <numbers>
 
 #include "core/units.h"
-#include "sensor/allan.h"
+#include "noise/allan.h"
 #include "sensor/gyro_sensor.h"
-#include "sensor/noise.h"
+#include "noise/processes.h"
 
 namespace gyrosid {
 namespace {

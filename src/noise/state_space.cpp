@@ -1,4 +1,4 @@
-#include "sensor/noise_model.h"
+#include "noise/state_space.h"
 
 #include <Eigen/Dense>
 
@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "sensor/allan.h"
-#include "sensor/noise.h"
+#include "noise/allan.h"
+#include "noise/processes.h"
 
 namespace gyrosid {
 

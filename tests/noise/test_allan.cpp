@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "core/random.h"
-#include "sensor/allan.h"
+#include "noise/allan.h"
 
 namespace gyrosid {
 namespace {

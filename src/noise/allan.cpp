@@ -1,4 +1,4 @@
-#include "sensor/allan.h"
+#include "noise/allan.h"
 
 #include <Eigen/Dense>
 
@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "core/nnls.h"
 #include "core/stats.h"
-#include "sensor/noise.h"
+#include "noise/processes.h"
 
 namespace gyrosid {
 
@@ -40,21 +40,74 @@ double allan_edf(int alpha, double n, double m) {
   }
 }
 
-std::vector<AllanPoint> overlapping_allan_deviation(const std::vector<double>& rate, double dt_s,
-                                                    const AllanOptions& options) {
-  if (const auto problem = options.validate(); !problem.empty()) fail("Allan deviation: ", problem);
+AllanPhase::AllanPhase(std::span<const double> rate, double dt_s) : dt_(dt_s) {
   if (!(dt_s > 0)) fail("Allan deviation: sample interval ", dt_s, " s must be positive");
   const std::size_t n = rate.size();
   if (n < 4) fail("Allan deviation: need at least 4 samples, got ", n);
-
-  // Phase (integrated rate) after removing the mean rate - the second difference cancels a linear phase
-  // exactly, and removing it keeps theta small so the differences do not lose digits. Summed in long double.
+  // The second difference cancels a linear phase exactly; removing the mean rate keeps theta small so the
+  // differences do not lose digits.
   long double mean = 0.0L;
   for (double r : rate) mean += r;
   mean /= static_cast<long double>(n);
-  std::vector<long double> theta(n + 1, 0.0L);
-  for (std::size_t k = 0; k < n; ++k) theta[k + 1] = theta[k] + (static_cast<long double>(rate[k]) - mean) * dt_s;
+  theta_.assign(n + 1, 0.0L);
+  for (std::size_t k = 0; k < n; ++k) theta_[k + 1] = theta_[k] + (static_cast<long double>(rate[k]) - mean) * dt_s;
+}
 
+double AllanPhase::half_mean_square(std::size_t m) const {
+  const std::size_t terms = theta_.size() - 2 * m;
+  long double sum = 0.0L;
+  for (std::size_t k = 0; k < terms; ++k) {
+    const long double d = theta_[k + 2 * m] - 2.0L * theta_[k + m] + theta_[k];
+    sum += d * d;
+  }
+  return static_cast<double>(sum / (2.0L * terms));
+}
+
+double AllanPhase::variance(std::size_t m) const {
+  const double tau = static_cast<double>(m) * dt_;
+  return half_mean_square(m) / (tau * tau);
+}
+
+double AllanPhase::robust_variance(std::size_t m) const {
+  // Bisquare rho(u) = 1 - (1 - (u/c)^2)^3 for |u| < c, else 1; the scale s solves mean rho(d/s) = delta with
+  // delta = E rho(Z) for a standard normal Z, so that s is the standard deviation of Gaussian d. Started from
+  // the median absolute second difference, solved by the fixed point s^2 <- s^2 mean rho(d/s) / delta.
+  constexpr double c = 3.0, delta = 0.242654076816;
+  const std::size_t terms = theta_.size() - 2 * m;
+  std::vector<double> d(terms);
+  for (std::size_t k = 0; k < terms; ++k) d[k] = second_difference(k, m);
+  std::vector<double> magnitude(terms);
+  for (std::size_t k = 0; k < terms; ++k) magnitude[k] = std::abs(d[k]);
+  const auto middle = magnitude.begin() + static_cast<std::ptrdiff_t>(terms / 2);
+  std::nth_element(magnitude.begin(), middle, magnitude.end());
+  double scale = *middle / 0.6744897501960817;
+  if (!(scale > 0)) return variance(m);  // over half the differences are zero (a quantized, still signal)
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    double mean_rho = 0.0;
+    for (double x : d) {
+      const double u = x / (c * scale);
+      mean_rho += std::abs(u) < 1.0 ? 1.0 - std::pow(1.0 - u * u, 3) : 1.0;
+    }
+    mean_rho /= static_cast<double>(terms);
+    const double next = scale * std::sqrt(mean_rho / delta);
+    const bool converged = std::abs(next - scale) <= 1e-10 * scale;
+    scale = next;
+    if (converged) break;
+  }
+  const double tau = static_cast<double>(m) * dt_;
+  return scale * scale / (2.0 * tau * tau);
+}
+
+std::vector<AllanPoint> overlapping_allan_deviation(const std::vector<double>& rate, double dt_s,
+                                                    const AllanOptions& options) {
+  if (const auto problem = options.validate(); !problem.empty()) fail("Allan deviation: ", problem);
+  return overlapping_allan_deviation(AllanPhase(rate, dt_s), options);
+}
+
+std::vector<AllanPoint> overlapping_allan_deviation(const AllanPhase& phase, const AllanOptions& options) {
+  if (const auto problem = options.validate(); !problem.empty()) fail("Allan deviation: ", problem);
+  const std::size_t n = phase.samples();
+  const double dt_s = phase.dt_s();
   const std::size_t max_m = std::max<std::size_t>(1, static_cast<std::size_t>(options.max_tau_fraction * n));
   std::vector<std::size_t> ms;
   for (int i = 0;; ++i) {
@@ -65,17 +118,10 @@ std::vector<AllanPoint> overlapping_allan_deviation(const std::vector<double>& r
 
   std::vector<AllanPoint> curve;
   for (std::size_t m : ms) {
-    const std::size_t terms = n + 1 - 2 * m;
-    long double sum = 0.0L;
-    for (std::size_t k = 0; k < terms; ++k) {
-      const long double d = theta[k + 2 * m] - 2.0L * theta[k + m] + theta[k];
-      sum += d * d;
-    }
-    const double tau = static_cast<double>(m) * dt_s;
     AllanPoint p;
-    p.tau_s = tau;
-    p.terms = terms;
-    p.adev = std::sqrt(static_cast<double>(sum / (2.0L * terms))) / tau;
+    p.tau_s = static_cast<double>(m) * dt_s;
+    p.terms = n + 1 - 2 * m;
+    p.adev = options.robust ? std::sqrt(phase.robust_variance(m)) : std::sqrt(phase.half_mean_square(m)) / p.tau_s;
     curve.push_back(p);
   }
 

@@ -4,7 +4,7 @@
 //
 //   e_t = w_t + g_t + v_t,   w_t = w_{t-1} + eta_t (var q),   g_t = phi g_{t-1} + zeta_t,   v_t white (var r),
 //
-// fitted to the Allan deviation of a residual (quasi-likelihood NNLS, sensor/allan.h). The whitener runs the
+// fitted to the Allan deviation of a residual (quasi-likelihood NNLS, noise/allan.h). The whitener runs the
 // Kalman filter along the chosen samples in time order, propagating the state over each interval - gaps in
 // the sampling (bursts, held-out blocks) included: the random walk grows and the Gauss-Markov process decays
 // over them. The standardised innovations of the data (and, with the same data-independent gains, of every
@@ -43,7 +43,7 @@ NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vect
 
 // How the random-walk state starts: diffuse (its level is never information - explain's residual tests), or
 // at zero with the first sample (a calibration: the level at the start of the recording is the turn-on bias,
-// estimated as a constant, and the walk wanders from it - as sensor/noise.h generates it).
+// estimated as a constant, and the walk wanders from it - as noise/processes.h generates it).
 enum class RandomWalkStart { diffuse, zero };
 
 class Whitener {

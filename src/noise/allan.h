@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,7 @@ struct AllanOptions {
   int points_per_decade = 10;       // cluster sizes m log-spaced
   double max_tau_fraction = 1.0 / 3.0;  // largest tau as a fraction of the record length
   double confidence = 0.683;        // two-sided interval
+  bool robust = false;              // bisquare M-estimates (AllanPhase::robust_variance)
   std::string validate() const;
 };
 
@@ -35,9 +37,34 @@ struct AllanPoint {
   int alpha = 0;         // identified power-law noise exponent of frequency (2 = white PM ... -2 = random walk FM)
 };
 
-// `rate` uniformly sampled at interval dt_s.
+// The phase (integrated rate, its mean removed, summed in long double) of a uniformly sampled rate, kept
+// once for Allan variances at any cluster size m (tau = m dt).
+class AllanPhase {
+ public:
+  AllanPhase(std::span<const double> rate, double dt_s);
+  std::size_t samples() const { return theta_.size() - 1; }
+  double dt_s() const { return dt_; }
+  double variance(std::size_t m) const;  // overlapping Allan variance
+  // The same from a bisquare M-estimate of the scale of the second differences (c = 3, consistent at the
+  // Gaussian): robust to outliers, at kRobustAllanEfficiency of the classical estimate's efficiency.
+  double robust_variance(std::size_t m) const;
+  // sum_k d_k^2 / (2 K): the Allan variance times tau^2.
+  double half_mean_square(std::size_t m) const;
+
+ private:
+  double second_difference(std::size_t k, std::size_t m) const {
+    return static_cast<double>(theta_[k + 2 * m] - 2.0L * theta_[k + m] + theta_[k]);
+  }
+  std::vector<long double> theta_;
+  double dt_;
+};
+// Asymptotic Gaussian efficiency of robust_variance (the classical estimate's variance over its own).
+inline constexpr double kRobustAllanEfficiency = 0.8773;
+
+// `rate` uniformly sampled at interval dt_s; options.robust: AllanPhase::robust_variance.
 std::vector<AllanPoint> overlapping_allan_deviation(const std::vector<double>& rate, double dt_s,
                                                     const AllanOptions& options = {});
+std::vector<AllanPoint> overlapping_allan_deviation(const AllanPhase& phase, const AllanOptions& options = {});
 
 // Equivalent degrees of freedom of the overlapping Allan variance (NIST SP 1065 Table 5); n_phase = M.
 double allan_edf(int alpha, double n_phase, double m);
