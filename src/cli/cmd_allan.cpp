@@ -60,6 +60,7 @@ void run_allan(const AllanCommandOptions& o) {
               << format_significant(t.high, 3) << "]  " << t.meaning << "\n";
   }
   if (!n.left_out.empty()) std::cout << "note: " << n.left_out << "\n";
+  if (!r.outside_band_note.empty()) std::cout << "note: " << r.outside_band_note << "\n";
   for (const auto& w : n.warnings) std::cerr << "warning: " << o.recording << ": " << w << "\n";
   if (!o.kalibr.empty()) {
     write_kalibr_noise_yaml(o.kalibr, n.model, 1.0 / dt, o.recording + ", column " + o.column);

@@ -151,12 +151,6 @@ std::vector<AllanPoint> overlapping_allan_deviation(const AllanPhase& phase, con
 
 namespace {
 
-constexpr double kFlickerFactor = 2.0 * std::numbers::ln2 / std::numbers::pi;  // (2 ln2 / pi)
-
-std::array<double, 5> basis(double tau) {
-  return {3.0 / (tau * tau), 1.0 / tau, kFlickerFactor, tau / 3.0, tau * tau / 2.0};
-}
-
 // Fits sigma^2(tau_j) ~ sum_k a_k g_k(tau_j), a >= 0, by iteratively reweighted NNLS. An Allan variance
 // estimate s_j is (model_j / edf_j) chi^2(edf_j): variance 2 model_j^2 / edf_j. Weighting each residual
 // s_j - model_j by sqrt(edf_j / 2) / model_j (model from the previous pass; the data on the first) gives the
@@ -222,69 +216,6 @@ double relative_rms(const std::vector<const AllanPoint*>& points, const std::fun
 }
 
 }  // namespace
-
-double allan_model_variance(const AllanCoefficients& c, double tau) {
-  const auto g = basis(tau);
-  return g[0] * c.quantization * c.quantization + g[1] * c.angle_random_walk * c.angle_random_walk +
-         g[2] * c.bias_instability * c.bias_instability + g[3] * c.rate_random_walk * c.rate_random_walk +
-         g[4] * c.rate_ramp * c.rate_ramp;
-}
-
-AllanCoefficients fit_allan(const std::vector<AllanPoint>& curve, AllanFitTerms terms) {
-  const bool use[5] = {terms.quantization, terms.angle_random_walk, terms.bias_instability,
-                       terms.rate_random_walk, terms.rate_ramp};
-  std::vector<int> active;
-  for (int k = 0; k < 5; ++k)
-    if (use[k]) active.push_back(k);
-  const auto points = usable(curve);
-  if (active.empty() || points.size() < active.size()) {
-    fail("Allan fit: ", points.size(), " usable points for ", active.size(), " coefficients");
-  }
-  auto fit = [&](const std::vector<int>& columns, double* deviance) {
-    const Eigen::VectorXd x = fit_variance_terms(points, [&](double tau) {
-      const auto g = basis(tau);
-      Eigen::VectorXd v(static_cast<Eigen::Index>(columns.size()));
-      for (std::size_t j = 0; j < columns.size(); ++j) v(static_cast<Eigen::Index>(j)) = g[columns[j]];
-      return v;
-    }, deviance);
-    std::array<double, 5> values{};
-    for (std::size_t j = 0; j < columns.size(); ++j) {
-      values[columns[j]] = std::sqrt(std::max(0.0, x(static_cast<Eigen::Index>(j))));
-    }
-    return values;
-  };
-  double deviance = 0.0;
-  std::array<double, 5> values = fit(active, &deviance);
-  // Backward elimination: drop the term whose removal costs least, while the likelihood-ratio statistic
-  // 2 dD stays below the threshold. Overlapping estimates at neighbouring tau are strongly correlated, so
-  // the edf-weighted likelihood overstates the evidence; the threshold is set high (chi^2_1 at 1 - 1e-6)
-  // so that a term is kept only where the curve plainly needs it.
-  const double threshold = stats::chi2_quantile(1.0 - 1e-6, 1.0);
-  while (active.size() > 1) {
-    double best_increase = INFINITY, best_deviance = 0.0;
-    std::size_t best = 0;
-    std::array<double, 5> best_values{};
-    for (std::size_t i = 0; i < active.size(); ++i) {
-      std::vector<int> reduced = active;
-      reduced.erase(reduced.begin() + static_cast<std::ptrdiff_t>(i));
-      double d = 0.0;
-      const auto v = fit(reduced, &d);
-      if (d - deviance < best_increase) {
-        best_increase = d - deviance;
-        best_deviance = d;
-        best = i;
-        best_values = v;
-      }
-    }
-    if (2.0 * best_increase > threshold) break;
-    active.erase(active.begin() + static_cast<std::ptrdiff_t>(best));
-    deviance = best_deviance;
-    values = best_values;
-  }
-  AllanCoefficients c{values[0], values[1], values[2], values[3], values[4], 0.0};
-  c.relative_rms_residual = relative_rms(points, [&](double tau) { return allan_model_variance(c, tau); });
-  return c;
-}
 
 GaussMarkovFit fit_gauss_markov(const std::vector<AllanPoint>& curve, bool with_white_noise, bool with_random_walk) {
   const auto points = usable(curve);

@@ -262,9 +262,15 @@ Fit fit_structure(const Gls& gls, const NoiseStructure& s, double t_lo, double t
 }
 
 // The covariance under which the moments are weighted: the model's, over the robust estimate's efficiency.
+// No moment is taken as more precise than 1e-6 of its value (a noise-free curve - a pure ramp - has none).
 Eigen::MatrixXd moment_covariance(const CompositeNoise& model, const Moments& mo, bool robust) {
   Eigen::MatrixXd cov = allan_variance_covariance(model, mo.m, mo.n, mo.dt);
-  return robust ? Eigen::MatrixXd(cov / kRobustAllanEfficiency) : cov;
+  if (robust) cov /= kRobustAllanEfficiency;
+  for (std::size_t j = 0; j < mo.size(); ++j) {
+    const auto jj = static_cast<Eigen::Index>(j);
+    cov(jj, jj) = std::max(cov(jj, jj), std::pow(1e-6 * mo.s[j], 2));
+  }
+  return cov;
 }
 
 // The starting weight: independent moments with white-noise degrees of freedom (NIST SP 1065).

@@ -103,8 +103,10 @@ AllanReport write_allan(const std::filesystem::path& dir, const std::vector<doub
   if (!r.outside_band_tau_s.empty()) {
     std::vector<std::string> taus;
     for (double t : r.outside_band_tau_s) taus.push_back(format_significant(t, 3));
-    r.noise.warnings.push_back(str_cat("the fitted deviation lies outside the data's ", format_significant(100 * options.confidence, 3),
-                                       " % band at ", r.outside_band_tau_s.size(), " of ", in_band, " taus in the fit band: ", join(taus, ", "), " s"));
+    r.outside_band_note = str_cat("the fitted deviation lies outside the data's ", format_significant(100 * options.confidence, 3), " % band at ",
+                                  r.outside_band_tau_s.size(), " of ", in_band, " taus in the fit band (a correct model misses each about ",
+                                  format_significant(100 * (1 - options.confidence), 2), " % of the time; neighbouring taus together): ",
+                                  join(taus, ", "), " s");
   }
   write_file_atomic(dir / "allan.csv", [&](std::ostream& out) {
     out << "tau_s,adev_dph,ci_low_dph,ci_high_dph,edf,terms,noise_alpha,fit_dph\n";
@@ -128,6 +130,7 @@ AllanReport write_allan(const std::filesystem::path& dir, const std::vector<doub
   j["allan_minimum"] = minimum_json(r);
   j["fit_relative_rms_residual"] = in_band > 0 ? std::sqrt(ss / in_band) : 0.0;
   j["fit_outside_data_band_tau_s"] = r.outside_band_tau_s;
+  j["fit_outside_data_band"] = r.outside_band_note;
   write_file_atomic(dir / "allan.json", j.dump(2) + "\n");
   plot_allan(dir / "allan.png", r.curve, r.noise, title, "deg/h");
   return r;

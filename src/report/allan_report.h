@@ -20,6 +20,7 @@ struct AllanReport {
   NoiseIdentification noise;         // deg/h-based units
   // Taus inside the fit band where the fitted deviation lies outside the data's confidence band.
   std::vector<double> outside_band_tau_s;
+  std::string outside_band_note;  // the same in a sentence; empty when none
 };
 
 // Terms in the units people quote: Q arcsec, N deg/sqrt(h), B deg/h, K (deg/h)/sqrt(h), R (deg/h)/h, GM sigma
