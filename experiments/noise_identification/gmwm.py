@@ -5,10 +5,10 @@ Moments: the Haar MODWT wavelet variance nu_j^2 at dyadic scales tau_j = 2^(j-1)
 means, = half the overlapping Allan variance). Weight: diagonal, the inverse of each estimate's variance by
 Percival & Walden's chi-square approximation with eta3 = max(M_j / 2^j, 1) degrees of freedom,
 var(nu_j^2) = 2 nu_j^4 / eta3 (the usual GMWM choice for a quick fit). Estimate: argmin of
-sum_j (nu_j^2 - nu_j^2(theta))^2 / var_j over the log-parameters, L-BFGS-B from many starts.
+sum_j (nu_j^2 - nu_j^2(theta))^2 / var_j over the log-parameters by trust-region least squares, from guided
+starting values over a grid of Gauss-Markov times.
 """
 import numpy as np
-from scipy.optimize import minimize
 
 LN2PI = 2.0 * np.log(2.0) / np.pi
 
@@ -67,35 +67,54 @@ def unpack(x, structure):
     return np.array(theta)
 
 
-def fit(y, dt, structure, seed=0, starts=24):
+def starting_values(taus, nu2, structure, gm_taus):
+    """Log-parameters read off the wavelet variance where each term rules (the usual GMWM guided start):
+    Q from the first scale, N from the shortest scales' white level, B from the minimum, K from the last
+    scale, a Gauss-Markov term's variance from the wavelet variance near twice its start time."""
+    av = 2.0 * nu2  # Allan variance
+    x, g = [], 0
+    for term in structure:
+        if term == "Q":
+            x.append(0.5 * np.log(av[0] * taus[0] ** 2 / 3.0 / 4.0))
+        elif term == "N":
+            x.append(0.5 * np.log(np.median(av[:4] * taus[:4])))
+        elif term == "B":
+            x.append(0.5 * np.log(av.min() / LN2PI / 2.0))
+        elif term == "K":
+            x.append(0.5 * np.log(3.0 * av[-1] / taus[-1] / 2.0))
+        elif term == "GM":
+            T = gm_taus[g]; g += 1
+            k = np.argmin(np.abs(np.log(taus / (2.0 * T))))
+            x += [0.5 * np.log(av[k] / 0.4 / 2.0), np.log(T)]
+    return np.array(x)
+
+
+def fit(y, dt, structure, seed=0):
+    """theta (natural units, Gauss-Markov terms by ascending tau) and the objective at it: trust-region least
+    squares on the weighted residuals in log-parameters, from a grid of Gauss-Markov start times (every
+    ordered pair of 8 log-spaced times over the scales), the best kept."""
+    from itertools import combinations
+    from scipy.optimize import least_squares
     taus, nu2, eta = wavelet_variance(y, dt)
-    w = eta / (2.0 * nu2 ** 2)
+    w = np.sqrt(eta / (2.0 * nu2 ** 2))
     t_lo, t_hi = np.log(2 * dt), np.log(len(y) * dt)
 
-    def objective(x):
-        r = nu2 - model_wv(unpack(x, structure), taus, structure)
-        return np.sum(w * r * r)
+    def residuals(x):
+        return w * (nu2 - model_wv(unpack(x, structure), taus, structure))
 
-    rng = np.random.default_rng(seed)
-    level = np.log(np.sqrt(2 * np.median(nu2 * taus)))  # a scale for the starting variances
+    lower, upper = [], []
+    for term in structure:
+        lower += [-30.0] + ([t_lo] if term == "GM" else [])
+        upper += [30.0] + ([t_hi] if term == "GM" else [])
+    grid = np.exp(np.linspace(np.log(taus[0] * 2), np.log(taus[-1]), 8))
+    k = structure.count("GM")
     best = None
-    for s in range(starts):
-        x0 = []
-        gm = 0
-        for term in structure:
-            if term == "GM":
-                frac = (gm + 0.5 + 0.5 * rng.uniform(-1, 1)) / max(1, structure.count("GM"))
-                x0 += [level + rng.normal(0, 1.5), t_lo + frac * (t_hi - t_lo)]
-                gm += 1
-            else:
-                x0.append(level + rng.normal(0, 2.0))
-        bounds = []
-        for term in structure:
-            bounds += [(-40, 40)] + ([(t_lo, t_hi)] if term == "GM" else [])
-        r = minimize(objective, np.array(x0), method="L-BFGS-B", bounds=bounds)
-        if best is None or r.fun < best.fun:
+    for gm_taus in combinations(grid, k):
+        x0 = np.clip(starting_values(taus, nu2, structure, gm_taus), np.array(lower) + 1e-9, np.array(upper) - 1e-9)
+        r = least_squares(residuals, x0, bounds=(lower, upper), method="trf", x_scale="jac", max_nfev=400)
+        if best is None or r.cost < best.cost:
             best = r
-    return unpack(best.x, structure), best.fun
+    return unpack(best.x, structure), 2.0 * best.cost
 
 
 def names(structure):

@@ -44,4 +44,24 @@ std::string CompositeNoise::describe(const std::string& unit) const {
   return out.empty() ? "none" : out;
 }
 
+CompositeNoise CompositeNoise::scaled(double factor) const {
+  CompositeNoise c = *this;
+  for (double* v : {&c.quantization, &c.filter, &c.white, &c.flicker, &c.random_walk, &c.ramp}) *v *= factor;
+  for (auto& gm : c.gauss_markov) gm.sigma *= factor;
+  return c;
+}
+
+NoiseOptions noise_options_of(const CompositeNoise& m, std::string* left_out) {
+  NoiseOptions o;
+  o.arw_rad_rt_s = m.white;
+  o.bias_instability_radps = m.flicker;
+  o.rrw_rad_s_rt_s = m.random_walk;
+  o.rate_ramp_radps2 = m.ramp;
+  for (const auto& gm : m.gauss_markov) o.gauss_markov.push_back({gm.sigma, gm.tau_s});
+  if (left_out) {
+    *left_out = m.quantization > 0 || m.filter > 0 ? "the quantization and filter terms (they act at the shortest taus only)" : "";
+  }
+  return o;
+}
+
 }  // namespace gyrosid

@@ -58,7 +58,14 @@ struct CompositeNoise {
   double point_variance() const { return quantization * quantization - filter * filter; }
   bool has_covariance_tail() const { return flicker > 0 || !gauss_markov.empty(); }
   std::string describe(const std::string& unit) const;  // "N 120 u sqrt(s), GM (s 40 u, T 3.1 s)"
+  CompositeNoise scaled(double factor) const;           // every coefficient times factor (a change of rate unit)
 };
+
+struct NoiseOptions;
+// The simulator's and the designer's noise (noise/processes.h) from a composite in rad/s: white, flicker (over
+// the simulator's default band), random walk, ramp and Gauss-Markov terms; quantization and a filter term act
+// at the shortest taus only and are not carried (said in `left_out`, when not null).
+NoiseOptions noise_options_of(const CompositeNoise& model_radps, std::string* left_out = nullptr);
 
 inline constexpr double kFlickerAllanFactor = 0.441271200305303;  // 2 ln 2 / pi
 

@@ -418,7 +418,8 @@ std::string column_name(const Column& c) {
 }
 
 // A coefficient sqrt(v) from its variance v: standard error by the delta method, interval chi-square with
-// Satterthwaite's degrees of freedom 2 v^2 / var(v).
+// Satterthwaite's degrees of freedom 2 v^2 / var(v) (log-normal on v below one degree of freedom, where the
+// chi-square quantiles run away).
 NoiseParameter coefficient(const std::string& name, double v, double var_v, double confidence) {
   NoiseParameter p{name, std::sqrt(v), 0.0, std::sqrt(v), std::sqrt(v)};
   if (!(var_v > 0)) return p;
@@ -427,9 +428,12 @@ NoiseParameter coefficient(const std::string& name, double v, double var_v, doub
   if (dof > 1e7) {
     const double z = stats::normal_quantile(1.0 - tail) * std::sqrt(var_v);
     p.low = std::sqrt(std::max(0.0, v - z)), p.high = std::sqrt(v + z);
-  } else {
+  } else if (dof >= 1.0) {
     p.low = std::sqrt(dof * v / stats::chi2_quantile(1.0 - tail, dof));
     p.high = std::sqrt(dof * v / stats::chi2_quantile(tail, dof));
+  } else {
+    const double spread = stats::normal_quantile(1.0 - tail) * std::sqrt(var_v) / v;
+    p.low = std::sqrt(v * std::exp(-spread)), p.high = std::sqrt(v * std::exp(spread));
   }
   return p;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -47,7 +48,11 @@ nlohmann::json noise_json(const AllanReport& r) {
   for (const auto& p : n.points) {
     points.push_back({{"tau_s", p.tau_s}, {"adev_dph", std::sqrt(p.allan_variance)}, {"fit_dph", std::sqrt(p.fitted)}, {"z", p.z}, {"in_band", p.in_band}});
   }
+  nlohmann::json model = {{"quantization", n.model.quantization}, {"filter", n.model.filter}, {"white", n.model.white},
+                          {"flicker", n.model.flicker},           {"random_walk", n.model.random_walk}, {"ramp", n.model.ramp}, {"gauss_markov", gm},
+                          {"unit", "deg/h-based: Q, F (deg/h) s; N (deg/h) sqrt(s); B deg/h; K (deg/h)/sqrt(s); R (deg/h)/s; Gauss-Markov deg/h, s"}};
   return {{"model", n.structure.name()},
+          {"composite", model},
           {"terms", terms},
           {"gauss_markov", gm},
           {"fit_band_s", {n.fit_tau_low_s, n.fit_tau_high_s}},
@@ -134,6 +139,36 @@ AllanReport write_allan(const std::filesystem::path& dir, const std::vector<doub
   write_file_atomic(dir / "allan.json", j.dump(2) + "\n");
   plot_allan(dir / "allan.png", r.curve, r.noise, title, "deg/h");
   return r;
+}
+
+CompositeNoise load_identified_noise(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) fail(path.string(), ": cannot open (an allan.json written by gyrosid allan)");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    fail(path.string(), ": not JSON: ", e.what());
+  }
+  if (!j.contains("noise") || !j["noise"].contains("composite")) {
+    fail(path.string(), ": no noise.composite - not an allan.json of this gyrosid (rerun gyrosid allan)");
+  }
+  const auto& c = j["noise"]["composite"];
+  auto number = [&](const char* key) {
+    if (!c.contains(key) || !c[key].is_number() || !(c[key].get<double>() >= 0)) fail(path.string(), ": noise.composite.", key, " must be a number >= 0");
+    return c[key].get<double>();
+  };
+  CompositeNoise m;
+  m.quantization = number("quantization"), m.filter = number("filter"), m.white = number("white"), m.flicker = number("flicker");
+  m.random_walk = number("random_walk"), m.ramp = number("ramp");
+  if (!c.contains("gauss_markov") || !c["gauss_markov"].is_array()) fail(path.string(), ": noise.composite.gauss_markov must be a list");
+  for (const auto& g : c["gauss_markov"]) {
+    if (!g.contains("sigma_dph") || !g.contains("tau_s") || !g["sigma_dph"].is_number() || !g["tau_s"].is_number() || !(g["tau_s"].get<double>() > 0)) {
+      fail(path.string(), ": noise.composite.gauss_markov: each needs sigma_dph and tau_s > 0");
+    }
+    m.gauss_markov.push_back({g["sigma_dph"].get<double>(), g["tau_s"].get<double>()});
+  }
+  return m;
 }
 
 void write_kalibr_noise_yaml(const std::filesystem::path& path, const CompositeNoise& fit, double update_rate_hz, const std::string& source) {

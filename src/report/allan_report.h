@@ -34,6 +34,10 @@ std::vector<QuotedTerm> quoted_terms(const NoiseIdentification& noise);
 AllanReport write_allan(const std::filesystem::path& dir, const std::vector<double>& rate_dph, double dt_s, const AllanOptions& options,
                         const NoiseIdOptions& noise_options, const std::string& title, nlohmann::json provenance);
 
+// The identified model an allan.json holds (in deg/h-based units), for commands that take a measured noise
+// in place of a sensor config's (design --noise). Errors name the file and the key.
+CompositeNoise load_identified_noise(const std::filesystem::path& allan_json);
+
 // A Kalibr-style IMU noise file (imu.yaml) with the gyro terms of an identified model in the continuous-time
 // units Kalibr expects - the conversion written beside each number:
 //   gyroscope_noise_density [rad/s/sqrt(Hz)] = N [deg/sqrt(h)] * (pi/180) / 60          (angle random walk)

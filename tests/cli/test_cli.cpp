@@ -106,6 +106,39 @@ TEST_F(Cli, AllanRecoversTheReferenceSensorsWhiteNoise) {
   EXPECT_THAT(w.output, HasSubstr("pass --subtract ref_rate_dps"));
 }
 
+// design --noise: the noise a recording showed replaces the sensor config's. The reference sensor's own static
+// run identifies its 10 deg/h white noise, and the design predicts the same surface noise as from the config;
+// a gyro three times noisier (30 deg/h) predicts three times the noise part of the surface error.
+TEST_F(Cli, DesignTakesTheNoiseARecordingShowed) {
+  const std::string src = GYROSID_SOURCE_DIR;
+  std::string sensor = read_text(src + "/configs/sensors/open_loop_fog.yaml");
+  sensor.replace(sensor.find("white_dph_at_1hz: 10"), 20, "white_dph_at_1hz: 30");
+  std::ofstream(path("noisy.yaml")) << sensor;
+  for (const std::string name : {"ref", "noisy"}) {
+    const std::string sensor_arg = name == "ref" ? "" : " --sensor " + path("noisy.yaml");
+    ASSERT_EQ(run("simulate --trajectory builtin:trajectories/static_2h.yaml --seed 5" + sensor_arg + " --out " + path(name + ".csv")).status, 0);
+    const Result a = run("allan --recording " + path(name + ".csv") + " --subtract ref_rate_dps --out " + path(name + "_allan"));
+    ASSERT_EQ(a.status, 0) << a.output;
+  }
+  const std::string evaluate = "design --evaluate builtin:trajectories/dual_scan.yaml --model classical --envelope short --out ";
+  auto surface_noise = [&](const std::string& out) {
+    const auto j = nlohmann::json::parse(read_text(dir_ / out / "evaluation.json"));
+    return j["trajectories"]["builtin:trajectories/dual_scan.yaml"]["flights"]["short"]["surface_noise_dph"].get<double>();
+  };
+  ASSERT_EQ(run(evaluate + path("config")).status, 0);
+  const Result r = run(evaluate + path("measured") + " --noise " + path("ref_allan/allan.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("in place of"));
+  ASSERT_EQ(run(evaluate + path("noisy") + " --noise " + path("noisy_allan/allan.json")).status, 0);
+  EXPECT_NEAR(surface_noise("measured") / surface_noise("config"), 1.0, 0.1);
+  EXPECT_NEAR(surface_noise("noisy") / surface_noise("config"), 3.0, 0.3);
+  // Not an allan.json: an error naming the file and what is missing.
+  std::ofstream(path("other.json")) << "{\"noise\": {}}";
+  const Result bad = run(evaluate + path("bad") + " --noise " + path("other.json"));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_THAT(bad.output, HasSubstr("other.json: no noise.composite"));
+}
+
 TEST_F(Cli, BadInputsAreClearErrorsAndLeaveNothingBehind) {
   std::ofstream(path("bad.csv")) << "t_s,ref_rate_dps,temp_c,gyro_dps\n0,1,25,1\n1,x,25,1\n";
   Result r = run("allan --recording " + path("bad.csv") + " --out " + path("o"));
