@@ -141,6 +141,7 @@ std::vector<AllanPoint> overlapping_allan_deviation(const AllanPhase& phase, con
     // Conservative cap: no noise type but white PM exceeds about 1.5 n/m degrees of freedom, and a white-PM
     // identification at long tau (a noisy slope) must not claim n/2 of them.
     edf = std::clamp(edf, 1.0, std::min(static_cast<double>(curve[i].terms), 1.5 * static_cast<double>(n) / m + 2.0));
+    if (options.robust) edf *= kRobustAllanEfficiency;  // the M-estimate spends some of the degrees of freedom
     curve[i].edf = edf;
     const double var = curve[i].adev * curve[i].adev;
     curve[i].ci_low = std::sqrt(var * edf / stats::chi2_quantile(hi_p, edf));
