@@ -76,6 +76,7 @@ struct BayesFit {
   double noise_sigma = 0.0;    // per-sample white noise sigma, y units
   std::optional<NoiseModel> noise;  // the coloured model trained under (variances in y units, beta applied)
   std::string noise_choice;    // what was decided about the noise, and why
+  std::string noise_identification;  // the one noise estimator's reading of the white fit's residual, deg/h
   std::string noise_averaging; // coloured: the weights of the slow term's scales the posterior averages over
   std::string noise_family;    // coloured: whether the random walk was kept over a Gauss-Markov wander alone, and why
   double model_error_var = 0.0;  // misfit variance added to the predictive variance (y units^2; model_error.h)

@@ -80,7 +80,8 @@ NoiseModel whitening_model(const CompositeNoise& composite, double dt, double ta
   return m;
 }
 
-NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vector<Eigen::Index>>& runs, double dt, NoiseStart start) {
+NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vector<Eigen::Index>>& runs, double dt, NoiseStart start,
+                           NoiseIdentification* identified) {
   NoiseModel m;
   m.dt_s = dt;
   const auto longest = std::max_element(runs.begin(), runs.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
@@ -99,8 +100,10 @@ NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vect
   if (start == NoiseStart::identified) {
     NoiseIdOptions options;
     options.max_gauss_markov = 2;
-    const NoiseIdentification id = identify_noise(v, dt, options);
-    return whitening_model(id.model, dt, id.fit_tau_low_s, id.fit_tau_high_s);
+    NoiseIdentification id = identify_noise(v, dt, options);
+    const NoiseModel m_id = whitening_model(id.model, dt, id.fit_tau_low_s, id.fit_tau_high_s);
+    if (identified) *identified = std::move(id);
+    return m_id;
   }
   const GaussMarkovFit fit = fit_gauss_markov(overlapping_allan_deviation(v, dt), true, true);
   m.white_var = fit.angle_random_walk * fit.angle_random_walk / dt;

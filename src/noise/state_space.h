@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "noise/composite.h"
+#include "noise/identify.h"
 
 namespace gyrosid {
 
@@ -57,8 +58,9 @@ enum class NoiseStart { identified, gauss_markov_start };
 
 // The whitening model of x from its longest run; white noise only when no run has 500 samples (the variance
 // over all runs).
+// identified: when not null and the start is identified, the identification itself.
 NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vector<Eigen::Index>>& runs, double dt_s,
-                           NoiseStart start = NoiseStart::identified);
+                           NoiseStart start = NoiseStart::identified, NoiseIdentification* identified = nullptr);
 
 // How the random-walk state starts: diffuse (its level is never information - explain's residual tests), or
 // at zero with the first sample (a calibration: the level at the start of the recording is the turn-on bias,
