@@ -581,6 +581,10 @@ NoiseIdentification identify_noise(const AllanPhase& phase, const NoiseIdOptions
   r.dof = static_cast<int>(final_gls.size()) - chosen.parameters();
   r.p_value = r.dof > 0 ? 1.0 - stats::chi2_cdf(r.chi2, r.dof) : 1.0;
   r.covariance = theta_covariance(final_gls, r.coordinates);
+  // The data scatter more than the model's covariance says when chi2 exceeds its degrees of freedom: the
+  // covariance is widened by that ratio (never narrowed), as a quasi-likelihood dispersion.
+  r.dispersion = r.dof >= 3 ? std::max(1.0, r.chi2 / r.dof) : 1.0;
+  r.covariance *= r.dispersion;
   r.parameters = parameters_of(fit, r.coordinates, r.covariance, o.confidence);
   for (std::size_t j = 0; j < mo.size(); ++j) {
     const double fitted = r.model.allan_variance(mo.tau[j]);

@@ -9,8 +9,9 @@
 // fixed point - where GMWM estimates its weight matrix from the data, which is noisy at the long taus that
 // carry the slow terms. The variances of the terms enter linearly and are solved by non-negative least
 // squares; only the Gauss-Markov correlation times are searched (variable projection). The covariance of
-// theta is (J' Sigma^-1 J)^-1; a term's interval is chi-square with Satterthwaite's degrees of freedom
-// 2 v^2 / var(v) on its variance v, a correlation time's is log-normal.
+// theta is (J' Sigma^-1 J)^-1, widened by max(1, chi^2 / dof) where the data scatter more than the model
+// says; a term's interval is chi-square with Satterthwaite's degrees of freedom 2 v^2 / var(v) on its
+// variance v, a correlation time's is log-normal.
 //
 // Model order: every structure of {Q, N, B, K, R} with up to max_gauss_markov Gauss-Markov terms is fitted
 // with the weight of the fullest model; the ten best by chi^2 + c p (p parameters, c = 6.63, the chi^2_1
@@ -102,6 +103,7 @@ struct NoiseIdentification {
   double fit_tau_low_s = 0.0, fit_tau_high_s = 0.0;  // the taus the fit claims
   double chi2 = 0.0, p_value = 1.0;
   int dof = 0;
+  double dispersion = 1.0;  // max(1, chi2 / dof): the factor the parameters' covariance is widened by
   std::vector<NoiseFitPoint> points;
   std::vector<NoiseCandidate> candidates;  // best first
   std::string left_out;                    // why the shortest taus were left out; empty when none was

@@ -61,6 +61,7 @@ nlohmann::json noise_json(const AllanReport& r) {
           {"chi2", n.chi2},
           {"dof", n.dof},
           {"p_value", n.p_value},
+          {"dispersion", n.dispersion},
           {"criterion", "least chi2 + p ln(samples) over every structure of Q, N, B, K, R and up to the allowed Gauss-Markov terms"},
           {"candidates", candidates},
           {"octave_points", points},
