@@ -1052,6 +1052,40 @@ TEST(TriadFit, HandTurnsKnownByGravityRecoverThePlantedMatrix) {
   }
 }
 
+// Holds checked for stillness (hold_stillness.h): a hand-turned session with white gyro noise (0.05 deg/s per
+// sample), and hand motion planted in hold 5 - a 2 Hz wobble of 1 deg/s amplitude about x, std 1/sqrt(2) deg/s.
+// The moving hold is named with its interval and deviation; no still hold is; a noise-only session names none.
+TEST(TriadFit, HoldsThatAreNotStillAreNamedAndStillOnesAreNot) {
+  const double noise = dps_to_radps(0.05);
+  TriadData d = hand_turn_session(hand_turn_misalignment(), hand_turn_bias(), 5, noise, 1e-3);
+  TriadFitOptions o;
+  o.bias_order = 0;
+  o.reference = "gravity";
+  const TriadFit quiet = fit_triad(d, o);
+  EXPECT_TRUE(quiet.hold_stillness.not_still().empty()) << quiet.hold_stillness.json().dump();
+  EXPECT_EQ(quiet.hold_stillness.holds.size(), 14u);
+  for (Eigen::Index k = 0; k < d.size(); ++k) {  // 100 samples of 0.01 s: 2 whole periods of the wobble
+    if (d.position_id[static_cast<std::size_t>(k)] == 5) d.gyro(k, 0) += dps_to_radps(1.0) * std::sin(2.0 * units::kPi * 2.0 * d.t_s[static_cast<std::size_t>(k)]);
+  }
+  const TriadFit moved = fit_triad(d, o);
+  const auto bad = moved.hold_stillness.not_still();
+  ASSERT_EQ(bad.size(), 1u) << moved.hold_stillness.json().dump();
+  EXPECT_EQ(bad[0].position_id, 5);
+  EXPECT_EQ(bad[0].t_start_s, d.t_s[4 * 250]);  // holds of 100 samples, turns of 150 before it
+  EXPECT_EQ(bad[0].t_end_s, d.t_s[4 * 250 + 99]);
+  // The wobble's 1/sqrt(2) deg/s and the noise's 0.05 in quadrature, within the noise's scatter.
+  EXPECT_NEAR(bad[0].gyro_std_dps[0], std::sqrt(0.5 + 0.05 * 0.05), 0.01);
+  EXPECT_NEAR(bad[0].gyro_std_dps[1], 0.05, 0.01);
+  EXPECT_GT(bad[0].ratio, 10.0);
+  bool named = false;
+  for (const auto& note : moved.notes) named = named || note.find("hold position_id 5 (") != std::string::npos;
+  EXPECT_TRUE(named);
+  const auto& details = moved.summary.details.at("hold_stillness");
+  EXPECT_EQ(details.at("not_still").size(), 1u);
+  EXPECT_EQ(details.at("not_still")[0].at("position_id"), 5);
+  EXPECT_EQ(details.at("holds_checked"), 14);
+}
+
 // The intervals of reference=gravity (gravity_turns.h: each hold's direction uncertain by its accelerometer
 // noise, shared by the turns before and after it; the gyro noise over a turn; residuals in each turn's tangent
 // plane, 2 per turn). 40 sessions with noise on both, the accelerometer otherwise exact: the errors of the nine
