@@ -84,8 +84,12 @@ void UlogGyroReader::scan(const ulog::Message& m) {
   const auto text = [&](std::size_t from) { return std::string_view(reinterpret_cast<const char*>(p.data()) + from, p.size() - from); };
   switch (m.type) {
     case 'F':
-      formats_.add(ulog::parse_format(text(0), stream_.where(m.offset)));
-      return;
+      try {  // a malformed format matters only if the chosen topic needs it: then "no format defines ..." says so
+        formats_.add(ulog::parse_format(text(0), stream_.where(m.offset)));
+        return;
+      } catch (const Error&) {
+        break;
+      }
     case 'I': {
       if (p.empty() || p[0] > p.size() - 1) break;
       const std::string_view key = text(1).substr(0, p[0]);
@@ -115,7 +119,7 @@ void UlogGyroReader::scan(const ulog::Message& m) {
       ++unknown_;
       return;
   }
-  ++malformed_;  // too short for its type
+  ++malformed_;  // too short for its type, or a format that does not parse
 }
 
 bool UlogGyroReader::has_data(const std::string& topic, int instance) const {
@@ -221,7 +225,8 @@ std::vector<ImuLogNote> UlogGyroReader::notes() const {
     out.push_back({"dropouts", str_cat(dropouts_, " in the log (", dropout_ms_, " ms in all): the logger lost messages there; the samples around them are kept and the gaps show in the time steps"), true});
   }
   if (malformed_ + orphans_ > 0) {
-    out.push_back({"skipped_messages", str_cat(malformed_, " too short for their type and ", orphans_, " data messages of no subscription (a damaged log?)"), true});
+    out.push_back({"skipped_messages", str_cat(malformed_, " malformed (too short for their type, or a format that does not parse) and ", orphans_,
+                                               " data messages of no subscription (a damaged log?)"), true});
   }
   if (!stream_.appended_offsets().empty()) {
     std::vector<std::string> at;

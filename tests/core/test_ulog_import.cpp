@@ -138,6 +138,16 @@ TEST_F(UlogImport, AppendedDataAreReadAndTheMessageTheyCutIsDiscarded) {
   EXPECT_THAT(r.meta("log_damage").value_or(""), HasSubstr("was discarded"));
 }
 
+TEST_F(UlogImport, DamagedMessagesElsewhereAreSkippedAndNoted) {
+  UlogWriter w = planted_log(3);
+  w.format("no colon here").data(9, Packer().put(std::uint64_t{1})).message('Z', {1, 2, 3});  // bad format, orphan data, unknown type
+  const Recording r = import(options(w.str()));
+  EXPECT_EQ(r.rows(), 3u);
+  EXPECT_EQ(r.meta("skipped_messages").value_or(""),
+            "1 malformed (too short for their type, or a format that does not parse) and 1 data messages of no subscription (a damaged log?)");
+  EXPECT_THAT(r.meta("unknown_messages").value_or(""), HasSubstr("1 of types this reader does not know"));
+}
+
 TEST_F(UlogImport, SensorCombinedWhenNoSensorGyroNeedsTheTemperatureGiven) {
   UlogWriter w;
   w.format("sensor_combined:uint64_t timestamp;float[3] gyro_rad;uint32_t gyro_integral_dt;").subscribe(0, 0, "sensor_combined");
