@@ -24,6 +24,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev libceres-dev libnlopt-cxx-dev coinor-libipopt-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
+  librosbag-storage-dev libsensor-msgs-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox
   libopenmpi-dev openmpi-bin
