@@ -39,29 +39,25 @@ print("gyrosid from %s: planted bias 0.01 deg/s recovered as %.12f" % (here, bia
 """
 
 
-def python_env(target, keep_preload):
-    """The environment with PYTHONPATH = the install folder only (and the sanitizer runtimes where asked)."""
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH" and (keep_preload or k != "LD_PRELOAD")}
-    env["PYTHONPATH"] = target
-    env["GYROSID_QUIET"] = "1"
-    return env
+def python_env(target):
+    """The environment with PYTHONPATH = the install folder only."""
+    return dict(os.environ, PYTHONPATH=target, GYROSID_QUIET="1")
 
 
 def install(args):
     shutil.rmtree(args.target, ignore_errors=True)
-    env = python_env("", keep_preload=False)
-    del env["PYTHONPATH"]
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     env["GYROSID_CMAKE_BUILD_DIR"] = args.build
     subprocess.run([sys.executable, "-m", "pip", "install", "--no-build-isolation", "--no-deps", "--no-index",
                     "--target", args.target, args.source], check=True, env=env)
-    subprocess.run([sys.executable, "-c", CHECK, args.target], check=True, env=python_env(args.target, keep_preload=True),
+    subprocess.run([sys.executable, "-c", CHECK, args.target], check=True, env=python_env(args.target),
                    cwd=tempfile.gettempdir())
 
 
 def example(args):
     out = tempfile.mkdtemp(prefix="gyrosid-python-example-")
     script = os.path.join(args.source, "experiments", "python_example", "run.py")
-    subprocess.run([sys.executable, script, "--out", out], check=True, env=python_env(args.target, keep_preload=True),
+    subprocess.run([sys.executable, script, "--out", out], check=True, env=python_env(args.target),
                    cwd=out)
     with open(os.path.join(out, "results.json")) as f:
         results = json.load(f)
