@@ -195,42 +195,46 @@ void bind_recording(py::module_& m) {
   py::class_<Recording>(m, "Recording", "A recording (docs/recording_format.md): named columns with their unit in the name.")
       .def(py::init(&recording_of_columns), py::arg("columns"), py::arg("metadata") = py::dict(), py::arg("source") = "<python>",
            "From a dict of 1-D arrays; the format's rules are checked (required columns, increasing t_s, ...).")
-      .def_static("load", &read_recording, py::arg("path"))
-      .def("save", [](const Recording& r, const std::filesystem::path& p) { write_recording(r, p); }, py::arg("path"))
-      .def_property_readonly("names", &Recording::names)
-      .def_property_readonly("source", &Recording::source)
+      .def_static("load", &read_recording, py::arg("path"), "Read a recording file (the reader of every command).")
+      .def("save", [](const Recording& r, const std::filesystem::path& p) { write_recording(r, p); }, py::arg("path"),
+           "Write the recording, atomically, with the digits that read back the same doubles.")
+      .def_property_readonly("names", &Recording::names, "Column names, in file order.")
+      .def_property_readonly("source", &Recording::source, "The file it was read from (or <python>).")
       .def_property_readonly("metadata", [](const Recording& r) {
         py::dict d;
         for (const auto& [k, v] : r.metadata()) d[py::str(k)] = v;
         return d;
-      })
+      }, "The `# key: value` metadata.")
       .def("__len__", &Recording::rows)
       .def("__getitem__", [](const Recording& r, const std::string& name) {
         const auto& c = r.column(name);
         return to_numpy(c.data(), c.size());
-      })
+      }, py::arg("name"), "A column as a numpy array (a copy), by name.")
       .def("columns", [](const Recording& r) {
         py::dict d;
         for (const auto& n : r.names()) d[py::str(n)] = to_numpy(r.column(n).data(), r.rows());
         return d;
-      });
+      }, "Every column as {name: numpy array}.");
 }
 
 void bind_model(py::module_& m) {
   py::class_<Model>(m, "Model", "A calibration model; saves to and loads from the same JSON as `gyrosid calibrate`.")
-      .def_property_readonly("kind", [](const Model& x) { return std::string(x.model->kind()); })
-      .def_property_readonly("features", [](const Model& x) { return x.model->features(); })
-      .def_property_readonly("summary", [](const Model& x) { return to_python(x.extra.value("summary", nlohmann::json::object())); })
-      .def_property_readonly("training", [](const Model& x) { return to_python(x.extra.value("training", nlohmann::json::object())); })
+      .def_property_readonly("kind", [](const Model& x) { return std::string(x.model->kind()); }, "The model kind (classical, rbf, ...).")
+      .def_property_readonly("features", [](const Model& x) { return x.model->features(); }, "Its inputs, in the order predict() takes them.")
+      .def_property_readonly("summary", [](const Model& x) { return to_python(x.extra.value("summary", nlohmann::json::object())); },
+                             "The solve summary (solver, termination, iterations, time_s, details).")
+      .def_property_readonly("training", [](const Model& x) { return to_python(x.extra.value("training", nlohmann::json::object())); },
+                             "Where it was trained: recording, options, samples.")
       .def("predict", &predict_py, py::arg("x"), "Model output (rate error, rad/s) for N x d inputs in SI units, the order of features.")
       .def("to_json", [](const Model& x) {
         nlohmann::json j = x.model->to_json();
         for (auto it = x.extra.begin(); it != x.extra.end(); ++it) j[it.key()] = it.value();
         return j.dump(1);
-      })
-      .def("save", [](const Model& x, const std::filesystem::path& p) { save_model(p, *x.model, x.extra); }, py::arg("path"))
+      }, "The model file's JSON text.")
+      .def("save", [](const Model& x, const std::filesystem::path& p) { save_model(p, *x.model, x.extra); }, py::arg("path"),
+           "Write the model file `gyrosid` reads (compensate, cof, export).")
       .def("export_c", [](const Model& x, const std::filesystem::path& dir, const std::string& prefix) { x.model->export_c(dir, prefix); },
-           py::arg("dir"), py::arg("prefix") = "gyro");
+           py::arg("dir"), py::arg("prefix") = "gyro", "Write <prefix>.h and <prefix>.c, dependency-free C99, into dir.");
   m.def("load_model", [](const std::filesystem::path& p) {
     std::ifstream in(p);
     const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
@@ -239,7 +243,7 @@ void bind_model(py::module_& m) {
       if (j.is_object() && j.contains(k)) extra[k] = j[k];
     }
     return Model{std::shared_ptr<CalibrationModel>(load_model(p)), extra};
-  }, py::arg("path"));
+  }, py::arg("path"), "Read a model file written by `gyrosid calibrate` or Model.save.");
 }
 
 }  // namespace
@@ -249,7 +253,8 @@ PYBIND11_MODULE(_gyrosid, m) {
   using namespace gyrosid;
   using namespace gyrosid::python;
   m.doc() = "gyrosid: gyroscope calibration as system identification (in-process bindings)";
-  py::register_exception<Error>(m, "Error", PyExc_ValueError);
+  py::register_exception<Error>(m, "Error", PyExc_ValueError).attr("__doc__") =
+      "A bad input, named by file, line, column, key or option (the command's errors).";
   bind_recording(m);
   bind_model(m);
   m.def("simulate", [](const std::string& sensor, const std::string& trajectory, std::uint64_t seed, bool noise_free, std::optional<std::size_t> samples) {

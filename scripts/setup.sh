@@ -31,6 +31,7 @@ packages=(
   pybind11-dev python3-dev
   chromium
   python3 python3-numpy python3-scipy python3-sklearn python3-yaml
+  python3-pip python3-setuptools python3-wheel python3-venv
 )
 # libFuzzer comes with clang's runtime libraries.
 [ "$job" = fuzz ] && packages+=(clang libclang-rt-dev)
