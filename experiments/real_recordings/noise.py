@@ -39,7 +39,7 @@ def kalibr_to_recording(gyrosid, work, unit):
         return rec
     kalibr = os.path.join(work, "adis%d_kalibr.csv" % unit)
     subprocess.run([sys.executable, os.path.join(realdata(), "tools", "convert_imudata.py"),
-                    os.path.join(realdata(), "imudata", "adis_16405_imu%d.rda" % unit), "imu%d" % unit, kalibr, "kalibr"],
+                    os.path.join(realdata(), "imudata", "adis_16405_imu%d.rda" % unit), "adis_16405_imu%d" % unit, kalibr, "kalibr"],
                    check=True, capture_output=True)
     run_timed([gyrosid, "import", "--format", "kalibr", "--input", kalibr, "--stationary", "--out", rec])
     os.remove(kalibr)
