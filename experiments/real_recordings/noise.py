@@ -41,7 +41,7 @@ def kalibr_to_recording(gyrosid, work, unit):
     subprocess.run([sys.executable, os.path.join(realdata(), "tools", "convert_imudata.py"),
                     os.path.join(realdata(), "imudata", "adis_16405_imu%d.rda" % unit), "adis_16405_imu%d" % unit, kalibr, "kalibr"],
                    check=True, capture_output=True)
-    run_timed([gyrosid, "import", "--format", "kalibr", "--input", kalibr, "--stationary", "--out", rec])
+    run_timed([gyrosid, "import", "--format", "kalibr", "--input", kalibr, "--stationary", "--temp-c", "25", "--out", rec])  # a placeholder: allan never reads it
     os.remove(kalibr)
     return rec
 
@@ -52,6 +52,17 @@ def mtig_recording(work):
         subprocess.run([sys.executable, os.path.join(realdata(), "tools", "convert_imudata.py"),
                         os.path.join(realdata(), "imudata", "cont.imu1.rda"), "cont.imu1", rec, "single"], check=True, capture_output=True)
     return rec
+
+
+def read_columns(rec):
+    """A gyrosid recording's columns by name (numpy: the '# key: value' lines skipped, the header named)."""
+    with open(rec) as f:
+        skip = 0
+        for line in f:
+            if not line.startswith("#"):
+                break
+            skip += 1
+    return np.genfromtxt(rec, delimiter=",", names=True, skip_header=skip)
 
 
 def read_curve(out):
@@ -127,7 +138,7 @@ def main():
     rows = []
     for unit in [int(u) for u in a.units.split(",")]:
         rec = kalibr_to_recording(a.gyrosid, a.work, unit)
-        cols = np.genfromtxt(rec, delimiter=",", names=True, comments="#")
+        cols = read_columns(rec)
         dt = float(np.median(np.diff(cols["t_s"])))
         for axis in "xyz":
             column = "gyro_%s_dps" % axis
@@ -135,7 +146,7 @@ def main():
                                 "ADIS16405 #%d %s" % (unit, axis)))
             print(rows[-1], file=sys.stderr)
     rec = mtig_recording(a.work)
-    cols = np.genfromtxt(rec, delimiter=",", names=True, comments="#")
+    cols = read_columns(rec)
     for robust in (False, True):
         rows.append(analyse(a.gyrosid, rec, "gyro_dps", os.path.join(a.work, "mtig" + ("_robust" if robust else "")), cols["gyro_dps"] * 3600.0,
                             0.01, "MTi-G x" + (" (--robust)" if robust else ""), robust))
@@ -145,7 +156,7 @@ def main():
     columns = ["recording", "model", "N deg/sqrt(h)", "B deg/h", "Gauss-Markov", "fit from s", "minimum deg/h [95 %]", "fit at minimum",
                "min in band", "outside band", "worst beyond", "GMWM outside", "GMWM worst", "time s", "peak MB"]
     text = ["# Noise identification on real recordings", "",
-            "`gyrosid allan --confidence 0.95` on each axis (95 % intervals). ADIS16405 datasheet: N %g deg/sqrt(h), in-run bias "
+            "`gyrosid allan --confidence 0.95` on each axis (95 %% intervals). ADIS16405 datasheet: N %g deg/sqrt(h), in-run bias "
             "stability %g deg/h (the Allan minimum). 'outside band': display taus inside the fit band where the fitted deviation lies "
             "outside the data's 95 %% interval, and the worst distance beyond the interval's edge; the same for the GMWM reference "
             "with gyrosid's structure on the same rates. Time and peak memory of the whole `allan` command (reading 10^6 rows "

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -70,8 +71,14 @@ nlohmann::json noise_json(const AllanReport& r) {
 
 // The curve's minimum and the fitted deviation there (the IEEE reading of bias instability: the minimum /
 // sqrt(2 ln 2 / pi)).
+// The curve's own minimum over the taus the fit claims (up to fit_tau_high_s, a tenth of the record by default):
+// beyond them an estimate rests on a few independent averages and its dips are chance, not a floor.
 nlohmann::json minimum_json(const AllanReport& r) {
-  const auto it = std::min_element(r.curve.begin(), r.curve.end(), [](const auto& a, const auto& b) { return a.adev < b.adev; });
+  const double hi = r.noise.fit_tau_high_s > 0.0 ? r.noise.fit_tau_high_s * (1.0 + 1e-9) : std::numeric_limits<double>::infinity();
+  auto it = r.curve.end();
+  for (auto p = r.curve.begin(); p != r.curve.end() && p->tau_s <= hi; ++p) {
+    if (it == r.curve.end() || p->adev < it->adev) it = p;
+  }
   if (it == r.curve.end()) return nullptr;
   const double fitted = std::sqrt(r.noise.allan_variance(it->tau_s));
   return {{"tau_s", it->tau_s}, {"adev_dph", it->adev}, {"ci_low_dph", it->ci_low}, {"ci_high_dph", it->ci_high}, {"fit_dph", fitted},
