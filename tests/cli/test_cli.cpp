@@ -167,6 +167,13 @@ TEST_F(Cli, BadInputsAreClearErrorsAndLeaveNothingBehind) {
   r = run("allan --recording " + path("bad.csv") + " --column temp_c --out " + path("o"));
   EXPECT_EQ(r.status, 2);
 
+  // A solver is the RBF network's; named for another model kind it is refused, not dropped.
+  std::ofstream(path("ok.csv")) << "t_s,ref_rate_dps,temp_c,gyro_dps\n0,1,25,1\n1,2,26,2\n2,3,27,3\n";
+  r = run("calibrate --recording " + path("ok.csv") + " --model hybrid --solver bayes --out " + path("m.json"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("solver 'bayes' applies to --model rbf only; --model hybrid has its own fit"));
+  EXPECT_FALSE(fs::exists(path("m.json")));
+
   r = run("simulate");
   EXPECT_NE(r.status, 0);
   EXPECT_THAT(r.output, HasSubstr("--out is required"));
