@@ -24,6 +24,7 @@ namespace {
 //   geometry_msgs/Vector3 linear_acceleration [m/s^2], float64[9] linear_acceleration_covariance
 constexpr const char* kImuType = "sensor_msgs/Imu";
 constexpr const char* kImuMd5 = "6a62c6daae103f4ff57a132d6f95cec2";
+constexpr std::uint32_t kMaxImuBytes = 4096;  // 312 bytes of an Imu message and a frame_id of up to 3,784 characters
 
 template <typename T>
 T read(const std::uint8_t* p) {
@@ -103,6 +104,12 @@ bool RosbagImuReader::next(ImuLogSample& s) {
   ++read_;
   try {
     const rosbag::MessageInstance& m = *it_;
+    // rosbag_storage copies a record's data by the length the record states, unchecked against its chunk
+    // (a damaged bag read past the buffer: found by fuzzing, tests/fuzz/regressions/rosbag). An Imu message is
+    // 312 bytes and its frame_id, so a stated length beyond kMaxImuBytes is refused before anything is copied.
+    if (const std::uint32_t size = m.size(); size > kMaxImuBytes) {
+      fail(where(read_), ": the record states ", size, " bytes, more than a sensor_msgs/Imu takes (", kMaxImuBytes, "): a damaged bag");
+    }
     buffer_.resize(m.size());
     ros::serialization::OStream out(buffer_.data(), static_cast<std::uint32_t>(buffer_.size()));
     m.write(out);
