@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/format.h"
+#include "core/rosbag_structure.h"
 
 namespace gyrosid {
 
@@ -52,6 +53,7 @@ class RosbagImuReader : public ImuLogReader {
 };
 
 RosbagImuReader::RosbagImuReader(const std::string& path, const std::string& topic) : path_(path), topic_(topic) {
+  check_rosbag_structure(path);  // rosbag_storage trusts the lengths a bag states
   try {
     bag_.open(path, rosbag::bagmode::Read);
     bytes_ = bag_.getSize();

@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "core/imu_import.h"
 #include "core/units.h"
 #include "error_of.h"
@@ -67,9 +69,32 @@ TEST_F(RosbagImport, WrongTopicsAndTypesAreNamed) {
               HasSubstr("topic '/temperature' carries sensor_msgs/Temperature"));
   ImuImportOptions o = options("/imu");
   o.input = write("not.bag", "#ROSBAG V2.0\nnot really");
-  EXPECT_THAT(error_of([&] { import(o); }), HasSubstr("not.bag: cannot read the bag"));
+  EXPECT_THAT(error_of([&] { import(o); }), HasSubstr("not.bag: byte 13: a record header of 544501614 bytes overruns the file (damaged bag)"));
   o.topic = "";
   EXPECT_THAT(error_of([&] { import(o); }), HasSubstr("--topic"));
+}
+
+// A damaged bag is refused before rosbag_storage reads it (the library trusts stated lengths and reads past its
+// buffers): each length planted too long is named with its byte offset.
+TEST_F(RosbagImport, DamagedLengthsAreRefusedWithTheirOffset) {
+  const std::string path = options("/imu").input;
+  testing_support::write_imu_bag(path, "/imu", planted(40));
+  std::string bag;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bag.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const auto damaged = [&](std::size_t at, std::uint32_t value) {
+    std::string b = bag;
+    for (int k = 0; k < 4; ++k) b[at + static_cast<std::size_t>(k)] = static_cast<char>((value >> (8 * k)) & 0xff);
+    std::ofstream(path, std::ios::binary) << b;
+    return error_of([&] { import(options("/imu")); });
+  };
+  // The bag header record: its header length at byte 13, its first field's length at byte 17.
+  EXPECT_THAT(damaged(13, 0x7fffffff), HasSubstr("imu.bag: byte 13: a record header of 2147483647 bytes overruns the file (damaged bag)"));
+  EXPECT_THAT(damaged(17, 5000), HasSubstr("imu.bag: byte 17: a header field of 5000 bytes overruns its header (damaged bag)"));
+  std::ofstream(path, std::ios::binary) << bag;
+  EXPECT_EQ(import(options("/imu")).rows(), 40u);  // the undamaged bag still reads
 }
 
 }  // namespace
