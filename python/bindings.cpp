@@ -183,7 +183,7 @@ void bind_recording(py::module_& m) {
   py::class_<Recording>(m, "Recording", "A recording (docs/recording_format.md): named columns with their unit in the name.")
       .def(py::init(&recording_of_columns), py::arg("columns"), py::arg("metadata") = py::dict(), py::arg("source") = "<python>",
            "From a dict of 1-D arrays; the format's rules are checked (required columns, increasing t_s, ...).")
-      .def_static("load", &read_recording, py::arg("path"))
+      .def_static("load", [](const std::filesystem::path& p) { return read_recording(p); }, py::arg("path"))
       .def("save", [](const Recording& r, const std::filesystem::path& p) { write_recording(r, p); }, py::arg("path"))
       .def_property_readonly("names", &Recording::names)
       .def_property_readonly("source", &Recording::source)

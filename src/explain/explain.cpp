@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/axis_view.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/units.h"
@@ -13,6 +14,7 @@
 #include "explain/noise_likelihood.h"
 #include "explain/refit.h"
 #include "explain/simulation.h"
+#include "model/averaging_bias.h"
 #include "model/terms/term_kinds.h"
 
 namespace gyrosid::explain {
@@ -265,6 +267,22 @@ void localise_unexplained(const Diagnostics& after, const ExplainInput& in, std:
   }
 }
 
+// The decimation as stated in the summary: what was averaged, and what that can do to the refitted model.
+nlohmann::json decimation_summary(const Decimation& d, const ExplainResult& result) {
+  nlohmann::json j = d.to_json();
+  const Dataset data = dataset_of(result.input, result.model->features());
+  std::vector<SpreadInput> inputs;
+  for (const InputSpread& s : d.inputs) {  // explain_spread_columns: the reference rate (deg/s), the temperature
+    if (s.column.ends_with("_dps")) inputs.push_back({"measured_rate", s.column, units::kDegToRad});
+    if (s.column.ends_with("_c")) inputs.push_back({"temperature", s.column, 1.0});
+  }
+  const double bias = units::radps_to_dph(largest_averaging_bias(*result.model, data, d, inputs));
+  j["averaging_bias_dph"] = bias;
+  j["statement"] = str_cat(d.statement(), "; the refitted model's curvature makes the averaging bias (f'' var / 2) at most ",
+                           format_significant(bias, 3), " deg/h");
+  return j;
+}
+
 RecordingSummary recording_summary(const ExplainInput& in, const ExplainOptions& o) {
   RecordingSummary r;
   r.source = in.source, r.axis = o.input.axis;
@@ -273,16 +291,24 @@ RecordingSummary recording_summary(const ExplainInput& in, const ExplainOptions&
   r.blocks = in.blocks, r.thermal_cycles = in.thermal_cycles, r.heldout_every = o.input.heldout_every;
   r.heldout_outside_support = static_cast<long>(std::count(in.outside_support.begin(), in.outside_support.end(), 1));
   r.skipped_channels = in.skipped;
+  r.temperature_recorded = in.temperature_recorded;
   return r;
 }
 
 }  // namespace
 
-ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, Checkpoint* checkpoint) {
+std::vector<std::string> explain_spread_columns(const std::vector<std::string>& names, const std::string& axis) {
+  const GyroColumns g = gyro_columns(names, axis, "explain");
+  std::vector<std::string> out{g.ref};
+  if (!g.temp.empty()) out.push_back(g.temp);
+  return out;
+}
+
+ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, Checkpoint* checkpoint, const Decimation* decimation) {
   if (auto p = o.validate(); !p.empty()) fail("explain: ", p);
   const auto start = std::chrono::steady_clock::now();
   ExplainResult result;
-  StageClock clock(result.summary.stage_times);
+  StageClock clock(result.summary.stage_times, "explain: ");
   result.input = load_input(rec, o.input);
   ExplainInput& in = result.input;
   const TermScaling scaling = TermScaling::of(in.signals);
@@ -342,6 +368,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
                  rms(result.residual_after_dph, in, false), rms(result.residual_before_dph, in, true),
                  rms(result.residual_after_dph, in, true), "ceres", final_fit.termination, final_fit.iterations, final_fit.covariance_ok};
   summary.recording = recording_summary(in, o);
+  if (decimation && decimation->applied()) summary.recording.decimation = decimation_summary(*decimation, result);
   summary.simulation = sim.description;
   summary.selection = {o.selection.alpha, sel.bootstrap, o.selection.seed, sel.steps, untestable, sel.noise};
   summary.demoted = accepted.demoted;
