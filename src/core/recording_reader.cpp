@@ -217,8 +217,10 @@ std::size_t count_recording_rows(const std::filesystem::path& path) {
     if (first != '\0' && first != '#' && first != '\r') ++lines;
     at_start = true, first = '\0';
   };
+  bool first_chunk = true;
   while (const std::size_t got = std::fread(buffer.data(), 1, buffer.size(), file.get())) {
-    std::size_t i = 0;
+    std::size_t i = first_chunk && got >= 3 && std::memcmp(buffer.data(), "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;  // byte-order mark
+    first_chunk = false;
     while (i < got) {
       while (at_start && i < got && (buffer[i] == ' ' || buffer[i] == '\t')) ++i;
       if (i == got) break;

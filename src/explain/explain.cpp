@@ -267,22 +267,6 @@ void localise_unexplained(const Diagnostics& after, const ExplainInput& in, std:
   }
 }
 
-// The decimation as stated in the summary: what was averaged, and what that can do to the refitted model.
-nlohmann::json decimation_summary(const Decimation& d, const ExplainResult& result) {
-  nlohmann::json j = d.to_json();
-  const Dataset data = dataset_of(result.input, result.model->features());
-  std::vector<SpreadInput> inputs;
-  for (const InputSpread& s : d.inputs) {  // explain_spread_columns: the reference rate (deg/s), the temperature
-    if (s.column.ends_with("_dps")) inputs.push_back({"measured_rate", s.column, units::kDegToRad});
-    if (s.column.ends_with("_c")) inputs.push_back({"temperature", s.column, 1.0});
-  }
-  const double bias = units::radps_to_dph(largest_averaging_bias(*result.model, data, d, inputs));
-  j["averaging_bias_dph"] = bias;
-  j["statement"] = str_cat(d.statement(), "; the refitted model's curvature makes the averaging bias (f'' var / 2) at most ",
-                           format_significant(bias, 3), " deg/h");
-  return j;
-}
-
 RecordingSummary recording_summary(const ExplainInput& in, const ExplainOptions& o) {
   RecordingSummary r;
   r.source = in.source, r.axis = o.input.axis;
@@ -368,7 +352,10 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
                  rms(result.residual_after_dph, in, false), rms(result.residual_before_dph, in, true),
                  rms(result.residual_after_dph, in, true), "ceres", final_fit.termination, final_fit.iterations, final_fit.covariance_ok};
   summary.recording = recording_summary(in, o);
-  if (decimation && decimation->applied()) summary.recording.decimation = decimation_summary(*decimation, result);
+  if (decimation && decimation->applied()) {
+    const Dataset data = dataset_of(in, result.model->features());
+    summary.recording.decimation = decimation_summary(*decimation, averaging_bias(*result.model, data, *decimation, summary.fit.rms_after_dph));
+  }
   summary.simulation = sim.description;
   summary.selection = {o.selection.alpha, sel.bootstrap, o.selection.seed, sel.steps, untestable, sel.noise};
   summary.demoted = accepted.demoted;

@@ -1,16 +1,22 @@
 // What block means (core/decimation.h) can do to a fitted model: a model f nonlinear in an input that varies
 // inside a block sees the block's mean input, while the block's mean output is the mean of f over the block -
-// larger or smaller by about f'' var / 2. Measured on the fitted model at every block with the two-point rule
-// that matches each input's within-block variance s_k^2:
+// larger or smaller by about f'' var / 2. Measured on the fitted model at every block i with the two-point
+// rule, each input k shifted along the whole recording by its largest within-block standard deviation S_k (a
+// constant shift: a model that filters an input in time - a thermal lag, a temperature rate - sees a steady
+// change, not a jagged one) and scaled to the block's own s_ik:
 //
-//   bias = sum_k ( f(x + s_k e_k) + f(x - s_k e_k) ) / 2 - f(x)  =  sum_k f_kk s_k^2 / 2 + O(s^4),
+//   bias_i = sum_k (s_ik / S_k)^2 ( f(x + S_k e_k) + f(x - S_k e_k) - 2 f(x) )_i / 2  =  sum_k f_kk s_ik^2 / 2 + O(S^4),
 //
 // inputs taken one at a time (their within-block covariance left out: over a block of a fraction of a second
-// the temperature barely moves while the rate does).
+// the temperature barely moves while the rate does). The largest biases sit in the few blocks where the
+// table switched rate, so the count of blocks above a tenth of the residual rms is stated beside the largest.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "core/decimation.h"
 #include "model/calibration_model.h"
@@ -24,12 +30,25 @@ struct SpreadInput {
   double scale = 1.0;
 };
 
-// The spreads of a single-gyro model's inputs: measured_rate from ref_rate_dps (its deterministic part moves
-// with the table), temperature from temp_c.
-std::vector<SpreadInput> gyro_spread_inputs();
+// The model inputs of the spreads a decimation kept: a reference-rate column (deg/s: its deterministic part is
+// what moves the measured rate inside a block) for measured_rate, a temperature column (C) for temperature.
+std::vector<SpreadInput> gyro_spread_inputs(const Decimation& decimation);
 
-// The largest |bias| over the blocks (rad/s); 0 when nothing was averaged or no input varies.
-double largest_averaging_bias(const CalibrationModel& model, const Dataset& data, const Decimation& decimation,
-                              const std::vector<SpreadInput>& inputs);
+struct AveragingBias {
+  double largest_dph = 0.0;
+  double threshold_dph = 0.0;    // a tenth of the residual rms
+  std::size_t blocks_over = 0;   // blocks whose |bias| exceeds the threshold
+  std::size_t blocks = 0;
+  std::string statement() const;
+  nlohmann::json to_json() const;
+};
+
+// The bias at every block of `data` (the decimated recording's dataset) and its summary; residual_rms_dph:
+// the fit's residual rms per block mean.
+AveragingBias averaging_bias(const CalibrationModel& model, const Dataset& data, const Decimation& decimation, double residual_rms_dph);
+
+// The decimation with what it does to the fitted model: Decimation::to_json(), "averaging_bias" and one
+// "statement" sentence for the command's output and the result summary.
+nlohmann::json decimation_summary(const Decimation& decimation, const AveragingBias& bias);
 
 }  // namespace gyrosid
