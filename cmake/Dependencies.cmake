@@ -97,3 +97,38 @@ if(GYROSID_BUILD_BENCHMARKS)
     gyrosid_missing("Google Benchmark" "libbenchmark-dev")
   endif()
 endif()
+
+# ROS 1 bags (optional, like MPI): with Debian's librosbag-storage-dev, `gyrosid import --format rosbag` reads
+# sensor_msgs/Imu. Found by hand: the package's CMake config loads ament's Python tooling through pluginlib,
+# and its pkg-config file requires a pluginlib.pc that Debian does not ship. Its bag.h includes the ROS 2
+# pluginlib, class_loader, rcutils, rcpputils and ament_index_cpp headers, each in a folder of its own.
+find_path(ROSBAG_INCLUDE_DIR rosbag/bag.h)
+set(GYROSID_ROSBAG_INCLUDE_DIRS)
+if(NOT ROSBAG_INCLUDE_DIR)
+  list(APPEND GYROSID_ROSBAG_INCLUDE_DIRS ${ROSBAG_INCLUDE_DIR})
+elseif(NOT ROSBAG_INCLUDE_DIR STREQUAL "/usr/include")  # the compiler's own: naming it breaks #include_next
+  list(APPEND GYROSID_ROSBAG_INCLUDE_DIRS ${ROSBAG_INCLUDE_DIR})
+endif()
+foreach(header pluginlib/class_loader.hpp class_loader/class_loader.hpp rcutils/types.h rcpputils/filesystem_helper.hpp
+               ament_index_cpp/get_resource.hpp)
+  string(REGEX REPLACE "/.*" "" folder ${header})
+  find_path(GYROSID_ROS_${folder}_DIR ${header} PATH_SUFFIXES ${folder})
+  list(APPEND GYROSID_ROSBAG_INCLUDE_DIRS ${GYROSID_ROS_${folder}_DIR})
+endforeach()
+set(GYROSID_ROSBAG_LIBRARIES)
+foreach(lib rosbag_storage roscpp_serialization rostime cpp_common console_bridge)
+  find_library(GYROSID_ROS_${lib}_LIBRARY ${lib})
+  list(APPEND GYROSID_ROSBAG_LIBRARIES ${GYROSID_ROS_${lib}_LIBRARY})
+endforeach()
+if(NOT "${GYROSID_ROSBAG_INCLUDE_DIRS};${GYROSID_ROSBAG_LIBRARIES}" MATCHES "NOTFOUND")
+  # Used per source file (CMakeLists.txt), not as a target, so no other object's command line changes; -isystem
+  # keeps the ROS headers' own warnings out.
+  set(GYROSID_HAVE_ROSBAG ON)
+  set(GYROSID_ROSBAG_COMPILE_OPTIONS)
+  foreach(dir ${GYROSID_ROSBAG_INCLUDE_DIRS})
+    list(APPEND GYROSID_ROSBAG_COMPILE_OPTIONS -isystem ${dir})
+  endforeach()
+else()
+  set(GYROSID_HAVE_ROSBAG OFF)
+  message(STATUS "gyrosid: ROS 1 bag library not found - `import --format rosbag` is not built (Debian: librosbag-storage-dev)")
+endif()

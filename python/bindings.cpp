@@ -26,7 +26,8 @@
 #include "report/design_report.h"
 #include "report/explain_json.h"
 #include "report/triad_json.h"
-#include "sensor/allan.h"
+#include "noise/allan.h"
+#include "noise/identify.h"
 #include "sensor/sensor_config.h"
 #include "sim/simulate.h"
 #include "solvers/calibrate.h"
@@ -93,8 +94,10 @@ py::array_t<double> predict_py(const Model& m, const py::array_t<double, py::arr
 }
 
 py::dict allan_py(const py::array_t<double, py::array::c_style | py::array::forcecast>& rate_dph, double dt_s) {
-  const std::vector<AllanPoint> curve = overlapping_allan_deviation(from_numpy(rate_dph), dt_s, AllanOptions{});
-  const AllanCoefficients fit = fit_allan(curve);
+  const AllanPhase phase(from_numpy(rate_dph), dt_s);
+  const std::vector<AllanPoint> curve = overlapping_allan_deviation(phase, AllanOptions{});
+  const NoiseIdentification noise = identify_noise(phase);
+  const CompositeNoise& fit = noise.model;
   std::vector<double> tau, adev, lo, hi;
   for (const auto& p : curve) tau.push_back(p.tau_s), adev.push_back(p.adev), lo.push_back(p.ci_low), hi.push_back(p.ci_high);
   py::dict out;
@@ -102,11 +105,20 @@ py::dict allan_py(const py::array_t<double, py::array::c_style | py::array::forc
   out["adev_dph"] = to_numpy(adev.data(), adev.size());
   out["ci_low_dph"] = to_numpy(lo.data(), lo.size());
   out["ci_high_dph"] = to_numpy(hi.data(), hi.size());
-  out["arw_deg_rt_h"] = fit.angle_random_walk / 60.0;
-  out["bias_instability_dph"] = fit.bias_instability;
-  out["rrw_dph_rt_h"] = fit.rate_random_walk * 60.0;
+  out["arw_deg_rt_h"] = fit.white / 60.0;
+  out["bias_instability_dph"] = fit.flicker;
+  out["rrw_dph_rt_h"] = fit.random_walk * 60.0;
   out["quantization_arcsec"] = fit.quantization;
-  out["rate_ramp_dph_per_h"] = fit.rate_ramp * 3600.0;
+  out["rate_ramp_dph_per_h"] = fit.ramp * 3600.0;
+  py::list markov;
+  for (const auto& gm : fit.gauss_markov) {
+    py::dict g;
+    g["sigma_dph"] = gm.sigma, g["tau_s"] = gm.tau_s;
+    markov.append(g);
+  }
+  out["gauss_markov"] = markov;
+  out["model"] = noise.structure.name();
+  out["fit_band_s"] = py::make_tuple(noise.fit_tau_low_s, noise.fit_tau_high_s);
   return out;
 }
 
@@ -183,42 +195,47 @@ void bind_recording(py::module_& m) {
   py::class_<Recording>(m, "Recording", "A recording (docs/recording_format.md): named columns with their unit in the name.")
       .def(py::init(&recording_of_columns), py::arg("columns"), py::arg("metadata") = py::dict(), py::arg("source") = "<python>",
            "From a dict of 1-D arrays; the format's rules are checked (required columns, increasing t_s, ...).")
-      .def_static("load", [](const std::filesystem::path& p) { return read_recording(p); }, py::arg("path"))
-      .def("save", [](const Recording& r, const std::filesystem::path& p) { write_recording(r, p); }, py::arg("path"))
-      .def_property_readonly("names", &Recording::names)
-      .def_property_readonly("source", &Recording::source)
+      .def_static("load", [](const std::filesystem::path& p) { return read_recording(p); }, py::arg("path"),
+                  "Read a recording file (the reader of every command).")
+      .def("save", [](const Recording& r, const std::filesystem::path& p) { write_recording(r, p); }, py::arg("path"),
+           "Write the recording, atomically, with the digits that read back the same doubles.")
+      .def_property_readonly("names", &Recording::names, "Column names, in file order.")
+      .def_property_readonly("source", &Recording::source, "The file it was read from (or <python>).")
       .def_property_readonly("metadata", [](const Recording& r) {
         py::dict d;
         for (const auto& [k, v] : r.metadata()) d[py::str(k)] = v;
         return d;
-      })
+      }, "The `# key: value` metadata.")
       .def("__len__", &Recording::rows)
       .def("__getitem__", [](const Recording& r, const std::string& name) {
         const auto& c = r.column(name);
         return to_numpy(c.data(), c.size());
-      })
+      }, py::arg("name"), "A column as a numpy array (a copy), by name.")
       .def("columns", [](const Recording& r) {
         py::dict d;
         for (const auto& n : r.names()) d[py::str(n)] = to_numpy(r.column(n).data(), r.rows());
         return d;
-      });
+      }, "Every column as {name: numpy array}.");
 }
 
 void bind_model(py::module_& m) {
   py::class_<Model>(m, "Model", "A calibration model; saves to and loads from the same JSON as `gyrosid calibrate`.")
-      .def_property_readonly("kind", [](const Model& x) { return std::string(x.model->kind()); })
-      .def_property_readonly("features", [](const Model& x) { return x.model->features(); })
-      .def_property_readonly("summary", [](const Model& x) { return to_python(x.extra.value("summary", nlohmann::json::object())); })
-      .def_property_readonly("training", [](const Model& x) { return to_python(x.extra.value("training", nlohmann::json::object())); })
+      .def_property_readonly("kind", [](const Model& x) { return std::string(x.model->kind()); }, "The model kind (classical, rbf, ...).")
+      .def_property_readonly("features", [](const Model& x) { return x.model->features(); }, "Its inputs, in the order predict() takes them.")
+      .def_property_readonly("summary", [](const Model& x) { return to_python(x.extra.value("summary", nlohmann::json::object())); },
+                             "The solve summary (solver, termination, iterations, time_s, details).")
+      .def_property_readonly("training", [](const Model& x) { return to_python(x.extra.value("training", nlohmann::json::object())); },
+                             "Where it was trained: recording, options, samples.")
       .def("predict", &predict_py, py::arg("x"), "Model output (rate error, rad/s) for N x d inputs in SI units, the order of features.")
       .def("to_json", [](const Model& x) {
         nlohmann::json j = x.model->to_json();
         for (auto it = x.extra.begin(); it != x.extra.end(); ++it) j[it.key()] = it.value();
         return j.dump(1);
-      })
-      .def("save", [](const Model& x, const std::filesystem::path& p) { save_model(p, *x.model, x.extra); }, py::arg("path"))
+      }, "The model file's JSON text.")
+      .def("save", [](const Model& x, const std::filesystem::path& p) { save_model(p, *x.model, x.extra); }, py::arg("path"),
+           "Write the model file `gyrosid` reads (compensate, cof, export).")
       .def("export_c", [](const Model& x, const std::filesystem::path& dir, const std::string& prefix) { x.model->export_c(dir, prefix); },
-           py::arg("dir"), py::arg("prefix") = "gyro");
+           py::arg("dir"), py::arg("prefix") = "gyro", "Write <prefix>.h and <prefix>.c, dependency-free C99, into dir.");
   m.def("load_model", [](const std::filesystem::path& p) {
     std::ifstream in(p);
     const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
@@ -227,7 +244,7 @@ void bind_model(py::module_& m) {
       if (j.is_object() && j.contains(k)) extra[k] = j[k];
     }
     return Model{std::shared_ptr<CalibrationModel>(load_model(p)), extra};
-  }, py::arg("path"));
+  }, py::arg("path"), "Read a model file written by `gyrosid calibrate` or Model.save.");
 }
 
 }  // namespace
@@ -237,7 +254,8 @@ PYBIND11_MODULE(_gyrosid, m) {
   using namespace gyrosid;
   using namespace gyrosid::python;
   m.doc() = "gyrosid: gyroscope calibration as system identification (in-process bindings)";
-  py::register_exception<Error>(m, "Error", PyExc_ValueError);
+  py::register_exception<Error>(m, "Error", PyExc_ValueError).attr("__doc__") =
+      "A bad input, named by file, line, column, key or option (the command's errors).";
   bind_recording(m);
   bind_model(m);
   m.def("simulate", [](const std::string& sensor, const std::string& trajectory, std::uint64_t seed, bool noise_free, std::optional<std::size_t> samples) {

@@ -13,7 +13,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-600}"
 shift || true
-all=(recording sensor_config trajectory_config calibration_config flight_config model_json flight_csv)
+all=(recording sensor_config trajectory_config calibration_config flight_config model_json flight_csv kalibr_csv ros_csv imu_tk ulog rosbag)
 targets=("${@:-${all[@]}}")
 [ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
 
@@ -29,11 +29,16 @@ seeds_of() {
     flight_config) echo tests/fuzz/seeds/flight_config/* ;;
     model_json) echo tests/fuzz/seeds/model_json/* ;;
     flight_csv) echo tests/fuzz/seeds/flight_csv/* ;;
+    kalibr_csv|ros_csv|imu_tk|ulog|rosbag) echo tests/fuzz/seeds/"$1"/* ;;
   esac
 }
 
 status=0
 for t in "${targets[@]}"; do
+  if [ ! -x "$build/tests/fuzz/fuzz_$t" ]; then  # rosbag: only with the ROS 1 bag library
+    echo "fuzz: $t is not built here, skipped" >&2
+    continue
+  fi
   corpus="$build/corpus/$t"
   crashes="$build/crashes/$t"
   mkdir -p "$corpus" "$crashes"

@@ -24,12 +24,14 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev libceres-dev libnlopt-cxx-dev coinor-libipopt-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
+  librosbag-storage-dev libsensor-msgs-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox
   libopenmpi-dev openmpi-bin
   pybind11-dev python3-dev
   chromium
   python3 python3-numpy python3-scipy python3-sklearn python3-yaml
+  python3-pip python3-setuptools python3-wheel python3-venv
 )
 # libFuzzer comes with clang's runtime libraries.
 [ "$job" = fuzz ] && packages+=(clang libclang-rt-dev)
@@ -77,10 +79,18 @@ case "$job" in
     ;;
   sanitize)
     # Leaks are reported too; a sanitizer report fails the test that triggered it.
+    # To keep .ci/run under 60 min on 2 cores, the eight slowest end-to-end tests (about 40 % of the suite's Release time) are
+    # left out here - and only here: they run in the test job, and the library code they drive is run under the
+    # sanitizer by the faster tests of the same modules.
+    sanitize_skip='^(Cli\.KilledExplainResumesToTheSameResult|Cli\.KilledDesignResumesToTheSameResult'
+    sanitize_skip+='|Cli\.CalibrateWithoutOptionsLeavesOutWhatAHeldInputCannotDetermine|MainJob\.InProcessEqualsTheCommandAndRanksTheRbfFirst'
+    sanitize_skip+='|HybridFit\.FindsTheNetworkALevelledSoakSupportsOnlyWithUnequalWidths|Explain\.ARateRandomWalkIsNotAChangePointOnAnySeed'
+    sanitize_skip+='|Cli\.MainJobWritesItsReport|Explain\.AWarmupsSlowTailIsAnAlternativeNotAnAgeingTrend)$'
+    echo "setup: the sanitizer job leaves out the eight slowest end-to-end tests (they ran in the test job): $sanitize_skip" >&2
     # Leaks that libraries outside gyrosid (OpenMPI, CPython) keep by design are suppressed by tests/sanitize/lsan.supp.
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     LSAN_OPTIONS=suppressions="$(pwd)/tests/sanitize/lsan.supp" \
-      ctest --test-dir "$build_dir" --output-on-failure --parallel "$jobs" --timeout 1800
+      ctest --test-dir "$build_dir" --output-on-failure --parallel "$jobs" --timeout 1800 -E "$sanitize_skip"
     ;;
   build|fuzz) ;;
 esac

@@ -181,6 +181,11 @@ const ModelFitterRegistry& model_fitters() {
 std::string model_help(const std::string& model) { return model_fitters().at(model).help(); }
 
 CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& r) {
+  // Only the RBF network is trained by a named solver; the other kinds have their own fit. A solver named for
+  // them would be dropped without a word, so it is refused.
+  if (r.model != "rbf" && r.solver != CalibrationRequest{}.solver) {
+    fail("solver '", r.solver, "' applies to --model rbf only; --model ", r.model, " has its own fit (its options: --options-of ", r.model, ")");
+  }
   CalibrationResult result;
   const std::unique_ptr<ModelFitter> fitter = model_fitters().make(r.model, r);
   const std::vector<std::string> features = r.features.empty() ? fitter->default_features() : r.features;

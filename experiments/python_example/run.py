@@ -42,7 +42,7 @@ def main():
         "classical": gyrosid.calibrate(train, model="classical"),
         "rbf": gyrosid.calibrate(train, model="rbf", solver="nlopt"),
     }
-    results = {}
+    results = {"angle_random_walk_deg_rt_h": noise["arw_deg_rt_h"]}
     for name, model in models.items():
         compensated = gyrosid.compensate(model, held_out)
         results[name] = {

@@ -586,6 +586,7 @@ nlohmann::json BayesFit::details(double y_scale) const {
                       {"noise_sigma_radps", noise_sigma * y_scale}, {"noise_choice", noise_choice},
                       {"evaluations", evaluations}};
   if (!noise_averaging.empty()) j["noise_averaging"] = noise_averaging;
+  if (!noise_identification.empty()) j["noise_identification"] = noise_identification;
   if (!model_error_note.empty()) {
     const double to_dph2 = std::pow(y_scale * 180.0 / 3.14159265358979323846 * 3600.0, 2);
     j["model_error"] = model_error_note;
@@ -629,7 +630,14 @@ BayesFit fit_widths_and_noise(const BayesProblem& p, const BayesFitOptions& o, S
   const Eigen::VectorXd r = residual(p, white);
   NoiseModel white_only;
   white_only.dt_s = axis.dt_s, white_only.white_var = r.squaredNorm() / static_cast<double>(r.size());
-  const NoiseModel allan = fit_noise_model(r, axis.runs, axis.dt_s);
+  NoiseIdentification identified;
+  const NoiseModel allan = fit_noise_model(r, axis.runs, axis.dt_s, NoiseStart::identified, &identified);
+  // The one noise estimator's reading of the white fit's residual (noise/identify.h), in deg/h: what `gyrosid
+  // allan` would say of it; the whitening below is its projection refined by likelihood.
+  white.noise_identification =
+      identified.samples > 0 ? str_cat(identified.structure.name(), ": ", identified.model.scaled(p.report_scale).describe("deg/h"), ", from ",
+                                       format_significant(identified.fit_tau_low_s, 3), " to ", format_significant(identified.fit_tau_high_s, 3), " s")
+                             : "";
   const NoiseModel screened = noise_of_residual(r, axis, rows, allan, monitor);
   const double screen = residual_log_likelihood(r, screened, axis, rows) - residual_log_likelihood(r, white_only, axis, rows);
   const double screen_penalty = 0.5 * std::max(1, screened.parameters() - 1) * std::log(static_cast<double>(p.y.size()));
@@ -651,6 +659,7 @@ BayesFit fit_widths_and_noise(const BayesProblem& p, const BayesFitOptions& o, S
     // The evidence search starts from the Allan fit: the plug-in estimate lets a random walk stand in for
     // drift the white fit has half absorbed.
     coloured = coloured_passes(p, o, centres, axis, rows, white, allan, monitor);
+    coloured->noise_identification = white.noise_identification;
     if (o.drift_averaging != "none") average_slow_drift(p, *coloured, o.drift_averaging == "mixture", rows, axis, monitor);
   } else if (o.noise == "auto") {
     white.noise_choice = str_cat("white: the best coloured model of the residual (", describe(screened, p.report_scale), ") raises its likelihood by ",

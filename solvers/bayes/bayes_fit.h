@@ -5,7 +5,7 @@
 // Centres come from a candidate dictionary: a farthest-point subset of the training inputs
 // (solvers/common/candidates.h).
 //
-// Noise: white, or coloured - white + rate random walk + Gauss-Markov (sensor/noise_model.h) fitted by Allan
+// Noise: white, or coloured - white + rate random walk + Gauss-Markov (noise/state_space.h) fitted by Allan
 // deviation to the residual of the white fit, the problem whitened by its Kalman filter (generalised least
 // squares without an N x N covariance, thesis s5.5.3's open problem), and refitted; the noise model is
 // re-estimated from each new residual (`noise_passes`) by the evidence, the random walk kept only where it
@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "core/solve_summary.h"
-#include "sensor/noise_model.h"
+#include "noise/state_space.h"
 #include "solvers/bayes/evidence.h"
 #include "solvers/common/options.h"
 
@@ -76,6 +76,7 @@ struct BayesFit {
   double noise_sigma = 0.0;    // per-sample white noise sigma, y units
   std::optional<NoiseModel> noise;  // the coloured model trained under (variances in y units, beta applied)
   std::string noise_choice;    // what was decided about the noise, and why
+  std::string noise_identification;  // the one noise estimator's reading of the white fit's residual, deg/h
   std::string noise_averaging; // coloured: the weights of the slow term's scales the posterior averages over
   std::string noise_family;    // coloured: whether the random walk was kept over a Gauss-Markov wander alone, and why
   double model_error_var = 0.0;  // misfit variance added to the predictive variance (y units^2; model_error.h)

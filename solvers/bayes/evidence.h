@@ -3,7 +3,7 @@
 //
 //   y = F v + Phi w + e,   e ~ N(0, Sigma_0 / beta),   w ~ N(0, I / alpha),   v flat (improper uniform)
 //
-// with y and the columns whitened by the noise model (Sigma_0 = I for white noise; sensor/noise_model.h for
+// with y and the columns whitened by the noise model (Sigma_0 = I for white noise; noise/state_space.h for
 // coloured). F holds the columns with a flat prior (the constant, the hybrid's physics terms); they are
 // integrated out exactly by projecting onto the complement of their span (thin QR of F, P columns):
 //
@@ -26,7 +26,7 @@
 
 #include <optional>
 
-#include "sensor/noise_model.h"
+#include "noise/state_space.h"
 
 namespace gyrosid {
 

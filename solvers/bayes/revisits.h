@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "sensor/noise_model.h"
+#include "noise/state_space.h"
 
 namespace gyrosid {
 

@@ -636,6 +636,8 @@ TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std:
   if (mode == "gravity") {
     if (o.surfaces != "none" || o.g_sensitivity) fail("triad: reference=gravity estimates M and the biases only (surfaces=none, no g_sensitivity)");
     turns = gravity_turns(d);
+    fit.hold_stillness = check_hold_stillness(d);
+    for (const auto& h : fit.hold_stillness.not_still()) fit.notes.push_back(fit.hold_stillness.describe(h));
   }
   TriadRows rows = mode == "angle" ? angle_rows(d) : mode == "gravity" ? hold_rows(d) : rate_rows(d);
   if (mode == "gravity") {
@@ -724,6 +726,7 @@ TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std:
   fit.summary.details["stages"] = stages;
   fit.summary.details["estimation"] = o.estimation;
   fit.summary.details["surfaces"] = o.surfaces;
+  if (mode == "gravity") fit.summary.details["hold_stillness"] = fit.hold_stillness.json();
   if (o.surfaces == "classical") {
     const ClassicalOptions defaults;
     for (const auto& [key, value] : {std::pair{"sf_rate_order", defaults.sf_rate_order}, std::pair{"sf_cross_order", defaults.sf_cross_order}}) {

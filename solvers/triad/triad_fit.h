@@ -111,6 +111,7 @@
 #include "model/triad_angles.h"
 #include "model/triad_model.h"
 #include "solvers/common/options.h"
+#include "solvers/triad/hold_stillness.h"
 
 namespace gyrosid {
 
@@ -196,6 +197,7 @@ struct TriadFit {
   std::array<double, 3> residual_rms_dph{};  // per gyro, of the final fit's rows (surfaces at their fitting input)
   std::array<double, 3> noise_density{};     // white-noise density rad/s/sqrt(Hz) (= N, ARW) from the residuals
   double sample_rate_hz = 0.0;               // median sampling rate of the recording
+  HoldStillnessCheck hold_stillness;         // reference=gravity: the holds checked for stillness (hold_stillness.h)
   TriadInformationCriterion criterion;
   SolveSummary summary;             // the final solve; details["stages"] holds every stage's summary,
                                     // details["information_criterion"] the criterion above

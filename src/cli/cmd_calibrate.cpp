@@ -114,6 +114,9 @@ void run_calibrate(CalibrateOptions o) {
   if (details.contains("physics_left_out")) std::cout << "physics: " << details["physics_left_out"]["note"].get<std::string>() << "\n";
   if (details.contains("physics_note")) std::cout << "physics: " << details["physics_note"].get<std::string>() << "\n";
   if (details.contains("noise_choice")) std::cout << "noise model: " << details["noise_choice"].get<std::string>() << "\n";
+  if (details.contains("noise_identification")) {
+    std::cout << "noise identification of the residual (as gyrosid allan would give it): " << details["noise_identification"].get<std::string>() << "\n";
+  }
   save_model(o.out, *result.model, {{"training", result.training}, {"summary", result.summary}});
   std::cout << "wrote " << o.out << ": " << result.model->kind() << " model";
   const SolveSummary& s = result.summary;

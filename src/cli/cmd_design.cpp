@@ -14,7 +14,11 @@
 #include "core/units.h"
 #include "design/design.h"
 #include "design/design_solver.h"
+#include "noise/composite.h"
+#include "noise/processes.h"
+#include "report/allan_report.h"
 #include "report/design_report.h"
+#include "sensor/sensor_config.h"
 #include "trajectory/programme.h"
 
 namespace gyrosid::cli {
@@ -24,6 +28,7 @@ struct DesignCommand {
   double budget_min = 0.0;
   std::string model = "rbf", envelope = "short,medium,long", uniform_domain = "-20,60,100", criterion;
   std::string sensor = kDefaultSensor, solver = "nlopt", out, options_of, reference, reference_model;
+  std::string noise;  // an allan.json whose identified model replaces the sensor config's noise
   std::string reference_statistic = "auto";
   std::vector<std::string> set, evaluate, compare{"builtin:trajectories/dual_scan.yaml"};
   std::uint64_t seed = 1;
@@ -34,6 +39,7 @@ struct DesignCommand {
     std::string out = evaluate.empty() ? str_cat("gyrosid design --budget-min ", format_number(budget_min)) : "gyrosid design --evaluate";
     for (const auto& e : evaluate) out += " " + e;
     out += str_cat(" --model ", model, " --envelope ", envelope, " --sensor ", sensor);
+    if (!noise.empty()) out += " --noise " + noise;
     if (evaluate.empty()) out += str_cat(" --solver ", solver, " --seed ", seed);
     if (!criterion.empty()) out += " --criterion " + criterion;
     if (!reference.empty()) out += str_cat(" --reference ", reference, reference_model.empty() ? "" : " --reference-model " + reference_model,
@@ -95,6 +101,18 @@ void write_evaluation(const DesignCommand& c, const design::DesignContext& conte
   }
 }
 
+// The sensor config, its gyros' noise replaced by an identified model when --noise names an allan.json
+// (noise/identify.h: the noise a real recording showed, in place of the config's assumption).
+SensorSpec sensor_with_measured_noise(const DesignCommand& c) {
+  const SensorSpec sensor = load_sensor_file(c.sensor);
+  if (c.noise.empty()) return sensor;
+  std::string left_out;
+  const NoiseOptions noise = noise_options_of(load_identified_noise(c.noise).scaled(units::dph_to_radps(1.0)), &left_out);
+  if (auto problem = noise.validate(); !problem.empty()) fail(c.noise, ": ", problem);
+  std::cout << "noise: " << c.noise << " in place of " << c.sensor << "'s" << (left_out.empty() ? "" : " (without " + left_out + ")") << "\n";
+  return with_gyro_noise(sensor, noise);
+}
+
 void run_design(DesignCommand c) {
   if (!c.options_of.empty()) return print_options_of(c.options_of);
   design::DesignSettings settings;
@@ -137,7 +155,7 @@ void run_design(DesignCommand c) {
   const auto fixed_statistic = auto_statistic ? design::ReferenceStatistic::posterior
                                               : parse_enum<design::ReferenceStatistic>(c.reference_statistic, "--reference-statistic");
 
-  const SensorSpec sensor = load_sensor_file(c.sensor);
+  const SensorSpec sensor = sensor_with_measured_noise(c);
   auto envelope = std::make_shared<const design::Envelope>(design::load_envelope(settings.envelope, as_triad(sensor)));
   settings.space.budget_min = evaluating ? 60.0 : c.budget_min;
   const design::DesignSpace space = design::design_space(*envelope, settings.space);
@@ -146,7 +164,7 @@ void run_design(DesignCommand c) {
   report.command = c.command_line();
   report.model = c.model, report.sensor = c.sensor, report.solver = c.solver;
   const std::filesystem::path dir = c.out;
-  nlohmann::json provenance = {{"model", c.model}, {"sensor", c.sensor}, {"envelope", c.envelope}, {"seed", c.seed},
+  nlohmann::json provenance = {{"model", c.model}, {"sensor", c.sensor}, {"noise", c.noise}, {"envelope", c.envelope}, {"seed", c.seed},
                                {"solver", c.solver}, {"options", c.set}, {"command", c.command_line()}};
   // The reference's trajectory when it is predicted with --model: a --compare of the same path is not predicted again.
   std::string reference_as_compared;
@@ -216,6 +234,8 @@ void register_design(CLI::App& app, Action& action) {
   cmd->add_option("--uniform-domain", c->uniform_domain, "The uniform envelope: T_MIN_C,T_MAX_C,RATE_DPS")->capture_default_str();
   cmd->add_option("--criterion", c->criterion, "cof or cof_minimax (flights), surface, d_optimal, a_optimal or effects (greybox); default cof, surface for uniform");
   cmd->add_option("--sensor", c->sensor, "Sensor config: its noise, thermal lag and error model")->capture_default_str();
+  cmd->add_option("--noise", c->noise, "An allan.json (gyrosid allan on a recording of the gyro): its identified noise model replaces the "
+                                       "sensor config's - the design for the noise the gyro showed");
   cmd->add_option("--solver", c->solver, "Design solver: nlopt or ipopt")->capture_default_str();
   cmd->add_option("--set", c->set, "Option key=value (repeatable): solver options, or space.*, model.*, envelope.*, quadrature.*, select.* "
                   "(cof_minimax's exact final selection: select.rounds, select.emphasis, select.blend_shares); "

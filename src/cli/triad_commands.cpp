@@ -52,6 +52,7 @@ void calibrate_triad(const TriadCalibrateRequest& r) {
     std::cout << "] (1e-6, rad off the diagonal), bias " << format_significant(units::radps_to_dph(fit.model.bias.coefficients[static_cast<std::size_t>(i)](0)), 5)
               << " deg/h, residual rms " << format_significant(fit.residual_rms_dph[static_cast<std::size_t>(i)], 4) << " deg/h\n";
   }
+  for (const auto& h : fit.hold_stillness.not_still()) std::cerr << "warning: " << r.recording << ": " << fit.hold_stillness.describe(h) << "\n";
   if (!fit.notes.empty()) std::cout << "  " << fit.notes.size() << " note(s) in " << r.out << " (observable.notes), e.g.: " << fit.notes.front() << "\n";
 }
 

@@ -1,7 +1,7 @@
 // Fisher information of a linear calibration model along a trajectory, with the sensor's noise model, and
 // the linearised parameter covariance it implies.
 //
-// Noise (sensor/noise.h): white rate noise of density N (angle random walk), first-order Gauss-Markov
+// Noise (noise/processes.h): white rate noise of density N (angle random walk), first-order Gauss-Markov
 // processes (those of bias instability included), rate random walk K. An observation standing for
 // w_k seconds carries white noise of variance N^2 / w_k. Gauss-Markov processes correlated over less than
 // the observation spacing add white noise of the same long-term Allan variance, 2 sigma^2 tau / w_k; the
@@ -23,7 +23,7 @@
 
 #include <vector>
 
-#include "sensor/noise.h"
+#include "noise/processes.h"
 
 namespace gyrosid::design {
 

@@ -229,16 +229,14 @@ void noise_terms(const ExplainInput& in, const Eigen::VectorXd& residual, const 
   if (best_len >= 1000) {
     const std::vector<double> stretch(residual.data() + best_lo, residual.data() + best_lo + best_len);
     d.allan = overlapping_allan_deviation(stretch, in.dt_s);
-    d.allan_fit = fit_allan(d.allan);
-    const AllanCoefficients& f = d.allan_fit;
-    if (f.angle_random_walk > 0) d.noise_terms.push_back({"white", {{"arw_deg_per_rt_h", f.angle_random_walk / 60.0}}});
+    d.allan_fit = identify_noise(stretch, in.dt_s);
+    const CompositeNoise& f = d.allan_fit.model;
+    if (f.white > 0) d.noise_terms.push_back({"white", {{"arw_deg_per_rt_h", f.white / 60.0}}});
     if (f.quantization > 0) d.noise_terms.push_back({"quantization", {{"q_arcsec", f.quantization}}});
-    const GaussMarkovFit gm = fit_gauss_markov(d.allan, true);
-    const bool markov = gm.sigma > 0 && gm.relative_rms_residual < 0.5 * f.relative_rms_residual;
-    if (markov) d.noise_terms.push_back({"gauss_markov", {{"sigma_dph", gm.sigma}, {"tau_s", gm.tau_s}}});
-    else if (f.bias_instability > 0) d.noise_terms.push_back({"bias_instability", {{"b_dph", f.bias_instability}}});
-    if (f.rate_random_walk > 0) d.noise_terms.push_back({"rate_random_walk", {{"k_dph_per_rt_h", f.rate_random_walk * 60.0}}});
-    if (f.rate_ramp > 0) d.noise_terms.push_back({"rate_ramp", {{"r_dph_per_h", f.rate_ramp * 3600.0}}});
+    for (const auto& gm : f.gauss_markov) d.noise_terms.push_back({"gauss_markov", {{"sigma_dph", gm.sigma}, {"tau_s", gm.tau_s}}});
+    if (f.flicker > 0) d.noise_terms.push_back({"bias_instability", {{"b_dph", f.flicker}}});
+    if (f.random_walk > 0) d.noise_terms.push_back({"rate_random_walk", {{"k_dph_per_rt_h", f.random_walk * 60.0}}});
+    if (f.ramp > 0) d.noise_terms.push_back({"rate_ramp", {{"r_dph_per_h", f.ramp * 3600.0}}});
   } else {
     // Too short for an Allan fit (bursts): the whitening model's own terms, in the same units.
     d.noise_terms.push_back({"white", {{"arw_deg_per_rt_h", std::sqrt(noise.white_var * noise.dt_s) / 60.0}}});

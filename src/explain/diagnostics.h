@@ -24,8 +24,9 @@
 #include <vector>
 
 #include "explain/explain_input.h"
-#include "sensor/noise_model.h"
-#include "sensor/allan.h"
+#include "noise/state_space.h"
+#include "noise/allan.h"
+#include "noise/identify.h"
 
 namespace gyrosid::explain {
 
@@ -67,7 +68,7 @@ struct Diagnostics {
   std::vector<GridCell> cells;
   double cell_threshold = 0.0;
   std::vector<AllanPoint> allan;            // deg/h; empty if no uniformly sampled stretch is long enough
-  AllanCoefficients allan_fit;
+  NoiseIdentification allan_fit;           // the noise identification of that stretch (noise/identify.h)
   std::vector<NoiseTerm> noise_terms;
   NoiseModel noise;                         // the whitening model the tests assume
 };

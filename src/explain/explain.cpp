@@ -333,9 +333,9 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   }
   const auto runs = contiguous_runs(training_rows, in.segment);
   const NoiseModel final_noise = likelihood_noise_model(result.residual_after_dph, training_rows, in.signals.t_s,
-                                                        fit_noise_model(result.residual_after_dph, runs, in.dt_s));
+                                                        fit_noise_model(result.residual_after_dph, runs, in.dt_s, NoiseStart::gauss_markov_start));
   const NoiseModel before_noise = likelihood_noise_model(result.residual_before_dph, training_rows, in.signals.t_s,
-                                                         fit_noise_model(result.residual_before_dph, runs, in.dt_s));
+                                                         fit_noise_model(result.residual_before_dph, runs, in.dt_s, NoiseStart::gauss_markov_start));
   summary.before = diagnose(in, result.residual_before_dph, before_noise, o.selection.alpha);
   summary.after = diagnose(in, result.residual_after_dph, final_noise, o.selection.alpha);
   clock.lap("noise models and diagnostics");

@@ -16,7 +16,7 @@
 #include "core/enum_names.h"
 #include "explain/diagnostics.h"
 #include "explain/effect.h"
-#include "sensor/noise_model.h"
+#include "noise/state_space.h"
 #include "explain/selection.h"
 
 namespace gyrosid::explain {

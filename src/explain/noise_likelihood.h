@@ -1,4 +1,4 @@
-// The Gaussian log-likelihood of a regression under the coloured-noise model (sensor/noise_model.h),
+// The Gaussian log-likelihood of a regression under the coloured-noise model (noise/state_space.h),
 // maximised over the noise: the random-walk and Gauss-Markov variances relative to the white one and the
 // Gauss-Markov time constant (BOBYQA over their logarithms, from the Allan fit's; the Allan fit places a
 // weak slow wander poorly under strong white noise, and a wander with the wrong time constant is what a
@@ -14,7 +14,7 @@
 #include <array>
 #include <vector>
 
-#include "sensor/noise_model.h"
+#include "noise/state_space.h"
 
 namespace gyrosid::explain {
 

@@ -79,7 +79,7 @@ NoiseModel full_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, co
   const WhitenedFit f = fit_whitened(training_rows(x, rows), yt);
   Eigen::VectorXd residual = Eigen::VectorXd::Zero(in.size());
   for (std::size_t r = 0; r < rows.size(); ++r) residual(rows[r]) = f.residual(static_cast<Eigen::Index>(r));
-  return fit_noise_model(residual, contiguous_runs(rows, in.segment), in.dt_s);
+  return fit_noise_model(residual, contiguous_runs(rows, in.segment), in.dt_s, NoiseStart::gauss_markov_start);
 }
 
 // Circular block bootstrap of r, drawn a batch of resamples at a time (n x batch each): the draws follow one
@@ -403,7 +403,7 @@ NoiseModel current_model_noise(const ExplainInput& in, const Eigen::VectorXd& y,
   const WhitenedFit ols = fit_whitened(training_rows(x, rows), training_rows(y, rows));
   Eigen::VectorXd residual = Eigen::VectorXd::Zero(in.size());
   for (std::size_t r = 0; r < rows.size(); ++r) residual(rows[r]) = ols.residual(static_cast<Eigen::Index>(r));
-  return fit_noise_model(residual, contiguous_runs(rows, in.segment), in.dt_s);
+  return fit_noise_model(residual, contiguous_runs(rows, in.segment), in.dt_s, NoiseStart::gauss_markov_start);
 }
 
 }  // namespace

@@ -31,7 +31,7 @@
 #include "core/checkpoint.h"
 #include "explain/effect.h"
 #include "explain/stage_times.h"
-#include "sensor/noise_model.h"
+#include "noise/state_space.h"
 
 namespace gyrosid::explain {
 enum class NoiseModelSource { full, current };

@@ -21,7 +21,7 @@ struct WeightPosterior {
   Eigen::MatrixXd root;             // L (M x M, lower triangular): P = L L'
   double noise_sigma_radps = 0.0;   // per-sample white noise of the training data
   double model_error_radps = 0.0;   // misfit the training data revealed (solvers/bayes/model_error.h), in sigma
-  nlohmann::json noise_model;       // the coloured noise model trained under, if any (sensor/noise_model.h)
+  nlohmann::json noise_model;       // the coloured noise model trained under, if any (noise/state_space.h)
 
   Eigen::Index size() const { return root.rows(); }
   Eigen::MatrixXd covariance() const { return root * root.transpose(); }

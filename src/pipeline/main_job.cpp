@@ -71,7 +71,7 @@ AllanReport characterise_noise(const MainJobOptions& o, const SensorSpec& sensor
   std::vector<double> noise = rate_column_dph(still.recording, "gyro_dps");
   const std::vector<double> ref = rate_column_dph(still.recording, "ref_rate_dps");
   for (std::size_t i = 0; i < noise.size(); ++i) noise[i] -= ref[i];
-  return write_allan(o.out / "allan", noise, uniform_sample_interval(still.recording, "the Allan deviation"), AllanOptions{},
+  return write_allan(o.out / "allan", noise, uniform_sample_interval(still.recording, "the Allan deviation"), AllanOptions{}, NoiseIdOptions{},
                      "Allan deviation of the static run (gyro - reference)", {{"recording", "simulated static run"}, {"unit", "deg/h"}});
 }
 

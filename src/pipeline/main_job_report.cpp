@@ -82,15 +82,16 @@ void monte_carlo_section(std::ostream& md, const MainJobResult& r) {
 }
 
 void noise_section(std::ostream& md, const MainJobResult& r) {
-  const AllanCoefficients& f = r.allan.fit;
+  const NoiseIdentification& n = r.allan.noise;
   md << "## Noise (static run, " << r.static_description << ")\n\n"
-     << "| term | fitted | unit |\n|---|---|---|\n"
-     << "| angle random walk N | " << format_significant(f.angle_random_walk / 60.0) << " | deg/sqrt(h) |\n"
-     << "| bias instability B | " << format_significant(f.bias_instability) << " | deg/h |\n"
-     << "| rate random walk K | " << format_significant(f.rate_random_walk * 60.0) << " | (deg/h)/sqrt(h) |\n"
-     << "| quantization Q | " << format_significant(f.quantization) << " | arcsec |\n"
-     << "| rate ramp R | " << format_significant(f.rate_ramp * 3600.0) << " | (deg/h)/h |\n\n"
-     << "![Allan deviation](allan/allan.png)\n";
+     << "Identified model " << n.structure.name() << ", fitted from " << format_significant(n.fit_tau_low_s, 3) << " to "
+     << format_significant(n.fit_tau_high_s, 3) << " s (chi2 " << format_significant(n.chi2, 3) << " on " << n.dof << " degrees of freedom).\n\n"
+     << "| term | fitted | 95 % interval | unit |\n|---|---|---|---|\n";
+  for (const auto& t : quoted_terms(n)) {
+    md << "| " << t.meaning << " " << t.name << " | " << format_significant(t.value) << " | " << format_significant(t.low, 3) << " - "
+       << format_significant(t.high, 3) << " | " << t.unit << " |\n";
+  }
+  md << "\n![Allan deviation](allan/allan.png)\n";
 }
 
 // How to get the same report again, and where its inputs and products are.

@@ -4,7 +4,9 @@
 #include <numbers>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/gnuplot.h"
+#include "noise/processes.h"
 
 namespace gyrosid {
 
@@ -78,41 +80,57 @@ void plot_coverage(const std::filesystem::path& png, const std::vector<double>& 
   render_png(png, script);
 }
 
-void plot_allan(const std::filesystem::path& png, const std::vector<AllanPoint>& curve, const AllanCoefficients& c,
+void plot_allan(const std::filesystem::path& png, const std::vector<AllanPoint>& curve, const NoiseIdentification& fit,
                 const std::string& title, const std::string& unit) {
+  const CompositeNoise& m = fit.model;
+  // Columns: tau, adev, ci low, ci high, fitted total, its band low/high, then one per term.
   std::vector<std::vector<double>> data;
+  double lo = INFINITY, hi = 0.0;
   for (const auto& p : curve) {
-    if (p.adev > 0) data.push_back({p.tau_s, p.adev, p.ci_low, p.ci_high, std::sqrt(allan_model_variance(c, p.tau_s))});
+    if (!(p.adev > 0)) continue;
+    const double v = fit.allan_variance(p.tau_s), sd = fit.allan_variance_sigma(p.tau_s);
+    // The band on the deviation: log-normal, sqrt(v) exp(+-1.96 sd / 2v).
+    const double spread = v > 0 ? std::exp(1.96 * sd / (2.0 * v)) : 1.0;
+    std::vector<double> row = {p.tau_s, p.adev, p.ci_low, p.ci_high, std::sqrt(v), std::sqrt(v) / spread, std::sqrt(v) * spread};
+    row.push_back(std::sqrt(3.0) * m.quantization / p.tau_s);
+    row.push_back(m.white / std::sqrt(p.tau_s));
+    row.push_back(std::sqrt(kFlickerAllanFactor) * m.flicker);
+    row.push_back(m.random_walk * std::sqrt(p.tau_s / 3.0));
+    row.push_back(m.ramp * p.tau_s / std::sqrt(2.0));
+    for (const auto& gm : m.gauss_markov) row.push_back(std::sqrt(gauss_markov_allan_variance(gm.sigma, gm.tau_s, p.tau_s)));
+    data.push_back(row);
+    lo = std::min(lo, p.ci_low > 0 ? p.ci_low : p.adev);
+    hi = std::max(hi, p.ci_high);
   }
   if (data.empty()) fail(png.string(), ": no positive Allan deviation to plot");
-  double lo = INFINITY, hi = 0.0;
-  for (const auto& row : data) {
-    lo = std::min(lo, row[2] > 0 ? row[2] : row[1]);
-    hi = std::max(hi, row[3]);
-  }
-  const double flicker = std::sqrt(2.0 * std::numbers::ln2 / std::numbers::pi);
   std::string script = datablock("allan", data);
   script += str_cat("set title ", gnuplot_quote(title), "\n",
                     "set logscale xy\nset grid xtics ytics mxtics mytics\nset format x '%g'\nset format y '%g'\n",
                     "set yrange [", lo / 2.0, ":", hi * 2.0, "]\n",
                     "set xlabel 'averaging time tau (s)'\nset ylabel ", gnuplot_quote("Allan deviation (" + unit + ")"), "\n",
-                    "set key bottom left\n",
-                    "Q = ", c.quantization, "; N = ", c.angle_random_walk, "; B = ", c.bias_instability, "; K = ",
-                    c.rate_random_walk, "; R = ", c.rate_ramp, "\n",
-                    "plot $allan using 1:3:4 with filledcurves fc rgb '#d0e0f0' title 'confidence interval', \\\n",
+                    "set key bottom left\n");
+  if (fit.fit_tau_high_s > 0) {
+    script += str_cat("set object 1 rect from first ", fit.fit_tau_low_s, ", graph 0 to first ", fit.fit_tau_high_s,
+                      ", graph 1 behind fc rgb '#f4f4f4' fs solid noborder\n");
+  }
+  script += str_cat("plot $allan using 1:3:4 with filledcurves fc rgb '#d0e0f0' title 'data confidence interval', \\\n",
                     "     $allan using 1:2 with linespoints pt 7 ps 0.5 lc rgb '#1050a0' title 'overlapping ADEV', \\\n",
-                    "     $allan using 1:5 with lines lw 2 lc rgb 'black' title 'fitted total'");
-  auto term = [&](double coeff, const std::string& expr, const std::string& label, const char* color) {
-    if (coeff > 0) {
-      script += str_cat(", \\\n     $allan using 1:(", expr, ") with lines dt 2 lc rgb '", color, "' title ",
-                        gnuplot_quote(label));
+                    "     $allan using 1:6 with lines lw 1 dt 3 lc rgb 'black' notitle, \\\n",
+                    "     $allan using 1:7 with lines lw 1 dt 3 lc rgb 'black' title 'fitted total, 95 % band', \\\n",
+                    "     $allan using 1:5 with lines lw 2 lc rgb 'black' title ", gnuplot_quote("fitted " + fit.structure.name() + " (fit band shaded)"));
+  const std::vector<std::pair<double, std::string>> terms = {
+      {m.quantization, "quantization Q"}, {m.white, "angle random walk N"}, {m.flicker, "bias instability B"},
+      {m.random_walk, "rate random walk K"}, {std::abs(m.ramp), "rate ramp R"}};
+  const char* colours[] = {"#a000a0", "#d04000", "#008000", "#a06000", "#606060", "#0090c0", "#c00060", "#6040c0"};
+  for (std::size_t k = 0; k < terms.size(); ++k) {
+    if (terms[k].first > 0) {
+      script += str_cat(", \\\n     $allan using 1:", 8 + k, " with lines dt 2 lc rgb '", colours[k], "' title ", gnuplot_quote(terms[k].second));
     }
-  };
-  term(c.quantization, "sqrt(3.0)*Q/$1", "quantization Q", "#a000a0");
-  term(c.angle_random_walk, "N/sqrt($1)", "angle random walk N", "#d04000");
-  term(c.bias_instability, str_cat(flicker, "*B"), "bias instability B", "#008000");
-  term(c.rate_random_walk, "K*sqrt($1/3.0)", "rate random walk K", "#a06000");
-  term(c.rate_ramp, "R*$1/sqrt(2.0)", "rate ramp R", "#606060");
+  }
+  for (std::size_t g = 0; g < m.gauss_markov.size(); ++g) {
+    script += str_cat(", \\\n     $allan using 1:", 13 + g, " with lines dt 2 lc rgb '", colours[5 + g % 3], "' title ",
+                      gnuplot_quote(str_cat("Gauss-Markov, tau ", format_significant(m.gauss_markov[g].tau_s, 3), " s")));
+  }
   script += "\n";
   render_png(png, script);
 }

@@ -11,7 +11,8 @@
 #include <Eigen/Core>
 #include <array>
 
-#include "sensor/allan.h"
+#include "noise/allan.h"
+#include "noise/identify.h"
 
 namespace gyrosid {
 
@@ -39,9 +40,10 @@ void plot_nodes(const std::filesystem::path& png, const std::vector<double>& tem
 void plot_coverage(const std::filesystem::path& png, const std::vector<double>& temp_c,
                    const std::vector<double>& rate_dps, const std::string& title, std::size_t highlight = 100);
 
-// Allan deviation with its confidence band, the fitted total and each fitted noise term.
-// `unit` names the rate unit of the curve (e.g. "deg/h"); coefficients are in that unit (see AllanCoefficients).
-void plot_allan(const std::filesystem::path& png, const std::vector<AllanPoint>& curve,
-                const AllanCoefficients& fit, const std::string& title, const std::string& unit);
+// Allan deviation with its confidence band, the identified model's total with its own band over the taus
+// the fit claims (shaded between the band's limits), and each term. `unit` names the rate unit of the curve
+// (e.g. "deg/h"); the model is in that unit (see CompositeNoise).
+void plot_allan(const std::filesystem::path& png, const std::vector<AllanPoint>& curve, const NoiseIdentification& fit,
+                const std::string& title, const std::string& unit);
 
 }  // namespace gyrosid

@@ -20,7 +20,7 @@
 #include "core/thermal_lag.h"
 #include "sensor/gyro_error_model.h"
 #include "sensor/misalignment.h"
-#include "sensor/noise.h"
+#include "noise/processes.h"
 
 namespace gyrosid {
 

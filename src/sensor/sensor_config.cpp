@@ -197,6 +197,13 @@ TriadSensor as_triad(const SensorSpec& spec) {
   return t;
 }
 
+SensorSpec with_gyro_noise(SensorSpec spec, const NoiseOptions& noise) {
+  if (auto* g = std::get_if<GyroSensor>(&spec)) g->noise = noise;
+  if (auto* t = std::get_if<TriadSensor>(&spec))
+    for (auto& g : t->gyros) g.noise = noise;
+  return spec;
+}
+
 const std::string& sensor_name(const SensorSpec& spec) {
   return std::visit([](const auto& s) -> const std::string& { return s.name; }, spec);
 }

@@ -22,5 +22,7 @@ const ThermalPath& thermal_path(const SensorSpec& spec);
 // A triad: the spec itself, or three copies of a single gyro on perfectly aligned axes.
 TriadSensor as_triad(const SensorSpec& spec);
 const std::string& sensor_name(const SensorSpec& spec);
+// The spec with every gyro's noise replaced (an identified noise model in place of the config's).
+SensorSpec with_gyro_noise(SensorSpec spec, const NoiseOptions& noise);
 
 }  // namespace gyrosid

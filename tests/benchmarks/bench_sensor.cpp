@@ -3,7 +3,7 @@
 #include <benchmark/benchmark.h>
 
 #include "core/random.h"
-#include "sensor/allan.h"
+#include "noise/allan.h"
 #include "sensor/sensor_config.h"
 #include "sim/simulate.h"
 

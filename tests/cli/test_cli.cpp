@@ -18,6 +18,8 @@
 
 #include "core/random.h"
 #include "core/recording.h"
+#include "core/units.h"
+#include "solvers/hand_turn_session.h"
 
 namespace gyrosid {
 namespace {
@@ -106,6 +108,39 @@ TEST_F(Cli, AllanRecoversTheReferenceSensorsWhiteNoise) {
   EXPECT_THAT(w.output, HasSubstr("pass --subtract ref_rate_dps"));
 }
 
+// design --noise: the noise a recording showed replaces the sensor config's. The reference sensor's own static
+// run identifies its 10 deg/h white noise, and the design predicts the same surface noise as from the config;
+// a gyro three times noisier (30 deg/h) predicts three times the noise part of the surface error.
+TEST_F(Cli, DesignTakesTheNoiseARecordingShowed) {
+  const std::string src = GYROSID_SOURCE_DIR;
+  std::string sensor = read_text(src + "/configs/sensors/open_loop_fog.yaml");
+  sensor.replace(sensor.find("white_dph_at_1hz: 10"), 20, "white_dph_at_1hz: 30");
+  std::ofstream(path("noisy.yaml")) << sensor;
+  for (const std::string name : {"ref", "noisy"}) {
+    const std::string sensor_arg = name == "ref" ? "" : " --sensor " + path("noisy.yaml");
+    ASSERT_EQ(run("simulate --trajectory builtin:trajectories/static_2h.yaml --seed 5" + sensor_arg + " --out " + path(name + ".csv")).status, 0);
+    const Result a = run("allan --recording " + path(name + ".csv") + " --subtract ref_rate_dps --out " + path(name + "_allan"));
+    ASSERT_EQ(a.status, 0) << a.output;
+  }
+  const std::string evaluate = "design --evaluate builtin:trajectories/dual_scan.yaml --model classical --envelope short --out ";
+  auto surface_noise = [&](const std::string& out) {
+    const auto j = nlohmann::json::parse(read_text(dir_ / out / "evaluation.json"));
+    return j["trajectories"]["builtin:trajectories/dual_scan.yaml"]["flights"]["short"]["surface_noise_dph"].get<double>();
+  };
+  ASSERT_EQ(run(evaluate + path("config")).status, 0);
+  const Result r = run(evaluate + path("measured") + " --noise " + path("ref_allan/allan.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("in place of"));
+  ASSERT_EQ(run(evaluate + path("noisy") + " --noise " + path("noisy_allan/allan.json")).status, 0);
+  EXPECT_NEAR(surface_noise("measured") / surface_noise("config"), 1.0, 0.1);
+  EXPECT_NEAR(surface_noise("noisy") / surface_noise("config"), 3.0, 0.3);
+  // Not an allan.json: an error naming the file and what is missing.
+  std::ofstream(path("other.json")) << "{\"noise\": {}}";
+  const Result bad = run(evaluate + path("bad") + " --noise " + path("other.json"));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_THAT(bad.output, HasSubstr("other.json: no noise.composite"));
+}
+
 TEST_F(Cli, BadInputsAreClearErrorsAndLeaveNothingBehind) {
   std::ofstream(path("bad.csv")) << "t_s,ref_rate_dps,temp_c,gyro_dps\n0,1,25,1\n1,x,25,1\n";
   Result r = run("allan --recording " + path("bad.csv") + " --out " + path("o"));
@@ -131,6 +166,13 @@ TEST_F(Cli, BadInputsAreClearErrorsAndLeaveNothingBehind) {
 
   r = run("allan --recording " + path("bad.csv") + " --column temp_c --out " + path("o"));
   EXPECT_EQ(r.status, 2);
+
+  // A solver is the RBF network's; named for another model kind it is refused, not dropped.
+  std::ofstream(path("ok.csv")) << "t_s,ref_rate_dps,temp_c,gyro_dps\n0,1,25,1\n1,2,26,2\n2,3,27,3\n";
+  r = run("calibrate --recording " + path("ok.csv") + " --model hybrid --solver bayes --out " + path("m.json"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("solver 'bayes' applies to --model rbf only; --model hybrid has its own fit"));
+  EXPECT_FALSE(fs::exists(path("m.json")));
 
   r = run("simulate");
   EXPECT_NE(r.status, 0);
@@ -444,6 +486,60 @@ TEST_F(Cli, HelpTeaches) {
   EXPECT_THAT(run("allan --help").output, HasSubstr("IEEE Std 952"));
   EXPECT_THAT(run("--help").output, HasSubstr("simulate"));
   EXPECT_THAT(run("--help").output, HasSubstr("GYROSID_THREADS"));
+}
+
+// import end to end: the summary line states the rate and the sampling; a ULog's dropout is a warning line.
+TEST_F(Cli, ImportStatesTheSamplingAndWarnsOfDropouts) {
+  std::ofstream(path("imu0.csv")) << "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1]\n"
+                                     "1403636579758555392,0.1,0.2,0.3\n1403636579763555392,0.1,0.2,0.3\n1403636579768555392,0.1,0.2,0.3\n";
+  Result r = run("import --format euroc --input " + path("imu0.csv") + " --stationary --temp-c 22 --out " + path("rec.csv"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("3 samples from euroc log " + path("imu0.csv") + ", 200 Hz (median); sampling uniform"));
+  EXPECT_EQ(read_recording(path("rec.csv")).column("t_s")[2], 0.01);
+  r = run("import --format ulog --input " + std::string(GYROSID_SOURCE_DIR) + "/tests/data/pyulog/sample_log_small.ulg --instance 2 --stationary --out " + path("u.csv"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("sample_log_small.ulg: dropouts: 1 in the log (30 ms in all)"));
+  EXPECT_THAT(r.output, HasSubstr("6 samples from ulog log"));
+  r = run("import --format euroc --input " + path("imu0.csv") + " --stationary --out " + path("x.csv"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_THAT(r.output, HasSubstr("a euroc log records no temperature: give the temperature to record (--temp-c)"));
+  EXPECT_FALSE(fs::exists(path("x.csv")));
+  const std::string help = run("import --help").output;
+  for (const char* format : {"euroc", "kalibr", "ros", "imu_tk", "ulog", "rosbag"}) EXPECT_THAT(help, HasSubstr("gyrosid import --format " + std::string(format))) << format;
+}
+
+// Holds checked for stillness on the command line (solvers/triad/hold_stillness.h): a hand-turned session with
+// hand motion in hold 5 (a 1 deg/s wobble about x, 0.05 deg/s noise elsewhere): a warning names that hold, no
+// other, and the model file's summary lists it.
+TEST_F(Cli, HandTurnedSessionNamesTheHoldThatIsNotStill) {
+  TriadData d = testing_support::hand_turn_session(testing_support::hand_turn_misalignment(), testing_support::hand_turn_bias(), 5,
+                                                   units::dps_to_radps(0.05), 1e-3);
+  Recording rec("hand");
+  rec.set_meta("reference", "gravity");
+  rec.set_column("t_s", d.t_s);
+  const char* axes[] = {"x", "y", "z"};
+  std::vector<double> id(d.position_id.begin(), d.position_id.end());
+  for (Eigen::Index k = 0; k < d.size(); ++k) {
+    if (d.position_id[static_cast<std::size_t>(k)] == 5) d.gyro(k, 0) += units::dps_to_radps(std::sin(4.0 * units::kPi * d.t_s[static_cast<std::size_t>(k)]));
+  }
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> gyro(static_cast<std::size_t>(d.size())), accel(gyro.size());
+    for (Eigen::Index k = 0; k < d.size(); ++k) gyro[static_cast<std::size_t>(k)] = units::radps_to_dps(d.gyro(k, a)), accel[static_cast<std::size_t>(k)] = d.accel(k, a);
+    rec.set_column(std::string("ref_rate_") + axes[a] + "_dps", std::vector<double>(gyro.size(), 0.0));
+    rec.set_column(std::string("gyro_") + axes[a] + "_dps", gyro);
+    rec.set_column(std::string("accel_") + axes[a] + "_mps2", accel);
+  }
+  rec.set_column("temp_c", std::vector<double>(id.size(), 25.0));
+  rec.set_column("position_id", id);
+  write_recording(rec, path("hand.csv"));
+  const Result r = run("calibrate --model triad --recording " + path("hand.csv") + " --set bias_order=0 --out " + path("triad.json"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("warning: " + path("hand.csv") + ": hold position_id 5 (10 s to 10.99 s) is not still: gyro std x/y/z 0.7"));
+  EXPECT_THAT(r.output, Not(HasSubstr("hold position_id 4 ")));
+  EXPECT_THAT(r.output, Not(HasSubstr("hold position_id 6 ")));
+  const nlohmann::json j = read_json(path("triad.json"));
+  ASSERT_EQ(j["summary"]["details"]["hold_stillness"]["not_still"].size(), 1u);
+  EXPECT_EQ(j["summary"]["details"]["hold_stillness"]["not_still"][0]["position_id"], 5);
 }
 
 TEST_F(Cli, DesignWritesATrajectoryThatSimulateReadsDeterministically) {

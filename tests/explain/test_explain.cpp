@@ -12,7 +12,7 @@
 #include "core/units.h"
 #include "explain/explain.h"
 #include "explain/linear_fit.h"
-#include "sensor/noise_model.h"
+#include "noise/state_space.h"
 #include "model/dataset.h"
 #include "model/explained_model.h"
 #include "model/terms/term_kinds.h"

@@ -13,9 +13,9 @@ namespace gyrosid {
 namespace {
 
 TEST(KalibrNoise, DensitiesInRadiansPerSecondRootHertz) {
-  AllanCoefficients fit{};
-  fit.angle_random_walk = 10.0;  // (deg/h) sqrt(s): white noise of 10 deg/h at 1 Hz, N = 1/6 deg/sqrt(h)
-  fit.rate_random_walk = 0.6;    // (deg/h)/sqrt(s): K = 36 (deg/h)/sqrt(h)
+  CompositeNoise fit;
+  fit.white = 10.0;       // (deg/h) sqrt(s): white noise of 10 deg/h at 1 Hz, N = 1/6 deg/sqrt(h)
+  fit.random_walk = 0.6;  // (deg/h)/sqrt(s): K = 36 (deg/h)/sqrt(h)
   const auto path = std::filesystem::temp_directory_path() / "gyrosid_kalibr_imu.yaml";
   write_kalibr_noise_yaml(path, fit, 200.0, "test");
   std::ifstream in(path);

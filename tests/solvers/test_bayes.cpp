@@ -14,7 +14,7 @@
 #include "core/random.h"
 #include "core/units.h"
 #include "model/gaussian_node.h"
-#include "sensor/noise_model.h"
+#include "noise/state_space.h"
 #include "sim/simulate.h"
 #include "solvers/bayes/bayes_fit.h"
 #include "solvers/bayes/evidence.h"

@@ -17,6 +17,7 @@
 #include "sim/simulate.h"
 #include "solvers/triad/triad_fit.h"
 #include "report/triad_json.h"
+#include "solvers/hand_turn_session.h"
 #include "trajectory/calibration_trajectories.h"
 
 namespace gyrosid {
@@ -969,58 +970,9 @@ TEST(TriadFit, AkaikesCriterionChoosesNoLowerOrderThanSchwarzs) {
   EXPECT_NE(o.validate().find("order_criterion"), std::string::npos);
 }
 
-// A hand-turned session (reference=gravity): 14 holds of 1 s at random attitudes (Earth rate neglected,
-// specific force up), 13 turns of 1.5 s between them at constant rate; white noise on the gyro outputs and on the
-// holds' specific force (per sample, rad/s and m/s^2).
-TriadData hand_turn_session(const Eigen::Matrix3d& m, const Eigen::Vector3d& bias, std::uint64_t seed, double gyro_noise, double accel_noise) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  auto random_rotation = [&] { return Eigen::Quaterniond(normal(rng), normal(rng), normal(rng), normal(rng)).normalized().toRotationMatrix(); };
-  auto noise = [&](double sigma) { return Eigen::Vector3d(sigma * normal(rng), sigma * normal(rng), sigma * normal(rng)); };
-  TriadData d;
-  std::vector<Eigen::Vector3d> out, accel;
-  std::vector<int> id;
-  Eigen::Matrix3d c = random_rotation();  // body -> nav
-  const double dt = 0.01;
-  for (int h = 1; h <= 14; ++h) {
-    for (int k = 0; k < 100; ++k) {
-      out.push_back(bias + noise(gyro_noise));
-      accel.push_back(c.transpose() * Eigen::Vector3d(0, 0, -9.81) + noise(accel_noise));
-      id.push_back(h);
-    }
-    if (h == 14) break;
-    const Eigen::Matrix3d next = random_rotation();
-    const Eigen::AngleAxisd turn(c.transpose() * next);  // body rotation from this hold to the next
-    const int samples = 150;
-    const Eigen::Vector3d omega = turn.axis() * turn.angle() / (samples * dt);
-    for (int k = 0; k < samples; ++k) {
-      out.push_back((Eigen::Matrix3d::Identity() + m) * omega + bias + noise(gyro_noise));
-      accel.push_back(Eigen::Vector3d::Zero());  // not read in motion
-      id.push_back(0);
-    }
-    c = next;
-  }
-  const auto n = static_cast<Eigen::Index>(out.size());
-  d.gyro.resize(n, 3);
-  d.accel.resize(n, 3);
-  d.reference = Eigen::MatrixX3d::Zero(n, 3);
-  d.temp_c = Eigen::MatrixX3d::Constant(n, 3, 25.0);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    d.t_s.push_back(static_cast<double>(k) * dt);
-    d.gyro.row(k) = out[static_cast<std::size_t>(k)].transpose();
-    d.accel.row(k) = accel[static_cast<std::size_t>(k)].transpose();
-    d.position_id.push_back(id[static_cast<std::size_t>(k)]);
-  }
-  return d;
-}
-
-// The planted triad of the hand-turn tests: M (scale factors -5e-3..1e-2, misalignments up to 3 mrad) and biases.
-Eigen::Matrix3d hand_turn_misalignment() {
-  Eigen::Matrix3d m;
-  m << 2e-3, -1e-3, 3e-3, 8e-4, -5e-3, 1.4e-3, 4e-4, -1e-3, 1e-2;
-  return m;
-}
-Eigen::Vector3d hand_turn_bias() { return {dph_to_radps(-15.0), dph_to_radps(7.0), dph_to_radps(22.0)}; }
+using testing_support::hand_turn_bias;
+using testing_support::hand_turn_misalignment;
+using testing_support::hand_turn_session;
 
 TEST(TriadFit, HandTurnsKnownByGravityRecoverThePlantedMatrix) {
   const Eigen::Matrix3d m = hand_turn_misalignment();
@@ -1050,6 +1002,40 @@ TEST(TriadFit, HandTurnsKnownByGravityRecoverThePlantedMatrix) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("at least 5 turns"), std::string::npos) << e.what();
   }
+}
+
+// Holds checked for stillness (hold_stillness.h): a hand-turned session with white gyro noise (0.05 deg/s per
+// sample), and hand motion planted in hold 5 - a 2 Hz wobble of 1 deg/s amplitude about x, std 1/sqrt(2) deg/s.
+// The moving hold is named with its interval and deviation; no still hold is; a noise-only session names none.
+TEST(TriadFit, HoldsThatAreNotStillAreNamedAndStillOnesAreNot) {
+  const double noise = dps_to_radps(0.05);
+  TriadData d = hand_turn_session(hand_turn_misalignment(), hand_turn_bias(), 5, noise, 1e-3);
+  TriadFitOptions o;
+  o.bias_order = 0;
+  o.reference = "gravity";
+  const TriadFit quiet = fit_triad(d, o);
+  EXPECT_TRUE(quiet.hold_stillness.not_still().empty()) << quiet.hold_stillness.json().dump();
+  EXPECT_EQ(quiet.hold_stillness.holds.size(), 14u);
+  for (Eigen::Index k = 0; k < d.size(); ++k) {  // 100 samples of 0.01 s: 2 whole periods of the wobble
+    if (d.position_id[static_cast<std::size_t>(k)] == 5) d.gyro(k, 0) += dps_to_radps(1.0) * std::sin(2.0 * units::kPi * 2.0 * d.t_s[static_cast<std::size_t>(k)]);
+  }
+  const TriadFit moved = fit_triad(d, o);
+  const auto bad = moved.hold_stillness.not_still();
+  ASSERT_EQ(bad.size(), 1u) << moved.hold_stillness.json().dump();
+  EXPECT_EQ(bad[0].position_id, 5);
+  EXPECT_EQ(bad[0].t_start_s, d.t_s[4 * 250]);  // holds of 100 samples, turns of 150 before it
+  EXPECT_EQ(bad[0].t_end_s, d.t_s[4 * 250 + 99]);
+  // The wobble's 1/sqrt(2) deg/s and the noise's 0.05 in quadrature, within the noise's scatter.
+  EXPECT_NEAR(bad[0].gyro_std_dps[0], std::sqrt(0.5 + 0.05 * 0.05), 0.01);
+  EXPECT_NEAR(bad[0].gyro_std_dps[1], 0.05, 0.01);
+  EXPECT_GT(bad[0].ratio, 10.0);
+  bool named = false;
+  for (const auto& note : moved.notes) named = named || note.find("hold position_id 5 (") != std::string::npos;
+  EXPECT_TRUE(named);
+  const auto& details = moved.summary.details.at("hold_stillness");
+  EXPECT_EQ(details.at("not_still").size(), 1u);
+  EXPECT_EQ(details.at("not_still")[0].at("position_id"), 5);
+  EXPECT_EQ(details.at("holds_checked"), 14);
 }
 
 // The intervals of reference=gravity (gravity_turns.h: each hold's direction uncertain by its accelerometer

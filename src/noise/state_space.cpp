@@ -1,4 +1,4 @@
-#include "sensor/noise_model.h"
+#include "noise/state_space.h"
 
 #include <Eigen/Dense>
 
@@ -6,8 +6,9 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "sensor/allan.h"
-#include "sensor/noise.h"
+#include "noise/allan.h"
+#include "noise/identify.h"
+#include "noise/processes.h"
 
 namespace gyrosid {
 
@@ -50,7 +51,37 @@ std::vector<std::vector<Eigen::Index>> contiguous_runs(const std::vector<Eigen::
   return runs;
 }
 
-NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vector<Eigen::Index>>& runs, double dt) {
+NoiseModel whitening_model(const CompositeNoise& composite, double dt, double tau_low, double tau_high) {
+  CompositeNoise slow = composite;
+  slow.quantization = slow.filter = 0.0;
+  std::vector<AllanPoint> curve;
+  const int points = 40;
+  for (int i = 0; i < points; ++i) {
+    AllanPoint p;
+    p.tau_s = tau_low * std::pow(tau_high / tau_low, static_cast<double>(i) / (points - 1));
+    p.adev = std::sqrt(std::max(0.0, slow.allan_variance(p.tau_s)));
+    p.edf = 1.0;
+    curve.push_back(p);
+  }
+  const GaussMarkovFit fit = fit_gauss_markov(curve, true, true);
+  NoiseModel m;
+  m.dt_s = dt;
+  m.white_var = fit.angle_random_walk * fit.angle_random_walk / dt;
+  m.rw_q = fit.rate_random_walk * fit.rate_random_walk * dt;
+  m.gm_var = fit.sigma * fit.sigma;
+  m.gm_tau_s = fit.tau_s;
+  if (m.gm_var > 0 && m.gm_tau_s < 2.0 * dt) {
+    // Correlated over less than two samples: white noise at this sampling. Its Allan variance tends to
+    // 2 sigma^2 tau_c / tau, that of white noise of per-sample variance v to v dt / tau - folded in with that v.
+    m.white_var += 2.0 * m.gm_var * m.gm_tau_s / dt;
+    m.gm_var = 0.0, m.gm_tau_s = 0.0;
+  }
+  if (!(m.white_var > 0)) m.white_var = 1e-12 * (m.gm_var + 1.0);
+  return m;
+}
+
+NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vector<Eigen::Index>>& runs, double dt, NoiseStart start,
+                           NoiseIdentification* identified) {
   NoiseModel m;
   m.dt_s = dt;
   const auto longest = std::max_element(runs.begin(), runs.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
@@ -66,15 +97,22 @@ NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vect
   std::vector<double> v;
   v.reserve(longest->size());
   for (Eigen::Index i : *longest) v.push_back(x(i));
+  if (start == NoiseStart::identified) {
+    NoiseIdOptions options;
+    options.max_gauss_markov = 2;
+    NoiseIdentification id = identify_noise(v, dt, options);
+    const NoiseModel m_id = whitening_model(id.model, dt, id.fit_tau_low_s, id.fit_tau_high_s);
+    if (identified) *identified = std::move(id);
+    return m_id;
+  }
   const GaussMarkovFit fit = fit_gauss_markov(overlapping_allan_deviation(v, dt), true, true);
   m.white_var = fit.angle_random_walk * fit.angle_random_walk / dt;
   m.rw_q = fit.rate_random_walk * fit.rate_random_walk * dt;
   m.gm_var = fit.sigma * fit.sigma;
   m.gm_tau_s = fit.tau_s;
   if (m.gm_var > 0 && m.gm_tau_s < dt) {
-    // Correlated over less than a sample: white noise at this sampling. Its continuous-time Allan variance
-    // (fitted) tends to 2 sigma^2 tau_c / tau, that of white noise of per-sample variance v to v dt / tau -
-    // fold it in with that v; keeping it as a separate point-sampled state would count it at sigma^2.
+    // Correlated over less than a sample: white noise at this sampling, folded in with the per-sample variance
+    // whose Allan variance it has at long tau (2 sigma^2 tau_c / tau against v dt / tau).
     const double tau = 1e3 * dt;
     m.white_var += gauss_markov_allan_variance(fit.sigma, m.gm_tau_s, tau) * tau / dt;
     m.gm_var = 0.0, m.gm_tau_s = 0.0;

@@ -1,4 +1,4 @@
-#include "sensor/allan.h"
+#include "noise/allan.h"
 
 #include <Eigen/Dense>
 
@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "core/nnls.h"
 #include "core/stats.h"
-#include "sensor/noise.h"
+#include "noise/processes.h"
 
 namespace gyrosid {
 
@@ -40,21 +40,74 @@ double allan_edf(int alpha, double n, double m) {
   }
 }
 
-std::vector<AllanPoint> overlapping_allan_deviation(const std::vector<double>& rate, double dt_s,
-                                                    const AllanOptions& options) {
-  if (const auto problem = options.validate(); !problem.empty()) fail("Allan deviation: ", problem);
+AllanPhase::AllanPhase(std::span<const double> rate, double dt_s) : dt_(dt_s) {
   if (!(dt_s > 0)) fail("Allan deviation: sample interval ", dt_s, " s must be positive");
   const std::size_t n = rate.size();
   if (n < 4) fail("Allan deviation: need at least 4 samples, got ", n);
-
-  // Phase (integrated rate) after removing the mean rate - the second difference cancels a linear phase
-  // exactly, and removing it keeps theta small so the differences do not lose digits. Summed in long double.
+  // The second difference cancels a linear phase exactly; removing the mean rate keeps theta small so the
+  // differences do not lose digits.
   long double mean = 0.0L;
   for (double r : rate) mean += r;
   mean /= static_cast<long double>(n);
-  std::vector<long double> theta(n + 1, 0.0L);
-  for (std::size_t k = 0; k < n; ++k) theta[k + 1] = theta[k] + (static_cast<long double>(rate[k]) - mean) * dt_s;
+  theta_.assign(n + 1, 0.0L);
+  for (std::size_t k = 0; k < n; ++k) theta_[k + 1] = theta_[k] + (static_cast<long double>(rate[k]) - mean) * dt_s;
+}
 
+double AllanPhase::half_mean_square(std::size_t m) const {
+  const std::size_t terms = theta_.size() - 2 * m;
+  long double sum = 0.0L;
+  for (std::size_t k = 0; k < terms; ++k) {
+    const long double d = theta_[k + 2 * m] - 2.0L * theta_[k + m] + theta_[k];
+    sum += d * d;
+  }
+  return static_cast<double>(sum / (2.0L * terms));
+}
+
+double AllanPhase::variance(std::size_t m) const {
+  const double tau = static_cast<double>(m) * dt_;
+  return half_mean_square(m) / (tau * tau);
+}
+
+double AllanPhase::robust_variance(std::size_t m) const {
+  // Bisquare rho(u) = 1 - (1 - (u/c)^2)^3 for |u| < c, else 1; the scale s solves mean rho(d/s) = delta with
+  // delta = E rho(Z) for a standard normal Z, so that s is the standard deviation of Gaussian d. Started from
+  // the median absolute second difference, solved by the fixed point s^2 <- s^2 mean rho(d/s) / delta.
+  constexpr double c = 3.0, delta = 0.242654076816;
+  const std::size_t terms = theta_.size() - 2 * m;
+  std::vector<double> d(terms);
+  for (std::size_t k = 0; k < terms; ++k) d[k] = second_difference(k, m);
+  std::vector<double> magnitude(terms);
+  for (std::size_t k = 0; k < terms; ++k) magnitude[k] = std::abs(d[k]);
+  const auto middle = magnitude.begin() + static_cast<std::ptrdiff_t>(terms / 2);
+  std::nth_element(magnitude.begin(), middle, magnitude.end());
+  double scale = *middle / 0.6744897501960817;
+  if (!(scale > 0)) return variance(m);  // over half the differences are zero (a quantized, still signal)
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    double mean_rho = 0.0;
+    for (double x : d) {
+      const double u = x / (c * scale);
+      mean_rho += std::abs(u) < 1.0 ? 1.0 - std::pow(1.0 - u * u, 3) : 1.0;
+    }
+    mean_rho /= static_cast<double>(terms);
+    const double next = scale * std::sqrt(mean_rho / delta);
+    const bool converged = std::abs(next - scale) <= 1e-10 * scale;
+    scale = next;
+    if (converged) break;
+  }
+  const double tau = static_cast<double>(m) * dt_;
+  return scale * scale / (2.0 * tau * tau);
+}
+
+std::vector<AllanPoint> overlapping_allan_deviation(const std::vector<double>& rate, double dt_s,
+                                                    const AllanOptions& options) {
+  if (const auto problem = options.validate(); !problem.empty()) fail("Allan deviation: ", problem);
+  return overlapping_allan_deviation(AllanPhase(rate, dt_s), options);
+}
+
+std::vector<AllanPoint> overlapping_allan_deviation(const AllanPhase& phase, const AllanOptions& options) {
+  if (const auto problem = options.validate(); !problem.empty()) fail("Allan deviation: ", problem);
+  const std::size_t n = phase.samples();
+  const double dt_s = phase.dt_s();
   const std::size_t max_m = std::max<std::size_t>(1, static_cast<std::size_t>(options.max_tau_fraction * n));
   std::vector<std::size_t> ms;
   for (int i = 0;; ++i) {
@@ -65,17 +118,10 @@ std::vector<AllanPoint> overlapping_allan_deviation(const std::vector<double>& r
 
   std::vector<AllanPoint> curve;
   for (std::size_t m : ms) {
-    const std::size_t terms = n + 1 - 2 * m;
-    long double sum = 0.0L;
-    for (std::size_t k = 0; k < terms; ++k) {
-      const long double d = theta[k + 2 * m] - 2.0L * theta[k + m] + theta[k];
-      sum += d * d;
-    }
-    const double tau = static_cast<double>(m) * dt_s;
     AllanPoint p;
-    p.tau_s = tau;
-    p.terms = terms;
-    p.adev = std::sqrt(static_cast<double>(sum / (2.0L * terms))) / tau;
+    p.tau_s = static_cast<double>(m) * dt_s;
+    p.terms = n + 1 - 2 * m;
+    p.adev = options.robust ? std::sqrt(phase.robust_variance(m)) : std::sqrt(phase.half_mean_square(m)) / p.tau_s;
     curve.push_back(p);
   }
 
@@ -95,6 +141,7 @@ std::vector<AllanPoint> overlapping_allan_deviation(const std::vector<double>& r
     // Conservative cap: no noise type but white PM exceeds about 1.5 n/m degrees of freedom, and a white-PM
     // identification at long tau (a noisy slope) must not claim n/2 of them.
     edf = std::clamp(edf, 1.0, std::min(static_cast<double>(curve[i].terms), 1.5 * static_cast<double>(n) / m + 2.0));
+    if (options.robust) edf *= kRobustAllanEfficiency;  // the M-estimate spends some of the degrees of freedom
     curve[i].edf = edf;
     const double var = curve[i].adev * curve[i].adev;
     curve[i].ci_low = std::sqrt(var * edf / stats::chi2_quantile(hi_p, edf));
@@ -104,12 +151,6 @@ std::vector<AllanPoint> overlapping_allan_deviation(const std::vector<double>& r
 }
 
 namespace {
-
-constexpr double kFlickerFactor = 2.0 * std::numbers::ln2 / std::numbers::pi;  // (2 ln2 / pi)
-
-std::array<double, 5> basis(double tau) {
-  return {3.0 / (tau * tau), 1.0 / tau, kFlickerFactor, tau / 3.0, tau * tau / 2.0};
-}
 
 // Fits sigma^2(tau_j) ~ sum_k a_k g_k(tau_j), a >= 0, by iteratively reweighted NNLS. An Allan variance
 // estimate s_j is (model_j / edf_j) chi^2(edf_j): variance 2 model_j^2 / edf_j. Weighting each residual
@@ -176,69 +217,6 @@ double relative_rms(const std::vector<const AllanPoint*>& points, const std::fun
 }
 
 }  // namespace
-
-double allan_model_variance(const AllanCoefficients& c, double tau) {
-  const auto g = basis(tau);
-  return g[0] * c.quantization * c.quantization + g[1] * c.angle_random_walk * c.angle_random_walk +
-         g[2] * c.bias_instability * c.bias_instability + g[3] * c.rate_random_walk * c.rate_random_walk +
-         g[4] * c.rate_ramp * c.rate_ramp;
-}
-
-AllanCoefficients fit_allan(const std::vector<AllanPoint>& curve, AllanFitTerms terms) {
-  const bool use[5] = {terms.quantization, terms.angle_random_walk, terms.bias_instability,
-                       terms.rate_random_walk, terms.rate_ramp};
-  std::vector<int> active;
-  for (int k = 0; k < 5; ++k)
-    if (use[k]) active.push_back(k);
-  const auto points = usable(curve);
-  if (active.empty() || points.size() < active.size()) {
-    fail("Allan fit: ", points.size(), " usable points for ", active.size(), " coefficients");
-  }
-  auto fit = [&](const std::vector<int>& columns, double* deviance) {
-    const Eigen::VectorXd x = fit_variance_terms(points, [&](double tau) {
-      const auto g = basis(tau);
-      Eigen::VectorXd v(static_cast<Eigen::Index>(columns.size()));
-      for (std::size_t j = 0; j < columns.size(); ++j) v(static_cast<Eigen::Index>(j)) = g[columns[j]];
-      return v;
-    }, deviance);
-    std::array<double, 5> values{};
-    for (std::size_t j = 0; j < columns.size(); ++j) {
-      values[columns[j]] = std::sqrt(std::max(0.0, x(static_cast<Eigen::Index>(j))));
-    }
-    return values;
-  };
-  double deviance = 0.0;
-  std::array<double, 5> values = fit(active, &deviance);
-  // Backward elimination: drop the term whose removal costs least, while the likelihood-ratio statistic
-  // 2 dD stays below the threshold. Overlapping estimates at neighbouring tau are strongly correlated, so
-  // the edf-weighted likelihood overstates the evidence; the threshold is set high (chi^2_1 at 1 - 1e-6)
-  // so that a term is kept only where the curve plainly needs it.
-  const double threshold = stats::chi2_quantile(1.0 - 1e-6, 1.0);
-  while (active.size() > 1) {
-    double best_increase = INFINITY, best_deviance = 0.0;
-    std::size_t best = 0;
-    std::array<double, 5> best_values{};
-    for (std::size_t i = 0; i < active.size(); ++i) {
-      std::vector<int> reduced = active;
-      reduced.erase(reduced.begin() + static_cast<std::ptrdiff_t>(i));
-      double d = 0.0;
-      const auto v = fit(reduced, &d);
-      if (d - deviance < best_increase) {
-        best_increase = d - deviance;
-        best_deviance = d;
-        best = i;
-        best_values = v;
-      }
-    }
-    if (2.0 * best_increase > threshold) break;
-    active.erase(active.begin() + static_cast<std::ptrdiff_t>(best));
-    deviance = best_deviance;
-    values = best_values;
-  }
-  AllanCoefficients c{values[0], values[1], values[2], values[3], values[4], 0.0};
-  c.relative_rms_residual = relative_rms(points, [&](double tau) { return allan_model_variance(c, tau); });
-  return c;
-}
 
 GaussMarkovFit fit_gauss_markov(const std::vector<AllanPoint>& curve, bool with_white_noise, bool with_random_walk) {
   const auto points = usable(curve);

@@ -6,9 +6,10 @@
 #include <numbers>
 
 #include "core/units.h"
-#include "sensor/allan.h"
+#include "noise/allan.h"
+#include "noise/identify.h"
 #include "sensor/gyro_sensor.h"
-#include "sensor/noise.h"
+#include "noise/processes.h"
 
 namespace gyrosid {
 namespace {
@@ -27,10 +28,10 @@ TEST(Noise, AngleRandomWalkRecoveredWithin5PercentFrom10hAt100Hz) {
   o.arw_rad_rt_s = deg_rt_h_to_rad_rt_s(0.15);
   const double dt = 0.01;
   const auto y = simulate_noise(o, dt, 3600000, 1);
-  const AllanCoefficients fit = fit_allan(overlapping_allan_deviation(y, dt));
-  const double n_deg_rt_h = fit.angle_random_walk / 60.0;  // (deg/h) sqrt(s) -> deg/sqrt(h)
+  const NoiseIdentification fit = identify_noise(y, dt);
+  const double n_deg_rt_h = fit.model.white / 60.0;  // (deg/h) sqrt(s) -> deg/sqrt(h)
   EXPECT_NEAR(n_deg_rt_h, 0.15, 0.05 * 0.15);
-  EXPECT_LT(fit.bias_instability, 0.05 * fit.angle_random_walk);  // nothing invented
+  EXPECT_EQ(fit.structure.name(), "N");  // nothing invented
 }
 
 TEST(Noise, WhiteSampleSigmaIsNOverRootDt) {
@@ -80,8 +81,10 @@ TEST(Noise, BiasInstabilityRecoveredFromItsFlickerFloor) {
   o.bias_instability_tau_max_s = 1e6;
   const double dt = 0.1;
   const auto y = simulate_noise(o, dt, 720000, 5);  // 20 h
-  const AllanCoefficients fit = fit_allan(overlapping_allan_deviation(y, dt));
-  EXPECT_NEAR(fit.bias_instability, 0.5, 0.05 * 0.5);
+  NoiseIdOptions flicker;
+  flicker.terms = "B";
+  const NoiseIdentification fit = identify_noise(y, dt, flicker);
+  EXPECT_NEAR(fit.model.flicker, 0.5, 0.05 * 0.5);
 }
 
 TEST(Noise, BiasInstabilityComponentsHaveAFlatAllanFloorInTheBand) {
@@ -99,8 +102,11 @@ TEST(Noise, RateRandomWalkRecovered) {
   o.rrw_rad_s_rt_s = dph_rt_h_to_rad_s_rt_s(2.0);
   const double dt = 0.1;
   const auto y = simulate_noise(o, dt, 720000, 6);  // 20 h
-  const AllanCoefficients fit = fit_allan(overlapping_allan_deviation(y, dt));
-  EXPECT_NEAR(fit.rate_random_walk * 60.0, 2.0, 0.05 * 2.0);  // (deg/h)/sqrt(s) -> (deg/h)/sqrt(h)
+  const NoiseIdentification fit = identify_noise(y, dt);
+  EXPECT_EQ(fit.structure.name(), "K");
+  EXPECT_NEAR(fit.model.random_walk * 60.0, 2.0, 0.1 * 2.0);  // (deg/h)/sqrt(s) -> (deg/h)/sqrt(h)
+  EXPECT_LE(fit.parameters[0].low * 60.0, 2.0);
+  EXPECT_GE(fit.parameters[0].high * 60.0, 2.0);
 }
 
 TEST(Noise, RateRampRecovered) {
@@ -108,8 +114,9 @@ TEST(Noise, RateRampRecovered) {
   o.rate_ramp_radps2 = dph_per_h_to_radps2(10.0);
   const double dt = 1.0;
   const auto y = simulate_noise(o, dt, 36000, 7);
-  const AllanCoefficients fit = fit_allan(overlapping_allan_deviation(y, dt));
-  EXPECT_NEAR(fit.rate_ramp * 3600.0, 10.0, 0.01 * 10.0);
+  const NoiseIdentification fit = identify_noise(y, dt);
+  EXPECT_EQ(fit.structure.name(), "R");
+  EXPECT_NEAR(fit.model.ramp * 3600.0, 10.0, 0.01 * 10.0);
 }
 
 TEST(Noise, QuantizationRecoveredAsPulseWeightOverRoot12) {
@@ -131,8 +138,10 @@ TEST(Noise, QuantizationRecoveredAsPulseWeightOverRoot12) {
   const GyroOutput out = simulate_single(s, ex, 8);
   std::vector<double> y(out.rate_radps.size());
   for (std::size_t k = 0; k < y.size(); ++k) y[k] = radps_to_dph(out.rate_radps[k] - ex.omega_ib_b[k].z());
-  const AllanCoefficients fit = fit_allan(overlapping_allan_deviation(y, dt));
-  EXPECT_NEAR(fit.quantization, 1.0 / std::sqrt(12.0), 0.05 / std::sqrt(12.0));  // (deg/h) s = arcsec
+  NoiseIdOptions quantization;
+  quantization.terms = "Q";
+  const NoiseIdentification fit = identify_noise(y, dt, quantization);
+  EXPECT_NEAR(fit.model.quantization, 1.0 / std::sqrt(12.0), 0.05 / std::sqrt(12.0));  // (deg/h) s = arcsec
 }
 
 TEST(Noise, SameSeedIsBitIdenticalAndOptionsAreValidated) {

@@ -6,7 +6,8 @@
 #include <numbers>
 
 #include "core/random.h"
-#include "sensor/allan.h"
+#include "noise/allan.h"
+#include "noise/state_space.h"
 
 namespace gyrosid {
 namespace {
@@ -95,23 +96,15 @@ TEST(Allan, ConfidenceIntervalsCoverTheTruthAtTheStatedRate) {
   EXPECT_LT(rate, 0.85);
 }
 
-TEST(Allan, FitRecoversCoefficientsFromAnExactModelCurve) {
-  AllanCoefficients truth{0.3, 2.0, 0.5, 0.01, 1e-4, 0.0};
-  std::vector<AllanPoint> curve;
-  for (double tau = 0.01; tau < 1e5; tau *= 1.2) {
-    AllanPoint p;
-    p.tau_s = tau;
-    p.adev = std::sqrt(allan_model_variance(truth, tau));
-    p.edf = 100;
-    curve.push_back(p);
-  }
-  const AllanCoefficients fit = fit_allan(curve);
-  EXPECT_NEAR(fit.quantization, truth.quantization, 1e-6 * truth.quantization);
-  EXPECT_NEAR(fit.angle_random_walk, truth.angle_random_walk, 1e-6 * truth.angle_random_walk);
-  EXPECT_NEAR(fit.bias_instability, truth.bias_instability, 1e-6 * truth.bias_instability);
-  EXPECT_NEAR(fit.rate_random_walk, truth.rate_random_walk, 1e-6 * truth.rate_random_walk);
-  EXPECT_NEAR(fit.rate_ramp, truth.rate_ramp, 1e-6 * truth.rate_ramp);
-  EXPECT_LT(fit.relative_rms_residual, 1e-9);
+TEST(WhiteningModel, ProjectsAWhiteRandomWalkGaussMarkovCompositeExactly) {
+  CompositeNoise c;
+  c.white = 2.0, c.random_walk = 0.01, c.gauss_markov = {{3.0, 40.0}};
+  const double dt = 0.5;
+  const NoiseModel m = whitening_model(c, dt, dt, 2000.0);
+  EXPECT_NEAR(m.white_var, 4.0 / dt, 1e-6 * 4.0 / dt);      // per-sample variance N^2 / dt
+  EXPECT_NEAR(m.rw_q, 1e-4 * dt, 1e-6 * 1e-4 * dt);         // per-sample increment K^2 dt
+  EXPECT_NEAR(m.gm_var, 9.0, 1e-4 * 9.0);
+  EXPECT_NEAR(m.gm_tau_s, 40.0, 1e-3 * 40.0);
 }
 
 }  // namespace

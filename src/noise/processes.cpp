@@ -1,4 +1,4 @@
-#include "sensor/noise.h"
+#include "noise/processes.h"
 
 #include <algorithm>
 #include <cmath>

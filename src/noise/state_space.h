@@ -4,7 +4,8 @@
 //
 //   e_t = w_t + g_t + v_t,   w_t = w_{t-1} + eta_t (var q),   g_t = phi g_{t-1} + zeta_t,   v_t white (var r),
 //
-// fitted to the Allan deviation of a residual (quasi-likelihood NNLS, sensor/allan.h). The whitener runs the
+// projected from the residual's identified composite model (noise/identify.h: the one noise estimator of
+// every command) over the band the identification claims. The whitener runs the
 // Kalman filter along the chosen samples in time order, propagating the state over each interval - gaps in
 // the sampling (bursts, held-out blocks) included: the random walk grows and the Gauss-Markov process decays
 // over them. The standardised innovations of the data (and, with the same data-independent gains, of every
@@ -17,6 +18,9 @@
 #include <nlohmann/json.hpp>
 
 #include <vector>
+
+#include "noise/composite.h"
+#include "noise/identify.h"
 
 namespace gyrosid {
 
@@ -37,13 +41,30 @@ struct NoiseModel {
 // Runs: the rows (sample indices, ascending) split wherever the index jumps or the segment id changes.
 std::vector<std::vector<Eigen::Index>> contiguous_runs(const std::vector<Eigen::Index>& rows, const std::vector<int>& segment);
 
-// Fits the model to the Allan deviation of x over its longest run (white noise only when no run has 500
-// samples: the variance over all runs).
-NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vector<Eigen::Index>>& runs, double dt_s);
+// The whitening family's member closest to an identified composite (model in the residual's units, per
+// sample at dt_s): white + random walk + one Gauss-Markov process fitted to the composite's Allan variance at
+// log-spaced taus over [tau_low, tau_high] (equal relative weights). Exact when the composite is of that
+// form; quantization and a filter term, which act only at the shortest taus, are left out.
+NoiseModel whitening_model(const CompositeNoise& model, double dt_s, double tau_low_s, double tau_high_s);
+
+// Where a whitening model comes from. identified: the noise of x over its longest run by the one estimator
+// (identify_noise, at most two Gauss-Markov terms), projected onto the whitening family - calibrate's noise.
+// gauss_markov_start: the family itself fitted to the run's Allan curve (white + random walk + one
+// Gauss-Markov by quasi-likelihood NNLS) - explain's start for its likelihood search. explain keeps it because
+// its residuals may still hold a step or a trend the selection has yet to find: the composite estimator reads
+// a step's Allan signature as a rate random walk, and a random-walk start lets the whitening absorb the step
+// (a half-sigma step was missed so); telling the two apart in one likelihood comparison is issue 34's work.
+enum class NoiseStart { identified, gauss_markov_start };
+
+// The whitening model of x from its longest run; white noise only when no run has 500 samples (the variance
+// over all runs).
+// identified: when not null and the start is identified, the identification itself.
+NoiseModel fit_noise_model(const Eigen::VectorXd& x, const std::vector<std::vector<Eigen::Index>>& runs, double dt_s,
+                           NoiseStart start = NoiseStart::identified, NoiseIdentification* identified = nullptr);
 
 // How the random-walk state starts: diffuse (its level is never information - explain's residual tests), or
 // at zero with the first sample (a calibration: the level at the start of the recording is the turn-on bias,
-// estimated as a constant, and the walk wanders from it - as sensor/noise.h generates it).
+// estimated as a constant, and the walk wanders from it - as noise/processes.h generates it).
 enum class RandomWalkStart { diffuse, zero };
 
 class Whitener {
