@@ -26,19 +26,17 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "lib"))
 import gyrosid_experiments as gx  # noqa: E402
-
-REALDATA = os.path.abspath(os.path.join(HERE, "..", "..", "..", "shared", "realdata"))
-ADIS = os.path.join(REALDATA, "imudata", "adis_16405_imu1.rda")
+from realdata import realdata  # noqa: E402
 
 
 def adis_recording(path, with_temperature=False):
     """ADIS16405 unit 1's x gyro (deg/s, 100 Hz) as a single-gyro recording; the table at rest (ref 0)."""
     if os.path.exists(path):
         return
-    sys.path.insert(0, os.path.join(REALDATA, "tools"))
+    sys.path.insert(0, os.path.join(realdata(), "tools"))
     import numpy as np
     import rdata
-    obj = rdata.load(ADIS)["adis_16405_imu1"]
+    obj = rdata.load(os.path.join(realdata(), "imudata", "adis_16405_imu1.rda"))["adis_16405_imu1"]
     nr, nc = [int(v) for v in rdata.attrs(obj)["dim"]["value"]]
     gyro = obj["value"].reshape(nc, nr).T[:, 0]
     t = np.arange(nr) / 100.0
@@ -75,9 +73,29 @@ def reading_seconds(stderr):
 
 def summary_line(command, stdout):
     """What a run concluded: explain's verdict, calibrate's model line, allan's white noise, compensate's rms."""
-    pattern = {"explain": r"^verdict: .*", "calibrate": r"^wrote .*", "allan": r"^  N  = .*", "compensate": r"^wrote .*"}[command]
+    pattern = {"explain": r"^verdict: .*", "calibrate": r"^wrote .*", "allan": r"^noise model .*", "compensate": r"^wrote .*"}[command]
     m = re.search(pattern, stdout, re.M)
     return m.group(0).strip() if m else ""
+
+
+# Issue 30's targets: (command, samples) -> (wall s, peak MB).
+TARGETS = {("explain", "1e6"): (60, 1024), ("explain", "1e7"): (600, 2048), ("calibrate", "1e7"): (120, 2048)}
+
+
+def target(row):
+    """'<= 60 s, 1024 MB: pass' (or MISS, naming what missed) for a run the issue sets a target for; '' otherwise."""
+    if row["build"] != "this" or "(" in row["recording"]:
+        return ""
+    t = TARGETS.get((row["command"], row["recording"].split("_")[-1]))
+    if t is None:
+        return ""
+    missed = [what for what, value, limit in (("time", row["wall_s"], t[0]), ("memory", row["peak_mb"], t[1])) if value > limit]
+    return "<= %d s, %d MB: %s" % (t[0], t[1], "MISS (" + ", ".join(missed) + ")" if missed else "pass")
+
+
+def uptime():
+    """The machine's load while measuring (the 2 cores are shared with other jobs)."""
+    return subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
 
 
 def decimation_line(stdout):
@@ -92,6 +110,7 @@ def main():
     p.add_argument("--results", default=os.path.join(HERE, "results"))
     p.add_argument("--before", help="a gyrosid built before the change, for the before column")
     p.add_argument("--full", action="store_true", help="also explain at the recorded rate (--decimate none)")
+    p.add_argument("--only", help="comma-separated command:recording pairs to run (e.g. explain:sim_1e7); default all")
     a = p.parse_args()
     os.makedirs(a.work, exist_ok=True)
     os.makedirs(a.results, exist_ok=True)
@@ -117,7 +136,11 @@ def main():
         runs += [("explain", "adis_1e6 (none)", ["explain", "--recording", w("adis_1e6.csv"), "--decimate", "none", "--out", w("explain_adis_1e6_none")]),
                  ("explain", "sim_1e6 (none)", ["explain", "--recording", w("sim_1e6.csv"), "--decimate", "none", "--out", w("explain_sim_1e6_none")])]
     rows = []
+    load_before = uptime()
+    only = set(a.only.split(",")) if a.only else None
     for command, recording, args in runs:
+        if only is not None and "%s:%s" % (command, recording) not in only:
+            continue
         log = w("%s_%s.log" % (command, recording.replace(" ", "_").replace("(", "").replace(")", "")))
         out, err, seconds, peak = timed(gyrosid, args, log)
         rows.append({"build": "this", "command": command, "recording": recording, "decimation": decimation_line(out) if command in ("explain", "calibrate") else "",
@@ -133,12 +156,16 @@ def main():
             rows.append({"build": "before", "command": command, "recording": recording, "decimation": "", "wall_s": seconds, "peak_mb": peak,
                          "reading_s": "", "result": summary_line(command, out)})
             print(rows[-1], flush=True)
-    columns = ["build", "command", "recording", "decimation", "wall_s", "peak_mb", "reading_s", "result"]
+    for r in rows:
+        r["target"] = target(r)
+    columns = ["build", "command", "recording", "decimation", "wall_s", "peak_mb", "reading_s", "target", "result"]
     gx.write_csv(os.path.join(a.results, "scale.csv"), rows, columns)
     text = ("# Every command on 10^6-10^7 samples\n\n`experiments/real_recordings/scale.py --gyrosid %s --work %s%s%s` (wall time and peak resident "
             "set from /usr/bin/time -v; reading_s from the reader's own progress line).\n\n" % (
-                os.path.relpath(gyrosid), a.work, " --before " + a.before if a.before else "", " --full" if a.full else ""))
-    text += gx.markdown_table(rows, columns, ["build", "command", "recording", "decimation (b, interval)", "wall s", "peak MB", "reading s", "result"])
+                os.path.relpath(gyrosid), a.work, " --before " + a.before if a.before else "", " --full" if a.full else "")
+            + ("" if not a.only else "Runs: %s.\n\n" % a.only))
+    text += gx.markdown_table(rows, columns, ["build", "command", "recording", "decimation (b, interval)", "wall s", "peak MB", "reading s", "target", "result"])
+    text += "\nMachine load (uptime) before the runs: `%s`; after: `%s`.\n" % (load_before, uptime())
     gx.write_text(os.path.join(a.results, "scale.md"), text)
     print("wrote", os.path.join(a.results, "scale.md"))
 
