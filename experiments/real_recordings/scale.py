@@ -89,6 +89,8 @@ def target(row):
     t = TARGETS.get((row["command"], row["recording"].split("_")[-1]))
     if t is None:
         return ""
+    if row["wall_s"] == "":
+        return "MISS (failed)"
     missed = [what for what, value, limit in (("time", row["wall_s"], t[0]), ("memory", row["peak_mb"], t[1])) if value > limit]
     return "<= %d s, %d MB: %s" % (t[0], t[1], "MISS (" + ", ".join(missed) + ")" if missed else "pass")
 
@@ -101,6 +103,21 @@ def uptime():
 def decimation_line(stdout):
     m = re.search(r"^decimated: block means of (\d+) samples, interval (\S+) -> (\S+) s", stdout, re.M)
     return ("%s (%s -> %s s)" % m.groups()) if m else "none"
+
+
+def write_results(a, gyrosid, rows, load_before):
+    """scale.csv and scale.md under a.results, rewritten after every run (a partial table survives a stopped run)."""
+    for r in rows:
+        r["target"] = target(r)
+    columns = ["build", "command", "recording", "decimation", "wall_s", "peak_mb", "reading_s", "target", "result"]
+    gx.write_csv(os.path.join(a.results, "scale.csv"), rows, columns)
+    text = ("# Every command on 10^6-10^7 samples\n\n`experiments/real_recordings/scale.py --gyrosid %s --work %s%s%s` (wall time and peak resident "
+            "set from /usr/bin/time -v; reading_s from the reader's own progress line).\n\n" % (
+                os.path.relpath(gyrosid), a.work, " --before " + a.before if a.before else "", " --full" if a.full else "")
+            + ("" if not a.only else "Runs: %s.\n\n" % a.only))
+    text += gx.markdown_table(rows, columns, ["build", "command", "recording", "decimation (b, interval)", "wall s", "peak MB", "reading s", "target", "result"])
+    text += "\nMachine load (uptime) before the runs: `%s`; after: `%s`.\n" % (load_before, uptime())
+    gx.write_text(os.path.join(a.results, "scale.md"), text)
 
 
 def main():
@@ -126,11 +143,11 @@ def main():
     runs = [
         ("explain", "adis_1e6", ["explain", "--recording", w("adis_1e6.csv"), "--out", w("explain_adis_1e6")]),
         ("explain", "sim_1e6", ["explain", "--recording", w("sim_1e6.csv"), "--out", w("explain_sim_1e6")]),
-        ("explain", "sim_1e7", ["explain", "--recording", w("sim_1e7.csv"), "--out", w("explain_sim_1e7")]),
         ("calibrate", "sim_1e6", ["calibrate", "--recording", w("sim_1e6.csv"), "--out", w("calibrate_sim_1e6.json")]),
         ("calibrate", "sim_1e7", ["calibrate", "--recording", w("sim_1e7.csv"), "--out", w("calibrate_sim_1e7.json")]),
         ("allan", "sim_1e7", ["allan", "--recording", w("sim_1e7.csv"), "--subtract", "ref_rate_dps", "--out", w("allan_sim_1e7")]),
         ("compensate", "sim_1e7", ["compensate", "--model", w("calibrate_sim_1e7.json"), "--recording", w("sim_1e7.csv"), "--out", w("compensated_sim_1e7.csv")]),
+        ("explain", "sim_1e7", ["explain", "--recording", w("sim_1e7.csv"), "--out", w("explain_sim_1e7")]),
     ]
     if a.full:
         runs += [("explain", "adis_1e6 (none)", ["explain", "--recording", w("adis_1e6.csv"), "--decimate", "none", "--out", w("explain_adis_1e6_none")]),
@@ -142,10 +159,16 @@ def main():
         if only is not None and "%s:%s" % (command, recording) not in only:
             continue
         log = w("%s_%s.log" % (command, recording.replace(" ", "_").replace("(", "").replace(")", "")))
-        out, err, seconds, peak = timed(gyrosid, args, log)
+        try:
+            out, err, seconds, peak = timed(gyrosid, args, log)
+        except RuntimeError as e:  # recorded, not hidden: the table says which run failed
+            rows.append({"build": "this", "command": command, "recording": recording, "decimation": "", "wall_s": "", "peak_mb": "",
+                         "reading_s": "", "result": "FAILED: %s" % e})
+            continue
         rows.append({"build": "this", "command": command, "recording": recording, "decimation": decimation_line(out) if command in ("explain", "calibrate") else "",
                      "wall_s": seconds, "peak_mb": peak, "reading_s": reading_seconds(err), "result": summary_line(command, out)})
         print(rows[-1], flush=True)
+        write_results(a, gyrosid, rows, load_before)
     if a.before:
         adis_recording(w("adis_1e6_temp.csv"), with_temperature=True)
         before = [("explain", "adis_1e6 (temp_c 25)", ["explain", "--recording", w("adis_1e6_temp.csv"), "--out", w("explain_adis_1e6_before")]),
@@ -156,17 +179,7 @@ def main():
             rows.append({"build": "before", "command": command, "recording": recording, "decimation": "", "wall_s": seconds, "peak_mb": peak,
                          "reading_s": "", "result": summary_line(command, out)})
             print(rows[-1], flush=True)
-    for r in rows:
-        r["target"] = target(r)
-    columns = ["build", "command", "recording", "decimation", "wall_s", "peak_mb", "reading_s", "target", "result"]
-    gx.write_csv(os.path.join(a.results, "scale.csv"), rows, columns)
-    text = ("# Every command on 10^6-10^7 samples\n\n`experiments/real_recordings/scale.py --gyrosid %s --work %s%s%s` (wall time and peak resident "
-            "set from /usr/bin/time -v; reading_s from the reader's own progress line).\n\n" % (
-                os.path.relpath(gyrosid), a.work, " --before " + a.before if a.before else "", " --full" if a.full else "")
-            + ("" if not a.only else "Runs: %s.\n\n" % a.only))
-    text += gx.markdown_table(rows, columns, ["build", "command", "recording", "decimation (b, interval)", "wall s", "peak MB", "reading s", "target", "result"])
-    text += "\nMachine load (uptime) before the runs: `%s`; after: `%s`.\n" % (load_before, uptime())
-    gx.write_text(os.path.join(a.results, "scale.md"), text)
+    write_results(a, gyrosid, rows, load_before)
     print("wrote", os.path.join(a.results, "scale.md"))
 
 
