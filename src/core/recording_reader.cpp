@@ -6,28 +6,23 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/blank_trim.h"
 #include "core/error.h"
 #include "core/format.h"
 
 namespace gyrosid {
 namespace {
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-  return s;
-}
-
 // "# key: value" with key a single identifier; anything else starting with '#' is a comment.
 bool parse_metadata(std::string_view line, std::string& key, std::string& value) {
-  std::string_view rest = trim(line.substr(1));
+  std::string_view rest = trim_blanks(line.substr(1));
   std::size_t i = 0;
   while (i < rest.size() && (std::isalnum(static_cast<unsigned char>(rest[i])) || rest[i] == '_')) ++i;
   if (i == 0 || i >= rest.size()) return false;
   std::string_view after = rest.substr(i);
   if (after.front() != ':') return false;
   key = std::string(rest.substr(0, i));
-  value = std::string(trim(after.substr(1)));
+  value = std::string(trim_blanks(after.substr(1)));
   return true;
 }
 
@@ -37,7 +32,7 @@ void split_cells(std::string_view line, std::vector<std::string_view>& cells) {
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = line.find(',', start);
-    cells.push_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+    cells.push_back(trim_blanks(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
     if (comma == std::string_view::npos) break;
     start = comma + 1;
   }
@@ -58,7 +53,7 @@ std::optional<double> parse_number(std::string_view cell) {
   return v;
 }
 
-bool blank(std::string_view line) { return trim(line).empty(); }
+bool blank(std::string_view line) { return trim_blanks(line).empty(); }
 
 }  // namespace
 
