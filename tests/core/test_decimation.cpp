@@ -105,7 +105,8 @@ TEST(Decimation, NoiseProcessesAreTheSameProcessesAtTheLongerInterval) {
   EXPECT_NEAR(variance(dw.recording.column("gyro_dps")) * b, 1.0, 0.03);
   std::vector<double> steps, block_steps;
   for (std::size_t i = 1; i < n; ++i) steps.push_back(walk[i] - walk[i - 1]);
-  const auto& m = decimate(uniform(walk, 1.0), factor(b), {}).recording.column("gyro_dps");
+  const DecimatedRecording dm = decimate(uniform(walk, 1.0), factor(b), {});  // held: column() refers into it
+  const std::vector<double>& m = dm.recording.column("gyro_dps");
   for (std::size_t i = 1; i < m.size(); ++i) block_steps.push_back(m[i] - m[i - 1]);
   EXPECT_NEAR(variance(block_steps) / variance(steps), b, 0.05 * b);
 }
