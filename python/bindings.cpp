@@ -195,7 +195,8 @@ void bind_recording(py::module_& m) {
   py::class_<Recording>(m, "Recording", "A recording (docs/recording_format.md): named columns with their unit in the name.")
       .def(py::init(&recording_of_columns), py::arg("columns"), py::arg("metadata") = py::dict(), py::arg("source") = "<python>",
            "From a dict of 1-D arrays; the format's rules are checked (required columns, increasing t_s, ...).")
-      .def_static("load", &read_recording, py::arg("path"), "Read a recording file (the reader of every command).")
+      .def_static("load", [](const std::filesystem::path& p) { return read_recording(p); }, py::arg("path"),
+                  "Read a recording file (the reader of every command).")
       .def("save", [](const Recording& r, const std::filesystem::path& p) { write_recording(r, p); }, py::arg("path"),
            "Write the recording, atomically, with the digits that read back the same doubles.")
       .def_property_readonly("names", &Recording::names, "Column names, in file order.")

@@ -6,6 +6,8 @@
 #include "core/config.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "core/units.h"
+#include "model/averaging_bias.h"
 #include "model/classical_model.h"
 #include "model/greybox_fit.h"
 #include "model/held_inputs.h"
@@ -199,6 +201,12 @@ CalibrationResult calibrate(const Recording& recording, const CalibrationRequest
   result.training["recording"] = recording.source();
   result.training["samples"] = recording.rows();
   return result;
+}
+
+void state_decimation(CalibrationResult& result, const Recording& recording, const Decimation& decimation) {
+  const Dataset d = make_dataset(recording, result.model->features(), result.model->target());
+  const double rms = units::radps_to_dph(std::sqrt((d.target - result.model->predict(d)).squaredNorm() / static_cast<double>(std::max<Eigen::Index>(d.size(), 1))));
+  result.summary.details["decimation"] = decimation_summary(decimation, averaging_bias(*result.model, d, decimation, rms));
 }
 
 CalibrationRequest calibration_request_from_config(const ConfigNode& c, const std::vector<std::string>& also_allowed) {

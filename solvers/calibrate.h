@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/decimation.h"
 #include "core/recording.h"
 #include "core/registry.h"
 #include "core/solve_summary.h"
@@ -46,6 +47,11 @@ using ModelFitterRegistry = Registry<ModelFitter, const CalibrationRequest&>;
 const ModelFitterRegistry& model_fitters();
 
 CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& request);
+
+// A result fitted to block means (core/decimation.h) says so: summary.details["decimation"] holds the
+// decimation, the fitted model's averaging bias on `recording` (the block means it was fitted to;
+// model/averaging_bias.h) and their "statement".
+void state_decimation(CalibrationResult& result, const Recording& recording, const Decimation& decimation);
 
 class ConfigNode;
 // A request from a calibration YAML (keys model, solver, features, target, normalization, options; the

@@ -7,7 +7,7 @@
 #include "cli/common.h"
 #include "core/error.h"
 #include "core/format.h"
-#include "core/recording.h"
+#include "core/rate_series.h"
 #include "report/allan_report.h"
 
 namespace gyrosid::cli {
@@ -19,6 +19,7 @@ struct AllanCommandOptions {
   std::string subtract;
   std::string out;
   std::string kalibr;
+  std::string axis;
   AllanOptions allan;
   NoiseIdOptions noise;
 };
@@ -26,25 +27,19 @@ struct AllanCommandOptions {
 void run_allan(const AllanCommandOptions& o) {
   if (auto p = o.allan.validate(); !p.empty()) fail("--points-per-decade/--max-tau-fraction/--confidence: ", p);
   if (auto p = o.noise.validate(); !p.empty()) fail("--terms/--max-gauss-markov/--min-tau/--max-left-out-tau/--fit-tau-fraction: ", p);
-  const Recording rec = read_recording(o.recording);
-  const double dt = uniform_sample_interval(rec, "the Allan deviation");
-  std::vector<double> rate = rate_column_dph(rec, o.column);
-  if (!o.subtract.empty()) {
-    const std::vector<double> reference = rate_column_dph(rec, o.subtract);
-    for (std::size_t i = 0; i < rate.size(); ++i) rate[i] -= reference[i];
-  } else if (rec.has("ref_rate_dps") && o.column != "ref_rate_dps") {
+  // Only the analysed column is held (core/rate_series.h); --axis reads a triad's gyro under the single-gyro names.
+  const RateSeries series = read_rate_series(o.recording, {o.column, o.subtract, o.axis, "the Allan deviation"});
+  const double dt = series.dt_s;
+  const std::vector<double>& rate = series.rate_dph;
+  if (series.reference_max_dph - series.reference_min_dph > 1.0) {
     // The Allan deviation of a rotating gyro's output is the table's motion, not the sensor's noise.
-    const std::vector<double> reference = rate_column_dph(rec, "ref_rate_dps");
-    const auto [lo, hi] = std::minmax_element(reference.begin(), reference.end());
-    if (*hi - *lo > 1.0) {
-      std::cerr << "warning: " << o.recording << ": ref_rate_dps varies over " << (*hi - *lo) / 3600.0
-                << " deg/s; the Allan deviation of " << o.column
-                << " then measures the motion - pass --subtract ref_rate_dps to analyse the sensor's noise\n";
-    }
+    std::cerr << "warning: " << o.recording << ": " << (o.axis.empty() ? "ref_rate_dps" : "ref_rate_" + o.axis + "_dps") << " varies over "
+              << (series.reference_max_dph - series.reference_min_dph) / 3600.0 << " deg/s; the Allan deviation of " << series.column
+              << " then measures the motion - pass --subtract ref_rate_dps to analyse the sensor's noise\n";
   }
-  nlohmann::json provenance = {{"recording", o.recording}, {"column", o.column}, {"unit", "deg/h"}};
-  if (!o.subtract.empty()) provenance["subtract"] = o.subtract;
-  const std::string title = "Allan deviation of " + o.column + (o.subtract.empty() ? "" : " - " + o.subtract);
+  nlohmann::json provenance = {{"recording", o.recording}, {"column", series.column}, {"unit", "deg/h"}};
+  if (!o.subtract.empty()) provenance["subtract"] = series.subtract;
+  const std::string title = "Allan deviation of " + series.column + (o.subtract.empty() ? "" : " - " + series.subtract);
   NoiseIdOptions noise = o.noise;
   noise.confidence = o.allan.confidence;
   noise.robust = o.allan.robust;
@@ -63,7 +58,7 @@ void run_allan(const AllanCommandOptions& o) {
   if (!r.outside_band_note.empty()) std::cout << "note: " << r.outside_band_note << "\n";
   for (const auto& w : n.warnings) std::cerr << "warning: " << o.recording << ": " << w << "\n";
   if (!o.kalibr.empty()) {
-    write_kalibr_noise_yaml(o.kalibr, n.model, 1.0 / dt, o.recording + ", column " + o.column);
+    write_kalibr_noise_yaml(o.kalibr, n.model, 1.0 / dt, o.recording + ", column " + series.column);
     std::cout << "wrote " << o.kalibr << " (Kalibr IMU noise model, gyro terms in continuous-time units)\n";
   }
 }
@@ -75,6 +70,7 @@ void register_allan(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("allan", "Overlapping Allan deviation of a recorded rate, with IEEE noise fit");
   cmd->add_option("--recording", o->recording, "Recording (gyrosid-recording/1 CSV), uniformly sampled")->required();
   cmd->add_option("--column", o->column, "Rate column to analyse (name ending in _dps or _dph)")->capture_default_str();
+  cmd->add_option("--axis", o->axis, "Triad recordings: the gyro (x, y or z); gyro_dps and ref_rate_dps then name its columns");
   cmd->add_option("--subtract", o->subtract, "Rate column subtracted first, e.g. ref_rate_dps to remove the input");
   cmd->add_option("--points-per-decade", o->allan.points_per_decade, "Averaging times per decade")->capture_default_str();
   cmd->add_option("--max-tau-fraction", o->allan.max_tau_fraction, "Largest tau as a fraction of the record")

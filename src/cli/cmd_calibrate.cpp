@@ -8,7 +8,11 @@
 #include "core/config.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "core/axis_view.h"
+#include "core/decimation.h"
+#include "core/progress.h"
 #include "core/recording.h"
+#include "core/recording_reader.h"
 #include "model/calibration_model.h"
 #include "solvers/calibrate.h"
 #include "solvers/preset_choice.h"
@@ -18,10 +22,25 @@ namespace gyrosid::cli {
 namespace {
 
 struct CalibrateOptions {
-  std::string config, recording, model, solver, out, features, target, normalization, help_for, surfaces;
+  std::string config, recording, model, solver, out, features, target, normalization, help_for, surfaces, axis, decimate;
   bool joint = false, sequential = false, auto_estimation = false;
   std::vector<std::string> set;
 };
+
+// The gyro a single-gyro model is fitted to: the recording's columns it needs (one axis of a triad under the
+// single-gyro names), as block means when asked.
+DecimatedRecording read_gyro(const std::string& path, const std::string& axis, const DecimationRequest& decimation,
+                             const std::vector<std::string>& features) {
+  const GyroColumns g = gyro_columns(RecordingReader(path).names(), axis, path);
+  std::vector<std::string> columns{"t_s", g.gyro, g.ref}, inputs{g.ref};
+  if (!g.temp.empty()) columns.push_back(g.temp), inputs.push_back(g.temp);
+  for (const auto& f : features) {
+    if (f != "measured_rate" && f != "temperature" && f != "temperature_rate") columns.push_back(f);
+  }
+  DecimatedRecording read = read_decimated(path, decimation, inputs, columns);
+  read.recording = single_axis_view(std::move(read.recording), axis);
+  return read;
+}
 
 std::vector<std::string> split_commas(const std::string& text) {
   std::vector<std::string> out;
@@ -46,6 +65,7 @@ void run_calibrate(CalibrateOptions o) {
   if (o.model == "triad") {
     if (int(o.joint) + int(o.sequential) + int(o.auto_estimation) > 1) fail("--joint, --sequential and --auto exclude each other");
     if (o.recording.empty() || o.out.empty()) fail("--recording and --out are required");
+    if (!o.axis.empty() || !o.decimate.empty()) fail("--axis and --decimate apply to single-gyro models (a triad model calibrates all three gyros at the recorded rate)");
     calibrate_triad({o.recording, o.out, o.solver, o.surfaces, o.joint ? "joint" : o.sequential ? "sequential" : o.auto_estimation ? "auto" : "", o.set});
     return;
   }
@@ -69,18 +89,27 @@ void run_calibrate(CalibrateOptions o) {
     const auto [key, value] = split_option(kv);
     request.options[key] = value;
   }
-  const Recording rec = read_recording(o.recording);
   // Nothing chosen: characterise the noise and pick the preset for it, saying why.
   const bool choose = o.config.empty() && o.model.empty() && o.solver.empty() && o.set.empty() && o.features.empty() &&
                       o.target.empty() && o.normalization.empty();
+  const DecimatedRecording read = read_gyro(o.recording, o.axis, DecimationRequest::parse(o.decimate.empty() ? (choose ? "auto" : "none") : o.decimate, "--decimate"),
+                                            request.features);
+  const Recording& rec = read.recording;
+  if (read.decimation.applied()) std::cout << read.decimation.statement() << "\n";
   std::optional<PresetChoice> choice;
   if (choose) {
+    progress_note("calibrate: characterising the noise to choose the preset");
     choice = choose_preset(rec);
     request = choice->request;
     for (const auto& line : choice->reasons) std::cout << line << "\n";
   }
+  progress_note(str_cat("calibrate: fitting the ", request.model, " model to ", rec.rows(), " samples"));
   CalibrationResult result = calibrate(rec, request);
   if (choice) result.training["preset"] = {{"chosen", choice->preset}, {"reasons", choice->reasons}};
+  if (read.decimation.applied()) {
+    state_decimation(result, rec, read.decimation);
+    std::cout << result.summary.details["decimation"]["statement"].get<std::string>() << "\n";
+  }
   const nlohmann::json& details = result.summary.details;
   if (details.contains("physics_left_out")) std::cout << "physics: " << details["physics_left_out"]["note"].get<std::string>() << "\n";
   if (details.contains("physics_note")) std::cout << "physics: " << details["physics_note"].get<std::string>() << "\n";
@@ -114,6 +143,12 @@ void register_calibrate(CLI::App& app, Action& action) {
   cmd->add_option("--features", o->features, "Model inputs, comma-separated (default measured_rate,temperature)");
   cmd->add_option("--target", o->target, "error (default: model the rate error) or corrected_rate");
   cmd->add_option("--normalization", o->normalization, "Input normalisation: range (default) or units (deg/s, deg C)");
+  cmd->add_option("--axis", o->axis, "Triad recordings: the gyro a single-gyro model is fitted to (x, y or z)");
+  cmd->add_option("--decimate", o->decimate,
+                  str_cat("Block means of b samples before fitting: auto (the smallest b that leaves at most ", DecimationRequest{}.target_rows,
+                          " samples; the default without --model, --solver, --set or --config), none (the default otherwise), or b; "
+                          "never across a gap; the factor, the new interval, each input's within-block spread and the fitted "
+                          "model's averaging bias are stated"));
   cmd->add_option("--config", o->config, "YAML with any of: recording, model, solver, features, target, normalization, options, out");
   cmd->add_option("--options-of", o->help_for, "Print the options of a solver or model and exit");
   cmd->add_option("--out", o->out, "Model file to write (JSON)");

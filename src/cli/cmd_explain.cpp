@@ -10,7 +10,9 @@
 #include "cli/resume.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "core/decimation.h"
 #include "core/recording.h"
+#include "core/recording_reader.h"
 #include "explain/explain.h"
 #include "report/explain_json.h"
 #include "report/explain_report.h"
@@ -19,7 +21,7 @@ namespace gyrosid::cli {
 namespace {
 
 struct ExplainCommand {
-  std::string recording, out, baseline_form = "surface", noise_model = "full";
+  std::string recording, out, baseline_form = "surface", noise_model = "full", decimate = "auto";
   explain::ExplainOptions options;
   bool resume = false;
   const CLI::App* command = nullptr;  // the parsed subcommand, for the checkpoint's fingerprint
@@ -28,7 +30,10 @@ struct ExplainCommand {
 void run_explain(ExplainCommand c) {
   c.options.baseline_form = parse_enum<explain::BaselineForm>(c.baseline_form, "--baseline-form");
   c.options.selection.noise_model = parse_enum<explain::NoiseModelSource>(c.noise_model, "--noise-model");
-  const Recording rec = read_recording(c.recording);
+  const DecimationRequest decimation = DecimationRequest::parse(c.decimate, "--decimate");
+  const std::vector<std::string> spread = explain::explain_spread_columns(RecordingReader(c.recording).names(), c.options.input.axis);
+  const DecimatedRecording rec = read_decimated(c.recording, decimation, spread);
+  if (rec.decimation.applied()) std::cout << rec.decimation.statement() << "\n";
 #ifdef __GLIBC__
   // explain fits N x p whitened designs of a few MB thousands of times; by default glibc returns each freed
   // block to the kernel (mmap threshold, heap trimming) and faults it in again at the next allocation - a
@@ -39,10 +44,11 @@ void run_explain(ExplainCommand c) {
   // Every finished selection step's bootstrap is saved; --resume continues a killed run to the same result.
   Checkpoint checkpoint = run_checkpoint(c.out, "explain", run_fingerprint(*c.command, {c.recording, c.options.model_path, c.options.baseline_path}),
                                          c.resume);
-  const explain::ExplainResult r = explain::explain_recording(rec, c.options, &checkpoint);
+  const explain::ExplainResult r = explain::explain_recording(rec.recording, c.options, &checkpoint, &rec.decimation);
   write_explain_outputs(r, c.out);
   checkpoint.finish();
   const explain::ExplainSummary& j = r.summary;
+  if (!j.recording.decimation.is_null()) std::cout << j.recording.decimation["statement"].get<std::string>() << "\n";
   std::cout << "verdict: " << to_string(j.verdict);
   for (const auto& e : j.effects) {
     std::cout << "\n  effect " << e.id << " (dBIC " << format_significant(e.delta_bic, 3) << ", p " << format_significant(e.p_value, 2) << ")";
@@ -79,6 +85,10 @@ void register_explain(CLI::App& app, Action& action) {
                   "Whitening model once from the full model's residual (full) or from the current model at every step (current: conservative)")
       ->capture_default_str();
   cmd->add_option("--axis", c->options.input.axis, "Triad recordings: the gyro to explain (x, y or z)");
+  cmd->add_option("--decimate", c->decimate,
+                  str_cat("Block means of b samples before explaining: auto (the smallest b that leaves at most ", DecimationRequest{}.target_rows,
+                          " samples), none, or b; never across a gap; the factor, the new interval and each input's within-block spread are stated"))
+      ->capture_default_str();
   cmd->add_option("--effects", c->options.effects, "Restrict the library to these effects (comma-separated ids)");
   cmd->add_option("--alpha", c->options.selection.alpha, "Family-wise error rate over the library (Holm)")->capture_default_str();
   cmd->add_option("--bootstrap", c->options.selection.bootstrap, "Block-bootstrap resamples for the p-values (raised to 2m/alpha for m candidates when fewer: below it no p-value could pass Holm)")->capture_default_str();

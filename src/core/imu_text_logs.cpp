@@ -5,6 +5,7 @@
 #include <limits>
 #include <vector>
 
+#include "core/blank_trim.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/units.h"
@@ -13,14 +14,8 @@ namespace gyrosid {
 
 namespace {
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-  return s;
-}
-
 std::optional<double> parse_double(std::string_view cell) {
-  cell = trim(cell);
+  cell = trim_blanks(cell);
   if (cell.size() > 1 && cell.front() == '+' && cell[1] != '-') cell.remove_prefix(1);
   double v = 0.0;
   const auto [end, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), v);
@@ -29,7 +24,7 @@ std::optional<double> parse_double(std::string_view cell) {
 }
 
 std::optional<std::int64_t> parse_int64(std::string_view cell) {
-  cell = trim(cell);
+  cell = trim_blanks(cell);
   std::int64_t v = 0;
   const auto [end, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), v);
   if (cell.empty() || ec != std::errc() || end != cell.data() + cell.size()) return std::nullopt;
@@ -45,7 +40,7 @@ class LineSource {
     while (std::getline(in_, buffer_)) {
       ++line_no_;
       bytes_ += buffer_.size() + 1;
-      line = trim(buffer_);
+      line = trim_blanks(buffer_);
       if (!line.empty()) return true;
     }
     return false;
@@ -68,7 +63,7 @@ void split(std::string_view line, char delimiter, std::vector<std::string_view>&
   if (delimiter != ' ') {
     for (std::size_t start = 0;;) {
       const std::size_t at = line.find(delimiter, start);
-      cells.push_back(trim(line.substr(start, at == std::string_view::npos ? std::string_view::npos : at - start)));
+      cells.push_back(trim_blanks(line.substr(start, at == std::string_view::npos ? std::string_view::npos : at - start)));
       if (at == std::string_view::npos) return;
       start = at + 1;
     }
@@ -110,10 +105,10 @@ std::vector<ColumnRole> roles(CsvImuDialect d) {
 
 // "w_RS_S_x [rad s^-1]" -> name "w_RS_S_x", unit "rad s^-1".
 std::pair<std::string, std::string> name_and_unit(std::string_view cell) {
-  cell = trim(cell);
+  cell = trim_blanks(cell);
   const std::size_t open = cell.find('[');
   if (open == std::string_view::npos || cell.back() != ']') return {std::string(cell), ""};
-  return {std::string(trim(cell.substr(0, open))), std::string(trim(cell.substr(open + 1, cell.size() - open - 2)))};
+  return {std::string(trim_blanks(cell.substr(0, open))), std::string(trim_blanks(cell.substr(open + 1, cell.size() - open - 2)))};
 }
 
 class CsvImuReader : public ImuLogReader {
@@ -166,7 +161,7 @@ void CsvImuReader::read_header(CsvImuDialect dialect) {
   if (line.front() == '#') line.remove_prefix(1);
   split(line, ',', cells_);
   for (auto cell : cells_) {
-    header_.emplace_back(trim(cell));
+    header_.emplace_back(trim_blanks(cell));
     auto [name, unit] = name_and_unit(cell);
     names_.push_back(std::move(name));
     units_.push_back(std::move(unit));
@@ -279,7 +274,7 @@ bool ImuTkReader::next(ImuLogSample& s) {
 }  // namespace
 
 std::optional<std::int64_t> decimal_seconds_to_ns(std::string_view text) {
-  text = trim(text);
+  text = trim_blanks(text);
   bool negative = false;
   if (!text.empty() && (text.front() == '-' || text.front() == '+')) negative = text.front() == '-', text.remove_prefix(1);
   std::uint64_t mantissa = 0;

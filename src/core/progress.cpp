@@ -10,16 +10,27 @@ namespace gyrosid {
 
 namespace {
 int quiet_override = -1;  // -1: from the environment
+
+bool progress_quiet() {
+  const char* quiet = std::getenv("GYROSID_QUIET");
+  return quiet_override >= 0 ? quiet_override == 1 : quiet != nullptr && std::string_view(quiet) != "0";
+}
+
 }  // namespace
 
 void set_quiet_progress(bool quiet) { quiet_override = quiet ? 1 : 0; }
+
+void progress_note(std::string_view text) {
+  if (progress_quiet()) return;
+  std::fprintf(stderr, "%.*s\n", static_cast<int>(text.size()), text.data());
+  std::fflush(stderr);
+}
 
 Progress::Progress(std::string label, std::size_t total)
     : label_(std::move(label)), total_(total == 0 ? 1 : total),
       start_(std::chrono::steady_clock::now()), last_print_(start_) {
   tty_ = ::isatty(STDERR_FILENO) != 0;
-  const char* quiet = std::getenv("GYROSID_QUIET");
-  quiet_ = quiet_override >= 0 ? quiet_override == 1 : quiet != nullptr && std::string_view(quiet) != "0";
+  quiet_ = progress_quiet();
 }
 
 Progress::~Progress() { finish(); }

@@ -8,10 +8,15 @@
 #include <chrono>
 #include <cstddef>
 #include <string>
+#include <string_view>
 
 namespace gyrosid {
 
 void set_quiet_progress(bool quiet);
+
+// One plain line on stderr for a stage of a long command, e.g. "explain: selection step 1: 2 candidates" or
+// "explain: refit: 5.2 s", on a terminal or not; silenced like Progress.
+void progress_note(std::string_view text);
 
 class Progress {
  public:

@@ -5,44 +5,23 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 
 #include "core/atomic_file.h"
-#include "core/format.h"
 #include "core/error.h"
+#include "core/format.h"
+#include "core/progress.h"
+#include "core/recording_reader.h"
 
 namespace gyrosid {
 namespace {
 
-constexpr std::string_view kSingleRequired[] = {"t_s", "ref_rate_dps", "temp_c", "gyro_dps"};
+constexpr std::string_view kSingleRequired[] = {"t_s", "ref_rate_dps", "gyro_dps"};
 constexpr std::string_view kTriadRates[] = {"ref_rate_x_dps", "ref_rate_y_dps", "ref_rate_z_dps",
                                             "gyro_x_dps",     "gyro_y_dps",     "gyro_z_dps"};
 constexpr std::string_view kTriadTemps[] = {"temp_x_c", "temp_y_c", "temp_z_c"};
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-  return s;
-}
-
-// "# key: value" with key a single identifier; anything else starting with '#' is a comment.
-bool parse_metadata(std::string_view line, std::string& key, std::string& value) {
-  std::string_view rest = trim(line.substr(1));
-  std::size_t i = 0;
-  while (i < rest.size() && (std::isalnum(static_cast<unsigned char>(rest[i])) || rest[i] == '_')) ++i;
-  if (i == 0 || i >= rest.size()) return false;
-  std::string_view after = rest.substr(i);
-  if (after.front() != ':') return false;
-  key = std::string(rest.substr(0, i));
-  value = std::string(trim(after.substr(1)));
-  return true;
-}
-
-bool is_triad_name(std::string_view name) {
-  for (auto n : kTriadRates)
-    if (n == name) return true;
-  return false;
+bool contains(const std::vector<std::string>& names, std::string_view name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
 }
 
 }  // namespace
@@ -89,157 +68,89 @@ void Recording::set_meta(const std::string& key, const std::string& value) {
   metadata_.emplace_back(key, value);
 }
 
-RecordingKind Recording::kind() const {
-  for (const auto& n : names_)
-    if (is_triad_name(n)) return RecordingKind::triad;
+RecordingKind recording_kind(const std::vector<std::string>& names) {
+  for (auto n : kTriadRates)
+    if (contains(names, n)) return RecordingKind::triad;
   return RecordingKind::single;
 }
 
+RecordingKind Recording::kind() const { return recording_kind(names_); }
+
 std::string Recording::row_location(std::size_t row) const {
-  if (row < line_numbers_.size()) return str_cat(source_, ":", line_numbers_[row]);
-  return str_cat(source_, " row ", row + 1);
+  if (header_line_ == 0) return str_cat(source_, " row ", row + 1);
+  const auto jump = std::upper_bound(line_jumps_.begin(), line_jumps_.end(), row, [](std::size_t r, const auto& j) { return r < j.first; });
+  if (jump == line_jumps_.begin()) return str_cat(source_, ":", header_line_ + 1 + row);
+  return str_cat(source_, ":", std::prev(jump)->second + (row - std::prev(jump)->first));
 }
 
-std::vector<std::string> required_columns(RecordingKind kind, const Recording& recording) {
+std::vector<std::string> required_columns(RecordingKind kind, const std::vector<std::string>& names) {
   std::vector<std::string> out;
   if (kind == RecordingKind::single) {
     for (auto n : kSingleRequired) out.emplace_back(n);
+    if (contains(names, "temp_c")) out.emplace_back("temp_c");
     return out;
   }
   out.emplace_back("t_s");
   for (auto n : kTriadRates) out.emplace_back(n);
   bool per_axis = false;
-  for (auto n : kTriadTemps) per_axis = per_axis || recording.has(n);
+  for (auto n : kTriadTemps) per_axis = per_axis || contains(names, n);
   if (per_axis) {
     for (auto n : kTriadTemps) out.emplace_back(n);
-  } else {
+  } else if (contains(names, "temp_c")) {
     out.emplace_back("temp_c");
   }
   return out;
 }
 
-namespace {
+std::vector<std::string> required_columns(RecordingKind kind, const Recording& recording) { return required_columns(kind, recording.names()); }
 
-// The cells of one CSV line, trimmed.
-void split_cells(std::string_view line, std::vector<std::string_view>& cells) {
-  cells.clear();
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', start);
-    cells.push_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
-    if (comma == std::string_view::npos) break;
-    start = comma + 1;
-  }
+void require_column(const Recording& recording, std::string_view name, std::string_view why) {
+  if (!recording.has(name)) fail(recording.source(), ": no column '", name, "': ", why, " (the recording has ", join(recording.names()), ")");
 }
 
-// The rules of docs/recording_format.md a parsed table must meet: required columns present, finite values in
-// them, t_s strictly increasing, integer position ids. Errors name the file, the line and the column.
-void check_recording(const Recording& rec) {
-  const RecordingKind kind = rec.kind();
-  const std::vector<std::string> required = required_columns(kind, rec);
-  for (const auto& name : required) {
-    if (!rec.has(name)) {
-      fail(rec.source(), ":", rec.header_line(), ": missing required column '", name, "' (a ", to_string(kind),
-           "-gyro recording needs ", join(required), "; header has ", join(rec.names()), ")");
-    }
+Recording read_recording(RecordingReader& reader, const std::vector<std::string>& columns) {
+  Recording rec(reader.source());
+  rec.metadata_ = reader.metadata();
+  rec.header_line_ = reader.header_line();
+  std::vector<std::size_t> keep;
+  for (std::size_t c = 0; c < reader.names().size(); ++c) {
+    if (!columns.empty() && !contains(columns, reader.names()[c])) continue;
+    keep.push_back(c);
+    rec.names_.push_back(reader.names()[c]);
   }
-  for (const auto& name : required) {
-    const auto& col = rec.column(name);
-    for (std::size_t r = 0; r < col.size(); ++r) {
-      if (!std::isfinite(col[r])) {
-        fail(rec.row_location(r), ": column '", name, "': '", format_number(col[r]),
-             "' in a required column (nan is allowed only in optional columns)");
-      }
+  rec.columns_.resize(keep.size());
+  Progress progress("reading " + reader.source(), std::max<std::size_t>(reader.total_bytes(), 1));
+  std::vector<double> row;
+  std::size_t expected_line = reader.header_line() + 1;
+  while (reader.next(row)) {
+    const std::size_t r = reader.rows() - 1;
+    if (reader.line() != expected_line) rec.line_jumps_.emplace_back(r, reader.line());
+    expected_line = reader.line() + 1;
+    if (r == 1000 && reader.total_bytes() > 0) {  // room for the rest, from the bytes the first rows took
+      const double per_row = static_cast<double>(reader.bytes_read()) / 1001.0;
+      const auto rows = static_cast<std::size_t>(1.02 * static_cast<double>(reader.total_bytes()) / per_row) + 16;
+      for (auto& col : rec.columns_) col.reserve(rows);
     }
+    for (std::size_t k = 0; k < keep.size(); ++k) rec.columns_[k].push_back(row[keep[k]]);
+    if ((r & 0xffff) == 0 && reader.total_bytes() > 0) progress.update(reader.bytes_read());
   }
-  const auto& t = rec.column("t_s");
-  for (std::size_t r = 1; r < t.size(); ++r) {
-    if (!(t[r] > t[r - 1])) {
-      fail(rec.row_location(r), ": column 't_s': ", format_number(t[r]), " does not follow ", format_number(t[r - 1]),
-           " (t_s must be strictly increasing)");
-    }
-  }
-  if (rec.has("position_id")) {
-    const auto& id = rec.column("position_id");
-    for (std::size_t r = 0; r < id.size(); ++r) {
-      if (!std::isnan(id[r]) && id[r] != std::round(id[r])) {
-        fail(rec.row_location(r), ": column 'position_id': ", format_number(id[r]), " is not an integer");
-      }
-    }
-  }
-}
-
-}  // namespace
-
-void Recording::add_parsed_row(const std::vector<std::string_view>& cells, std::size_t line_no) {
-  if (cells.size() != names_.size()) fail(source_, ":", line_no, ": row has ", cells.size(), " cells, the header has ", names_.size());
-  for (std::size_t c = 0; c < cells.size(); ++c) {
-    const std::string cell(cells[c]);
-    char* end = nullptr;
-    const double v = cell.empty() ? 0.0 : parse_c_double(cell.c_str(), &end);
-    if (cell.empty() || end != cell.c_str() + cell.size()) {
-      fail(source_, ":", line_no, ": column '", names_[c], "': cell '", cell, "' is not a number");
-    }
-    columns_[c].push_back(v);
-  }
-  line_numbers_.push_back(line_no);
-}
-
-void Recording::add_parsed_header(const std::vector<std::string_view>& cells, std::size_t line_no) {
-  for (std::size_t c = 0; c < cells.size(); ++c) {
-    const std::string name(cells[c]);
-    if (name.empty()) fail(source_, ":", line_no, ": header cell ", c + 1, " is empty");
-    if (has(name)) fail(source_, ":", line_no, ": column '", name, "' appears twice in the header");
-    names_.push_back(name);
-    columns_.emplace_back();
-  }
-  header_line_ = line_no;
-}
-
-Recording parse_recording(std::string_view text, const std::string& source) {
-  Recording rec(source);
-  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 byte-order mark
-  std::size_t pos = 0, line_no = 0;
-  bool have_header = false;
-  std::vector<std::string_view> cells;
-  while (pos < text.size()) {
-    std::size_t eol = text.find('\n', pos);
-    if (eol == std::string_view::npos) eol = text.size();
-    std::string_view line = text.substr(pos, eol - pos);
-    pos = eol + 1;
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    if (trim(line).empty()) continue;
-    if (line.front() == '#') {
-      std::string key, value;
-      if (!have_header && parse_metadata(line, key, value)) rec.set_meta(key, value);
-      continue;
-    }
-    split_cells(line, cells);
-    if (have_header) {
-      rec.add_parsed_row(cells, line_no);
-    } else {
-      rec.add_parsed_header(cells, line_no);
-      have_header = true;
-    }
-  }
-  if (!have_header) fail(source, ": no header row (a recording needs a header and at least one row)");
-  if (rec.rows() == 0) fail(source, ": header but no data rows");
-  check_recording(rec);
+  progress.finish();
   return rec;
 }
 
-Recording read_recording(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path.string(), ": cannot open recording");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return parse_recording(buffer.str(), path.string());
+Recording read_recording(const std::filesystem::path& path, const std::vector<std::string>& columns) {
+  RecordingReader reader(path);
+  return read_recording(reader, columns);
 }
 
-std::string format_recording(const Recording& recording) {
-  std::string out;
-  out.reserve(recording.rows() * recording.names().size() * 12 + 256);
+Recording parse_recording(std::string_view text, const std::string& source) {
+  RecordingReader reader(text, source);
+  return read_recording(reader);
+}
+
+namespace {
+
+void append_header(const Recording& recording, std::string& out) {
   out += "# format: ";
   out += kRecordingFormat;
   out += '\n';
@@ -247,25 +158,49 @@ std::string format_recording(const Recording& recording) {
     if (key == "format") continue;
     out += "# " + key + ": " + value + "\n";
   }
-  for (std::size_t c = 0; c < recording.names().size(); ++c) {
-    if (c) out += ',';
-    out += recording.names()[c];
-  }
+  out += join(recording.names(), ",");
   out += '\n';
-  std::vector<const std::vector<double>*> cols;
-  for (const auto& name : recording.names()) cols.push_back(&recording.column(name));
-  for (std::size_t r = 0; r < recording.rows(); ++r) {
+}
+
+void append_rows(const std::vector<const std::vector<double>*>& cols, std::size_t begin, std::size_t end, std::string& out) {
+  for (std::size_t r = begin; r < end; ++r) {
     for (std::size_t c = 0; c < cols.size(); ++c) {
       if (c) out += ',';
       out += format_number((*cols[c])[r]);
     }
     out += '\n';
   }
+}
+
+std::vector<const std::vector<double>*> column_pointers(const Recording& recording) {
+  std::vector<const std::vector<double>*> cols;
+  for (const auto& name : recording.names()) cols.push_back(&recording.column(name));
+  return cols;
+}
+
+}  // namespace
+
+std::string format_recording(const Recording& recording) {
+  std::string out;
+  out.reserve(recording.rows() * recording.names().size() * 12 + 256);
+  append_header(recording, out);
+  append_rows(column_pointers(recording), 0, recording.rows(), out);
   return out;
 }
 
 void write_recording(const Recording& recording, const std::filesystem::path& path) {
-  write_file_atomic(path, format_recording(recording));
+  write_file_atomic(path, [&](std::ostream& out) {
+    std::string text;
+    append_header(recording, text);
+    const auto cols = column_pointers(recording);
+    constexpr std::size_t kRows = 4096;  // rows formatted per write: memory for one batch, not the file
+    for (std::size_t r = 0; r < recording.rows(); r += kRows) {
+      append_rows(cols, r, std::min(recording.rows(), r + kRows), text);
+      out.write(text.data(), static_cast<std::streamsize>(text.size()));
+      text.clear();
+    }
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  });
 }
 
 double uniform_sample_interval(const Recording& recording, std::string_view purpose) {

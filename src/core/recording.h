@@ -30,6 +30,8 @@ struct EnumNames<RecordingKind> {
 
 inline constexpr std::string_view kRecordingFormat = "gyrosid-recording/1";
 
+class RecordingReader;  // core/recording_reader.h
+
 class Recording {
  public:
   Recording() = default;
@@ -56,20 +58,22 @@ class Recording {
   std::size_t header_line() const { return header_line_; }
 
  private:
-  friend Recording parse_recording(std::string_view text, const std::string& source);
-  void add_parsed_header(const std::vector<std::string_view>& cells, std::size_t line_no);
-  void add_parsed_row(const std::vector<std::string_view>& cells, std::size_t line_no);
+  friend Recording read_recording(RecordingReader& reader, const std::vector<std::string>& columns);
   std::string source_ = "<memory>";
   std::vector<std::pair<std::string, std::string>> metadata_;
   std::vector<std::string> names_;
   std::vector<std::vector<double>> columns_;
-  std::vector<std::size_t> line_numbers_;  // source line of each data row, when read from a file
+  // Source lines of the rows read from a file: row r is on line header_line_ + 1 + r until the first jump;
+  // a jump (row, line) - after a comment or blank line inside the data - restarts the count at that row.
+  std::vector<std::pair<std::size_t, std::size_t>> line_jumps_;
   std::size_t header_line_ = 0;
 };
 
-// Reads and validates a recording. Every violation of docs/recording_format.md is an Error naming the file,
-// the line and the column.
-Recording read_recording(const std::filesystem::path& path);
+// Reads and validates a recording, keeping `columns` only (every column when empty; the others are read and
+// checked, not stored; a requested column the file lacks is left out). Every violation of
+// docs/recording_format.md is an Error naming the file, the line and the column.
+Recording read_recording(const std::filesystem::path& path, const std::vector<std::string>& columns = {});
+Recording read_recording(RecordingReader& reader, const std::vector<std::string>& columns = {});
 Recording parse_recording(std::string_view text, const std::string& source);
 
 // Writes `# format: gyrosid-recording/1`, the other metadata, the header and the rows (shortest round-trip
@@ -77,8 +81,17 @@ Recording parse_recording(std::string_view text, const std::string& source);
 void write_recording(const Recording& recording, const std::filesystem::path& path);
 std::string format_recording(const Recording& recording);
 
-// Columns a recording of this kind must have.
+// A recording with any triad rate column (ref_rate_x_dps ... gyro_z_dps) is a triad, else a single gyro.
+RecordingKind recording_kind(const std::vector<std::string>& names);
+// Columns a recording of this kind with these columns must have, none of them nan: t_s and the rate
+// columns, and the temperature where it is recorded (temp_c; a triad's temp_x_c, temp_y_c, temp_z_c all
+// three once one is there). The temperature is optional: static noise logs have no thermometer.
+std::vector<std::string> required_columns(RecordingKind kind, const std::vector<std::string>& names);
 std::vector<std::string> required_columns(RecordingKind kind, const Recording& recording);
+
+// Error naming the recording and the column when `name` is not recorded; `why` says what needs it
+// ("calibrate's models take the temperature as an input").
+void require_column(const Recording& recording, std::string_view name, std::string_view why);
 
 // The sample interval of a uniformly sampled recording, in seconds. Commands that need uniform sampling
 // call this; a non-uniform recording is an Error (naming `purpose` and the first offending row), never

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/axis_view.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/units.h"
@@ -13,6 +14,7 @@
 #include "explain/noise_likelihood.h"
 #include "explain/refit.h"
 #include "explain/simulation.h"
+#include "model/averaging_bias.h"
 #include "model/terms/term_kinds.h"
 
 namespace gyrosid::explain {
@@ -273,16 +275,24 @@ RecordingSummary recording_summary(const ExplainInput& in, const ExplainOptions&
   r.blocks = in.blocks, r.thermal_cycles = in.thermal_cycles, r.heldout_every = o.input.heldout_every;
   r.heldout_outside_support = static_cast<long>(std::count(in.outside_support.begin(), in.outside_support.end(), 1));
   r.skipped_channels = in.skipped;
+  r.temperature_recorded = in.temperature_recorded;
   return r;
 }
 
 }  // namespace
 
-ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, Checkpoint* checkpoint) {
+std::vector<std::string> explain_spread_columns(const std::vector<std::string>& names, const std::string& axis) {
+  const GyroColumns g = gyro_columns(names, axis, "explain");
+  std::vector<std::string> out{g.ref};
+  if (!g.temp.empty()) out.push_back(g.temp);
+  return out;
+}
+
+ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, Checkpoint* checkpoint, const Decimation* decimation) {
   if (auto p = o.validate(); !p.empty()) fail("explain: ", p);
   const auto start = std::chrono::steady_clock::now();
   ExplainResult result;
-  StageClock clock(result.summary.stage_times);
+  StageClock clock(result.summary.stage_times, "explain: ");
   result.input = load_input(rec, o.input);
   ExplainInput& in = result.input;
   const TermScaling scaling = TermScaling::of(in.signals);
@@ -342,6 +352,10 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
                  rms(result.residual_after_dph, in, false), rms(result.residual_before_dph, in, true),
                  rms(result.residual_after_dph, in, true), "ceres", final_fit.termination, final_fit.iterations, final_fit.covariance_ok};
   summary.recording = recording_summary(in, o);
+  if (decimation && decimation->applied()) {
+    const Dataset data = dataset_of(in, result.model->features());
+    summary.recording.decimation = decimation_summary(*decimation, averaging_bias(*result.model, data, *decimation, summary.fit.rms_after_dph));
+  }
   summary.simulation = sim.description;
   summary.selection = {o.selection.alpha, sel.bootstrap, o.selection.seed, sel.steps, untestable, sel.noise};
   summary.demoted = accepted.demoted;

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/checkpoint.h"
+#include "core/decimation.h"
 #include "core/recording.h"
 #include "explain/baseline.h"
 #include "explain/explain_input.h"
@@ -55,7 +56,14 @@ struct ExplainResult {
 };
 
 // With a checkpoint (not owned), every finished selection step's bootstrap is saved there and, on resume,
-// taken from it: the result equals an uninterrupted run's.
-ExplainResult explain_recording(const Recording& recording, const ExplainOptions& options, Checkpoint* checkpoint = nullptr);
+// taken from it: the result equals an uninterrupted run's. With `decimation` (the recording is block means,
+// core/decimation.h), the summary states it and the refitted model's averaging bias
+// (model/averaging_bias.h).
+ExplainResult explain_recording(const Recording& recording, const ExplainOptions& options, Checkpoint* checkpoint = nullptr,
+                                const Decimation* decimation = nullptr);
+
+// The inputs whose within-block spread a decimated explain states: the explained gyro's reference rate and
+// temperature columns in a recording with these columns.
+std::vector<std::string> explain_spread_columns(const std::vector<std::string>& names, const std::string& axis);
 
 }  // namespace gyrosid::explain

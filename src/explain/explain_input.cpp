@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/axis_view.h"
 #include "core/error.h"
 #include "core/recording.h"
 #include "core/units.h"
@@ -65,41 +66,42 @@ std::vector<std::size_t> temperature_minima(const std::vector<double>& t, const 
 
 }  // namespace
 
-ExplainInput load_input(const Recording& rec, const InputOptions& o) {
+ExplainInput load_input(const Recording& recording, const InputOptions& o) {
   if (auto p = o.validate(); !p.empty()) fail("explain: ", p);
   ExplainInput in;
-  in.source = rec.source();
-  const bool triad = rec.kind() == RecordingKind::triad;
-  if (triad && o.axis.empty()) fail(rec.source(), ": a triad recording; choose the gyro with --axis x|y|z");
-  if (!triad && !o.axis.empty()) fail(rec.source(), ": --axis applies to triad recordings only");
-  const std::string gyro = triad ? "gyro_" + o.axis + "_dps" : "gyro_dps";
-  const std::string ref = triad ? "ref_rate_" + o.axis + "_dps" : "ref_rate_dps";
-  const std::string temp = triad && rec.has("temp_" + o.axis + "_c") ? "temp_" + o.axis + "_c" : "temp_c";
+  in.source = recording.source();
+  NamedColumns other_references;  // a triad's other axes: cross-axis channels
+  const Recording rec = single_axis_view(recording, o.axis, &other_references);
 
   const std::size_t n = rec.rows();
   if (n < 100) fail(rec.source(), ": ", n, " samples; explaining a recording needs at least 100");
   Signals& s = in.signals;
   s.t_s = rec.column("t_s");
-  s.rate = vec(rec.column(ref), units::kDegToRad);
-  s.temp_c = vec(rec.column(temp));
-  in.error = vec(rec.column(gyro), units::kDegToRad) - s.rate;
+  s.rate = vec(rec.column("ref_rate_dps"), units::kDegToRad);
+  // Without a thermometer the temperature is held (at 0 C): no temperature effect is testable, as on a
+  // recording at one temperature, and the summary says it was not recorded.
+  in.temperature_recorded = rec.has("temp_c");
+  s.temp_c = in.temperature_recorded ? vec(rec.column("temp_c")) : Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+  in.error = vec(rec.column("gyro_dps"), units::kDegToRad) - s.rate;
 
   // Channels: specific force, magnetic field, the other axes' true rates (triads), auxiliaries.
-  const std::vector<std::string> known = {"t_s", gyro, ref, temp, "gyro_x_dps", "gyro_y_dps", "gyro_z_dps", "temp_x_c", "temp_y_c",
-                                          "temp_z_c", "position_id", "chamber_temp_c"};
+  for (auto& [name, values] : other_references) {
+    if (has_nan(values)) {
+      in.skipped.push_back(name + " (has nan: not measured at every sample)");
+      continue;
+    }
+    s.channels[name] = vec(values, units::kDegToRad);
+    in.cross_axis.push_back(name);
+  }
+  const std::vector<std::string> known = {"t_s", "gyro_dps", "temp_c", "position_id", "chamber_temp_c"};
   for (const auto& name : rec.names()) {
-    const bool other_ref = triad && name.rfind("ref_rate_", 0) == 0 && name != ref;
-    if (!other_ref && std::find(known.begin(), known.end(), name) != known.end()) continue;
-    if (!other_ref && name.rfind("ref_rate", 0) == 0) continue;
+    if (std::find(known.begin(), known.end(), name) != known.end() || name.rfind("ref_rate", 0) == 0) continue;
     const auto& values = rec.column(name);
     if (has_nan(values)) {
       in.skipped.push_back(name + " (has nan: not measured at every sample)");
       continue;
     }
-    if (other_ref) {
-      s.channels[name] = vec(values, units::kDegToRad);
-      in.cross_axis.push_back(name);
-    } else if (name.rfind("accel_", 0) == 0 && ends_with(name, "_mps2")) {
+    if (name.rfind("accel_", 0) == 0 && ends_with(name, "_mps2")) {
       s.channels[name] = vec(values);
       in.accel.push_back(name);
     } else if (name.find("mag") != std::string::npos && ends_with(name, "_ut")) {

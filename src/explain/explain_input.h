@@ -36,6 +36,7 @@ struct ExplainInput {
   int blocks = 0;
   bool thermal_cycles = false; // blocks are whole thermal cycles (else equal time blocks)
   double dt_s = 1.0;           // median sample interval
+  bool temperature_recorded = true;  // false: no temperature column; signals.temp_c is then held at 0 C
 
   Eigen::Index size() const { return error.size(); }
   Eigen::Index training_size() const;

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "core/enum_names.h"
 #include "explain/diagnostics.h"
 #include "explain/effect.h"
@@ -132,6 +134,10 @@ struct RecordingSummary {
   int heldout_every = 4;  // every heldout_every-th block from the third is held out
   long heldout_outside_support = 0;  // held-out samples where the simulation extrapolates (heldout_support.h)
   std::vector<std::string> skipped_channels;
+  bool temperature_recorded = true;  // false: no thermometer, the temperature held (no temperature effect testable)
+  // Block means the recording was reduced to before explaining (core/decimation.h's to_json, with
+  // "statement" and the refitted model's "averaging_bias_dph"); null when it was explained as recorded.
+  nlohmann::json decimation;
 };
 
 struct SelectionRecord {

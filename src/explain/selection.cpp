@@ -82,20 +82,35 @@ NoiseModel full_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, co
   return fit_noise_model(residual, contiguous_runs(rows, in.segment), in.dt_s, NoiseStart::gauss_markov_start);
 }
 
-// Circular block bootstrap of r: `count` resamples side by side (n x count).
-Eigen::MatrixXd block_bootstrap(const Eigen::VectorXd& r, int count, std::uint64_t seed, int step) {
-  const Eigen::Index n = r.size();
-  const Eigen::Index block = std::max<Eigen::Index>(10, static_cast<Eigen::Index>(std::ceil(2.0 * std::cbrt(static_cast<double>(n)))));
-  RandomStream rng(seed, "explain/bootstrap/" + std::to_string(step));
-  Eigen::MatrixXd out(n, count);
-  for (int m = 0; m < count; ++m) {
-    for (Eigen::Index i = 0; i < n; i += block) {
-      const auto start = static_cast<Eigen::Index>(rng.uniform() * static_cast<double>(n)) % n;
-      for (Eigen::Index k = 0; k < block && i + k < n; ++k) out(i + k, m) = r((start + k) % n);
+// Circular block bootstrap of r, drawn a batch of resamples at a time (n x batch each): the draws follow one
+// random stream in resample order, so the resamples do not depend on the batch size, and memory holds one
+// batch - not the n x B matrix (7 KB a sample at B = 999).
+class BlockBootstrap {
+ public:
+  BlockBootstrap(const Eigen::VectorXd& r, std::uint64_t seed, int step)
+      : r_(r), block_(std::max<Eigen::Index>(10, static_cast<Eigen::Index>(std::ceil(2.0 * std::cbrt(static_cast<double>(r.size())))))),
+        rng_(seed, "explain/bootstrap/" + std::to_string(step)) {}
+  // The next `count` resamples side by side.
+  Eigen::MatrixXd next(int count) {
+    const Eigen::Index n = r_.size();
+    Eigen::MatrixXd out(n, count);
+    for (int m = 0; m < count; ++m) {
+      for (Eigen::Index i = 0; i < n; i += block_) {
+        const auto start = static_cast<Eigen::Index>(rng_.uniform() * static_cast<double>(n)) % n;
+        for (Eigen::Index k = 0; k < block_ && i + k < n; ++k) out(i + k, m) = r_((start + k) % n);
+      }
     }
+    return out;
   }
-  return out;
-}
+
+ private:
+  const Eigen::VectorXd& r_;
+  Eigen::Index block_;
+  RandomStream rng_;
+};
+
+// Resamples per batch: about 64 MB of them.
+int bootstrap_batch(Eigen::Index n) { return static_cast<int>(std::clamp<Eigen::Index>((Eigen::Index{8} << 20) / std::max<Eigen::Index>(n, 1), 8, 256)); }
 
 struct Evaluated {
   CandidateScore score;
@@ -158,20 +173,31 @@ void bootstrap_p_values(std::vector<Evaluated>& ev, const WhitenedFit& fit, cons
     for (std::size_t i = 0; i < ev.size(); ++i) ev[i].score.p_value = checkpoint->series(key)[i];
     return;
   }
-  const Eigen::MatrixXd resamples = block_bootstrap(fit.residual, o.bootstrap, o.seed, step);
-  parallel_for(static_cast<std::ptrdiff_t>(ev.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-    for (std::ptrdiff_t i = begin; i < end; ++i) {
-      Evaluated& e = ev[static_cast<std::size_t>(i)];
-      if (e.score.columns == 0) continue;
-      Eigen::VectorXd null_max = Eigen::VectorXd::Zero(o.bootstrap);
-      for (const auto& z : e.z) {
-        if (z.cols() == 0) continue;
-        null_max = null_max.cwiseMax((z.transpose() * resamples).colwise().squaredNorm().transpose());
+  std::vector<Eigen::VectorXd> null_max(ev.size());  // per candidate: its largest statistic on each resample
+  BlockBootstrap bootstrap(fit.residual, o.seed, step);
+  const int batch = bootstrap_batch(fit.residual.size());
+  for (int first = 0; first < o.bootstrap; first += batch) {
+    const int count = std::min(batch, o.bootstrap - first);
+    const Eigen::MatrixXd resamples = bootstrap.next(count);
+    parallel_for(static_cast<std::ptrdiff_t>(ev.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+      for (std::ptrdiff_t i = begin; i < end; ++i) {
+        const Evaluated& e = ev[static_cast<std::size_t>(i)];
+        if (e.score.columns == 0) continue;
+        Eigen::VectorXd& best = null_max[static_cast<std::size_t>(i)];
+        if (best.size() == 0) best = Eigen::VectorXd::Zero(o.bootstrap);
+        for (const auto& z : e.z) {
+          if (z.cols() == 0) continue;
+          best.segment(first, count) = best.segment(first, count).cwiseMax((z.transpose() * resamples).colwise().squaredNorm().transpose());
+        }
       }
-      const auto exceed = (null_max.array() >= e.score.delta_rss).count();
-      e.score.p_value = (1.0 + static_cast<double>(exceed)) / (1.0 + o.bootstrap);
-    }
-  }, 1);
+    }, 1);
+  }
+  for (std::size_t i = 0; i < ev.size(); ++i) {
+    Evaluated& e = ev[i];
+    if (e.score.columns == 0) continue;
+    const auto exceed = (null_max[i].array() >= e.score.delta_rss).count();
+    e.score.p_value = (1.0 + static_cast<double>(exceed)) / (1.0 + o.bootstrap);
+  }
   if (checkpoint) {
     std::vector<double> p;
     for (const auto& e : ev) p.push_back(e.score.p_value);
@@ -413,7 +439,10 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
   for (Eigen::Index i = 0; i < in.size(); ++i) {
     if (!in.heldout[static_cast<std::size_t>(i)]) rows.push_back(i);
   }
-  if (o.noise_model == NoiseModelSource::full) result.noise = full_model_noise(in, y, base, sc, candidates);
+  if (o.noise_model == NoiseModelSource::full) {
+    progress_note(str_cat("explain: selection: the whitening noise model from the residual of the base and all ", candidates.size(), " candidates"));
+    result.noise = full_model_noise(in, y, base, sc, candidates);
+  }
 
   // A bootstrap p-value is at least 1/(B + 1), and Holm's first threshold is alpha/m for m candidates: with
   // fewer resamples than 2m/alpha no candidate could ever be significant, whatever the data.
@@ -427,12 +456,12 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
   for (const Candidate& c : candidates) {
     if (!c.further_component) open.push_back(c);
   }
-  Progress progress("explain: selecting effects", static_cast<std::size_t>(std::max(1, o.max_effects)));
   std::optional<NoiseLikelihood::Optimum> current;  // the likelihood's optimum for result.model, when known
-  StageClock clock(result.times);
+  StageClock clock(result.times, "explain: selection: ");
   clock.lap("noise model");
   for (int step = 0; step < o.max_effects && !open.empty(); ++step) {
-    progress.update(static_cast<std::size_t>(step));
+    progress_note(str_cat("explain: selection step ", step + 1, " (at most ", o.max_effects, "): ", open.size(), " candidates, ",
+                          options.bootstrap, " bootstrap resamples, ", rows.size(), " training samples"));
     if (o.noise_model == NoiseModelSource::current) result.noise = current_model_noise(in, y, result.model, sc, rows);
     const Whitener w(result.noise, rows, in.signals.t_s);
     const Eigen::VectorXd yw = w.apply(y);
@@ -459,7 +488,6 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
     open.erase(open.begin() + best);
     clock.lap("refinement and alternatives");
   }
-  progress.finish();
   return result;
 }
 

@@ -15,18 +15,17 @@ struct StageTimes {
   void add(std::string_view stage, double s);
 };
 
-// Laps of a steady clock: lap(stage) books the time since the previous lap (or construction) to `stage`.
+// Laps of a steady clock: lap(stage) books the time since the previous lap (or construction) to `stage`, and
+// prints it as a progress line "<note_prefix><stage>: 1.2 s" (core/progress.h) when the prefix is not empty.
 class StageClock {
  public:
-  explicit StageClock(StageTimes& times) : times_(times), last_(std::chrono::steady_clock::now()) {}
-  void lap(std::string_view stage) {
-    const auto now = std::chrono::steady_clock::now();
-    times_.add(stage, std::chrono::duration<double>(now - last_).count());
-    last_ = now;
-  }
+  explicit StageClock(StageTimes& times, std::string note_prefix = "")
+      : times_(times), note_prefix_(std::move(note_prefix)), last_(std::chrono::steady_clock::now()) {}
+  void lap(std::string_view stage);
 
  private:
   StageTimes& times_;
+  std::string note_prefix_;
   std::chrono::steady_clock::time_point last_;
 };
 

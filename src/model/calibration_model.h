@@ -51,6 +51,9 @@ class CalibrationModel {
   virtual double predict(const double* x) const = 0;
   // Outputs along a recording (models with dynamics run them over time); default: sample by sample.
   virtual Eigen::VectorXd predict(const Dataset& data) const;
+  // True when predict(data) at a sample depends on that sample's inputs alone (no dynamics over time): the
+  // model can then be applied to a recording a chunk at a time. A model that overrides predict(data) says no.
+  virtual bool pointwise() const { return true; }
 
   // Predictive uncertainty, for models linear in weights that carry a Gaussian posterior over them
   // (model/weight_posterior.h): the rbf network trained by `bayes`, the hybrid, the classical model.

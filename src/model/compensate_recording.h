@@ -4,7 +4,9 @@
 // estimate (steady state), and the fraction of samples whose compensated - reference lies inside 1.96 sigma.
 #pragma once
 
+#include <filesystem>
 #include <optional>
+#include <string>
 
 #include "core/recording.h"
 #include "model/calibration_model.h"
@@ -17,9 +19,19 @@ struct CompensatedRecording {
   std::optional<double> rms_before_dph;  // gyro - ref, when ref_rate_dps is recorded everywhere
   std::optional<double> rms_after_dph;   // compensated - ref
   std::optional<double> coverage_95;     // |compensated - ref| <= 1.96 sigma, models with a posterior
+  std::size_t samples = 0;               // rows compensated
 };
 
 CompensatedRecording compensate_recording(const CalibrationModel& model, Recording recording);
+
+// The same from file to file, streamed: a chunk of rows read, compensated and written at a time, so memory
+// holds one chunk (written atomically: a temporary file renamed at the end). A model that is not pointwise
+// (CalibrationModel::pointwise(): a thermal lag, a temperature rate) is first run over the whole recording,
+// read with only the columns it needs. `axis` (x, y or z) applies the single-gyro model to that gyro of a
+// triad recording: its columns are read as gyro_dps, ref_rate_dps and temp_c, and compensated_<axis>_dps
+// (and compensated_sigma_<axis>_dps) are added. The returned recording holds no rows, only the columns written.
+CompensatedRecording compensate_file(const CalibrationModel& model, const std::filesystem::path& input, const std::filesystem::path& output,
+                                     const std::string& axis = "", std::size_t chunk_rows = 65536);
 
 // A triad recording compensated by a triad model: compensated_{x,y,z}_dps added (body rates), and the rms
 // error over the three axes against ref_rate_{x,y,z}_dps before and after.

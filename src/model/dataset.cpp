@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/units.h"
 
 namespace gyrosid {
@@ -20,7 +21,7 @@ std::vector<double> time_derivative(const std::vector<double>& t, const std::vec
 
 Dataset make_dataset(const Recording& rec, const std::vector<std::string>& features, ModelTarget target) {
   if (rec.kind() != RecordingKind::single) {
-    fail(rec.source(), ": calibration models are fitted per gyro; this is a triad recording (use one axis)");
+    fail(rec.source(), ": calibration models are fitted per gyro; this is a triad recording (choose the gyro with --axis x|y|z)");
   }
   if (features.empty()) fail(rec.source(), ": a model needs at least one input feature");
   Dataset d;
@@ -35,6 +36,10 @@ Dataset make_dataset(const Recording& rec, const std::vector<std::string>& featu
   for (std::size_t f = 0; f < features.size(); ++f) {
     const std::string& name = features[f];
     const auto col = static_cast<Eigen::Index>(f);
+    if (name == "temperature" || name == "temperature_rate") {
+      require_column(rec, "temp_c", str_cat("the model takes the ", name == "temperature" ? "temperature" : "temperature's rate",
+                                            " as an input (feature '", name, "'); record it, or choose features without it (--features)"));
+    }
     if (name == "measured_rate") {
       d.x.col(col) = d.measured;
     } else if (name == "temperature") {

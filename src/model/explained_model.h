@@ -27,6 +27,7 @@ class ExplainedModel : public CalibrationModel {
   std::string_view kind() const override { return "explained"; }
   double predict(const double* x) const override;
   Eigen::VectorXd predict(const Dataset& data) const override;
+  bool pointwise() const override { return false; }
   nlohmann::json parameters_json() const override;
   void export_c_body(CExport& out) const override;
   static std::unique_ptr<ExplainedModel> from_json(const nlohmann::json& j, const std::string& source);

@@ -23,7 +23,8 @@ class GreyboxModel : public CalibrationModel {
 
   std::string_view kind() const override { return "greybox"; }
   double predict(const double* x) const override;             // steady state: coil = probe
-  Eigen::VectorXd predict(const Dataset& data) const override;  // runs the thermal lag over time
+  Eigen::VectorXd predict(const Dataset& data) const override;
+  bool pointwise() const override { return false; }  // runs the thermal lag over time
   nlohmann::json parameters_json() const override;
   void export_c_body(CExport& out) const override;
   static std::unique_ptr<GreyboxModel> from_json(const nlohmann::json& j, std::vector<std::string> features,

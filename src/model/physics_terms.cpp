@@ -53,23 +53,54 @@ namespace {
 // The probe's rate by local linear regression over +-30 s: a probe read to a few hundredths of a degree
 // makes the sample-to-sample difference noise (0.01 C over 1 s is 0.6 C/min), and noise in a regressor
 // biases its coefficient and hands the fit to any smoother column (a short "lag"). Symmetric: no delay.
+//
+// The window's sums are kept as it slides (O(n), not O(n x window): at 100 Hz a window holds 6000 samples), in
+// offsets from an anchor sample that moves with the window - re-anchored, and the sums recomputed, each time
+// the window has moved on by its own length - so that the centred sums lose no more than two digits.
+class SlidingRegression {
+ public:
+  SlidingRegression(const std::vector<double>& t, const std::vector<double>& v) : t_(t), v_(v) {}
+  void anchor(std::size_t lo, std::size_t hi) {
+    t0_ = t_[lo], v0_ = v_[lo], st_ = sv_ = stt_ = stv_ = 0.0, anchor_ = lo;
+    for (std::size_t k = lo; k <= hi; ++k) add(k, 1.0);
+  }
+  void add(std::size_t k, double sign) {
+    const double dt = t_[k] - t0_, dv = v_[k] - v0_;
+    st_ += sign * dt, sv_ += sign * dv, stt_ += sign * dt * dt, stv_ += sign * dt * dv;
+  }
+  std::size_t anchored_at() const { return anchor_; }
+  // The slope over the window's m samples.
+  double slope(double m) const {
+    const double ctt = stt_ - st_ * st_ / m, ctv = stv_ - st_ * sv_ / m;
+    return ctt > 0 ? ctv / ctt : 0.0;
+  }
+
+ private:
+  const std::vector<double>& t_;
+  const std::vector<double>& v_;
+  double t0_ = 0.0, v0_ = 0.0, st_ = 0.0, sv_ = 0.0, stt_ = 0.0, stv_ = 0.0;
+  std::size_t anchor_ = 0;
+};
+
 std::vector<double> probe_rate(const std::vector<double>& t, const std::vector<double>& v) {
   constexpr double kHalfWindowS = 30.0;
   const std::size_t n = v.size();
   std::vector<double> d(n, 0.0);
+  if (n == 0) return d;
+  SlidingRegression window(t, v);
   std::size_t lo = 0, hi = 0;
+  window.anchor(0, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    while (t[lo] < t[i] - kHalfWindowS) ++lo;
-    while (hi + 1 < n && t[hi + 1] <= t[i] + kHalfWindowS) ++hi;
-    std::size_t a = lo, b = hi;  // at least one neighbour on each side where there is one
-    if (a == i && i > 0) --a;
-    if (b == i && i + 1 < n) ++b;
-    double tm = 0.0, vm = 0.0;
-    for (std::size_t k = a; k <= b; ++k) tm += t[k], vm += v[k];
-    tm /= static_cast<double>(b - a + 1), vm /= static_cast<double>(b - a + 1);
-    double stt = 0.0, stv = 0.0;
-    for (std::size_t k = a; k <= b; ++k) stt += (t[k] - tm) * (t[k] - tm), stv += (t[k] - tm) * (v[k] - vm);
-    d[i] = stt > 0 ? stv / stt : 0.0;
+    while (hi + 1 < n && t[hi + 1] <= t[i] + kHalfWindowS) window.add(++hi, 1.0);
+    while (t[lo] < t[i] - kHalfWindowS) window.add(lo++, -1.0);
+    if (lo - window.anchored_at() > std::max<std::size_t>(hi - lo + 1, 64)) window.anchor(lo, hi);
+    // At least one neighbour on each side where there is one.
+    const bool before = lo == i && i > 0, after = hi == i && i + 1 < n;
+    if (before) window.add(i - 1, 1.0);
+    if (after) window.add(i + 1, 1.0);
+    d[i] = window.slope(static_cast<double>(hi - lo + 1 + before + after));
+    if (before) window.add(i - 1, -1.0);
+    if (after) window.add(i + 1, -1.0);
   }
   return d;
 }

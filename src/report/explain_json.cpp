@@ -237,9 +237,12 @@ FitSummary fit_of(const json& j) {
 }
 
 json recording_json(const RecordingSummary& r) {
-  return {{"source", r.source}, {"samples", r.samples}, {"training_samples", r.training_samples}, {"duration_s", r.duration_s},
-          {"blocks", r.blocks}, {"blocks_are_thermal_cycles", r.thermal_cycles}, {"heldout_every", r.heldout_every},
-          {"heldout_outside_support", r.heldout_outside_support}, {"axis", r.axis}, {"skipped_channels", r.skipped_channels}};
+  json j = {{"source", r.source}, {"samples", r.samples}, {"training_samples", r.training_samples}, {"duration_s", r.duration_s},
+            {"blocks", r.blocks}, {"blocks_are_thermal_cycles", r.thermal_cycles}, {"heldout_every", r.heldout_every},
+            {"heldout_outside_support", r.heldout_outside_support}, {"axis", r.axis}, {"skipped_channels", r.skipped_channels}};
+  if (!r.temperature_recorded) j["temperature_recorded"] = false;
+  if (!r.decimation.is_null()) j["decimation"] = r.decimation;
+  return j;
 }
 
 RecordingSummary recording_of(const json& j) {
@@ -248,6 +251,8 @@ RecordingSummary recording_of(const json& j) {
   r.blocks = j.at("blocks"), r.thermal_cycles = j.at("blocks_are_thermal_cycles"), r.heldout_every = j.value("heldout_every", 4);
   r.heldout_outside_support = j.value("heldout_outside_support", 0L);
   r.axis = j.at("axis"), r.skipped_channels = j.at("skipped_channels").get<std::vector<std::string>>();
+  r.temperature_recorded = j.value("temperature_recorded", true);
+  if (j.contains("decimation")) r.decimation = j["decimation"];
   return r;
 }
 

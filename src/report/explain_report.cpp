@@ -195,6 +195,8 @@ std::string report_markdown(const ExplainResult& r) {
                        "simulation extrapolates there - and confirm nothing)")
              : std::string())
      << ". Run time " << format_significant(j.run_time_s, 3) << " s" << stage_times_text(j.stage_times) << ".\n\n";
+  if (!j.recording.temperature_recorded) md << "The recording has no temperature: it is held, and no temperature effect can be tested.\n\n";
+  if (!j.recording.decimation.is_null()) md << "Explained at block means: " << j.recording.decimation.at("statement").get<std::string>() << "\n\n";
   const auto& fit = j.fit;
   md << "## Fit (residual rms, deg/h)\n\n| | training | held-out |\n|---|---|---|\n"
      << "| simulation as given | " << format_significant(fit.rms_simulation_dph, 4) << " | |\n"

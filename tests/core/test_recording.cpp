@@ -2,13 +2,18 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/recording.h"
+#include "core/recording_reader.h"
 #include "error_of.h"
 
 namespace gyrosid {
@@ -74,7 +79,11 @@ TEST(Recording, TriadColumnsAndPerAxisTemperatures) {
   const Recording r = parse_recording(header + ",temp_x_c,temp_y_c,temp_z_c,position_id\n0,1,2,3,1,2,3,20,21,22,4\n", "t.csv");
   EXPECT_EQ(r.kind(), RecordingKind::triad);
   EXPECT_EQ(required_columns(RecordingKind::triad, r).back(), "temp_z_c");
-  EXPECT_THAT(error_of(header + "\n0,1,2,3,1,2,3\n"), HasSubstr("missing required column 'temp_c'"));
+  // The temperature is optional (a static noise log has no thermometer), but per-axis probes come in threes.
+  const Recording no_temp = parse_recording(header + "\n0,1,2,3,1,2,3\n", "t.csv");
+  EXPECT_FALSE(no_temp.has("temp_c"));
+  EXPECT_EQ(required_columns(RecordingKind::triad, no_temp).size(), 7u);
+  EXPECT_THAT(error_of(header + ",temp_x_c\n0,1,2,3,1,2,3,20\n"), HasSubstr("missing required column 'temp_y_c'"));
   EXPECT_THAT(error_of(header + ",temp_c,position_id\n0,1,2,3,1,2,3,20,1.5\n"), HasSubstr("not an integer"));
 }
 
@@ -123,6 +132,112 @@ TEST(Recording, MedianSampleIntervalIgnoresGapsAndJitter) {
   // A 10 Hz recording with one dropped sample.
   EXPECT_NEAR(median_sample_interval(std::vector<double>{0.0, 0.1, 0.2, 0.4, 0.5}), 0.1, 1e-15);
   EXPECT_DOUBLE_EQ(median_sample_interval(std::vector<double>{5.0}), 1.0);  // no step: the documented 1 s
+}
+
+// A file on disk for the streaming reader; removed with the test.
+class RecordingFile {
+ public:
+  explicit RecordingFile(const std::string& text, const std::string& name = "stream.csv")
+      : path_(std::filesystem::temp_directory_path() / ("gyrosid_reader_" + std::to_string(::getpid()) + "_" + name)) {
+    std::ofstream(path_, std::ios::binary) << text;
+  }
+  ~RecordingFile() { std::filesystem::remove(path_); }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// Every value, bit for bit (nan where nan), and the same names and metadata.
+void expect_same(const Recording& a, const Recording& b) {
+  ASSERT_EQ(a.names(), b.names());
+  ASSERT_EQ(a.rows(), b.rows());
+  EXPECT_EQ(a.metadata(), b.metadata());
+  for (const auto& name : a.names()) {
+    for (std::size_t i = 0; i < a.rows(); ++i) {
+      const double x = a.column(name)[i], y = b.column(name)[i];
+      if (std::isnan(x)) EXPECT_TRUE(std::isnan(y)) << name << "[" << i << "]";
+      else EXPECT_EQ(std::bit_cast<std::uint64_t>(x), std::bit_cast<std::uint64_t>(y)) << name << "[" << i << "]";
+    }
+  }
+}
+
+TEST(RecordingReader, FileInTinyChunksReadsAsTheTextInMemory) {
+  // Lines longer than the 64-byte buffer (it grows), CRLF, a byte-order mark, comments and blank lines inside the
+  // data, the last line without its newline; and the fuzz seeds.
+  std::string text = "\xEF\xBB\xBF# format: gyrosid-recording/1\r\n# sensor: a long sensor description that does not fit in one small chunk\r\n";
+  text += "t_s,ref_rate_dps,temp_c,gyro_dps,supply_v\r\n";
+  for (int i = 0; i < 300; ++i) {
+    text += std::to_string(i) + ".25," + std::to_string(i % 7 - 3) + ".125,2" + std::to_string(i % 10) + ",1.0000000000000002e-3," +
+            (i % 11 ? "5.01" : "nan") + "\r\n";
+    if (i == 100) text += "# a comment between rows\r\n\r\n";
+  }
+  text += "300,0,25,1,5";
+  RecordingFile file(text);
+  RecordingReader reader(file.path(), 64);
+  const Recording streamed = read_recording(reader);
+  expect_same(streamed, parse_recording(text, file.path().string()));
+  ASSERT_EQ(streamed.rows(), 301u);
+  // Lines: header on 3, rows on 4... until the comment and the blank line after row 100 (line 104).
+  EXPECT_EQ(streamed.row_location(0), file.path().string() + ":4");
+  EXPECT_EQ(streamed.row_location(100), file.path().string() + ":104");
+  EXPECT_EQ(streamed.row_location(101), file.path().string() + ":107");
+  EXPECT_EQ(streamed.row_location(300), file.path().string() + ":306");
+  EXPECT_EQ(count_recording_rows(file.path()), 301u);
+  for (const char* seed : {"crlf_channels.csv", "format_example.csv", "triad.csv"}) {
+    std::ifstream in(std::string(GYROSID_SOURCE_DIR) + "/tests/fuzz/seeds/recording/" + seed, std::ios::binary);
+    const std::string seed_text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    RecordingFile seed_file(seed_text, seed);
+    RecordingReader seed_reader(seed_file.path(), 16);
+    expect_same(read_recording(seed_reader), parse_recording(seed_text, seed_file.path().string()));
+  }
+}
+
+TEST(RecordingReader, NumbersAsStrtodReadsThem) {
+  // std::from_chars takes the common forms; a leading '+', hexadecimal and out-of-range values fall back to
+  // strtod in the C locale (inf for an overflow, the subnormal for a tiny value) - the format's definition.
+  const Recording r = parse_recording(
+      "t_s,ref_rate_dps,gyro_dps,supply_v\n"
+      "+1,0x1.8p1,1e-310,1e400\n"
+      "2,-0.1,.5,-1e-400\n"
+      "3,1.,5e+0,INF\n",
+      "n.csv");
+  EXPECT_EQ(r.column("t_s")[0], 1.0);
+  EXPECT_EQ(r.column("ref_rate_dps")[0], 3.0);
+  EXPECT_EQ(r.column("gyro_dps")[0], std::strtod("1e-310", nullptr));
+  EXPECT_EQ(r.column("supply_v")[0], HUGE_VAL);
+  EXPECT_EQ(r.column("ref_rate_dps")[1], std::strtod("-0.1", nullptr));
+  EXPECT_EQ(r.column("gyro_dps")[1], 0.5);
+  EXPECT_EQ(r.column("supply_v")[1], 0.0);
+  EXPECT_TRUE(std::signbit(r.column("supply_v")[1]));
+  EXPECT_EQ(r.column("ref_rate_dps")[2], 1.0);
+  EXPECT_EQ(r.column("supply_v")[2], HUGE_VAL);
+  // inf is a number, but not a finite one: refused in a required column like nan.
+  EXPECT_THAT(error_of("t_s,ref_rate_dps,gyro_dps\n0,1,1e400\n"), HasSubstr("rec.csv:2: column 'gyro_dps': 'inf' in a required column"));
+  EXPECT_THAT(error_of("t_s,ref_rate_dps,gyro_dps\n0,1,0x\n"), HasSubstr("cell '0x' is not a number"));
+}
+
+TEST(RecordingReader, KeepsOnlyTheColumnsAskedForAndChecksTheRest) {
+  const std::string text = "t_s,ref_rate_dps,temp_c,gyro_dps,supply_v\n0,1,25,1,5\n1,1,25,1,5\n";
+  RecordingFile file(text);
+  const Recording two = read_recording(file.path(), {"t_s", "gyro_dps", "not_there"});
+  EXPECT_EQ(two.names(), (std::vector<std::string>{"t_s", "gyro_dps"}));
+  EXPECT_EQ(two.rows(), 2u);
+  // A column not kept is still read: a bad cell there is the same error.
+  RecordingFile bad("t_s,ref_rate_dps,temp_c,gyro_dps,supply_v\n0,1,25,1,5\n1,1,25,1,five\n", "bad.csv");
+  EXPECT_THAT(testing_support::error_of([&] { read_recording(bad.path(), {"t_s", "gyro_dps"}); }),
+              HasSubstr("bad.csv:3: column 'supply_v': cell 'five' is not a number"));
+}
+
+TEST(RecordingReader, TemperatureIsOptionalButCheckedWhereRecorded) {
+  const Recording r = parse_recording("t_s,ref_rate_dps,gyro_dps\n0,0,0.1\n0.01,0,-0.2\n", "static.csv");
+  EXPECT_EQ(r.kind(), RecordingKind::single);
+  EXPECT_FALSE(r.has("temp_c"));
+  EXPECT_EQ(required_columns(RecordingKind::single, r), (std::vector<std::string>{"t_s", "ref_rate_dps", "gyro_dps"}));
+  EXPECT_THAT(testing_support::error_of([&] { require_column(r, "temp_c", "the model takes the temperature as an input"); }),
+              HasSubstr("static.csv: no column 'temp_c': the model takes the temperature as an input"));
+  // Recorded, the temperature is held to the required columns' rules.
+  EXPECT_THAT(error_of("t_s,ref_rate_dps,temp_c,gyro_dps\n0,1,nan,1\n"), HasSubstr("rec.csv:2: column 'temp_c'"));
 }
 
 TEST(AtomicFile, FailedWriteLeavesNothingBehind) {

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/random.h"
 #include "core/units.h"
+#include "model/averaging_bias.h"
 #include "model/classical_model.h"
 #include "model/greybox_fit.h"
 #include "model/hybrid_model.h"
@@ -241,6 +242,75 @@ TEST(PhysicsTerms, PolynomialOrdersFromFilesAreChecked) {
                           R"({"kind": "scale_factor", "sf_orders": [[1, "2"]]})"}) {
     EXPECT_THAT(testing_support::error_of([&] { load(bad); }), ::testing::HasSubstr("orders")) << bad;
   }
+}
+
+}  // namespace
+}  // namespace gyrosid
+
+namespace gyrosid {
+namespace {
+
+// The probe's rate is the least-squares slope over +-30 s (at least one neighbour each side): the sliding sums
+// agree with the regression written out sample by sample, across a gap and with jittered times.
+TEST(PhysicsTerms, ProbeRateIsTheWindowedRegressionSlope) {
+  RandomStream r(11, "probe");
+  Signals s;
+  double t = 0.0;
+  for (int i = 0; i < 3000; ++i) {
+    t += i == 1500 ? 200.0 : 0.1 * (0.8 + 0.4 * r.uniform());
+    s.t_s.push_back(1e5 + t);  // far from zero: the sums are taken about an anchor
+  }
+  const auto n = static_cast<Eigen::Index>(s.t_s.size());
+  s.temp_c.resize(n), s.rate = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index i = 0; i < n; ++i) s.temp_c(i) = 25.0 + 5.0 * std::sin(0.01 * (s.t_s[static_cast<std::size_t>(i)] - 1e5)) + 0.01 * std::round(r.normal());
+  const Eigen::VectorXd rate = coil_temperature(s, 0.0).rate_c_per_s;
+  for (Eigen::Index i = 0; i < n; i += 37) {
+    const double ti = s.t_s[static_cast<std::size_t>(i)];
+    std::vector<double> tw, vw;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const double tk = s.t_s[static_cast<std::size_t>(k)];
+      if (std::abs(tk - ti) <= 30.0 || k == i - 1 || k == i + 1) tw.push_back(tk - ti), vw.push_back(s.temp_c(k));
+    }
+    double tm = 0, vm = 0;
+    for (std::size_t k = 0; k < tw.size(); ++k) tm += tw[k] / tw.size(), vm += vw[k] / vw.size();
+    double stt = 0, stv = 0;
+    for (std::size_t k = 0; k < tw.size(); ++k) stt += (tw[k] - tm) * (tw[k] - tm), stv += (tw[k] - tm) * (vw[k] - vm);
+    EXPECT_NEAR(rate(i), stv / stt, 1e-9 * (1.0 + std::abs(stv / stt))) << i;
+  }
+}
+
+// f(w, T) = a w^2 + c (T - 20)^2: the block mean of f exceeds f at the block's mean inputs by a s_w^2 + c s_T^2,
+// which the two-point rule gets exactly.
+class Quadratic : public CalibrationModel {
+ public:
+  Quadratic() : CalibrationModel(default_features(), ModelTarget::error) {}
+  static constexpr double a = 2.0, c = 3e-6;
+  std::string_view kind() const override { return "quadratic"; }
+  double predict(const double* x) const override { return a * x[0] * x[0] + c * (x[1] - 20.0) * (x[1] - 20.0); }
+  nlohmann::json parameters_json() const override { return {}; }
+  void export_c_body(CExport&) const override {}
+};
+
+TEST(AveragingBias, TheTwoPointRuleIsExactForAQuadratic) {
+  Decimation d;
+  d.factor = 10;
+  d.inputs = {{"ref_rate_dps", 4.0, 8.0, {1.0, 4.0, 0.0}}, {"temp_c", 0.5, 1.0, {0.5, 0.1, 0.2}}};
+  Dataset data;
+  data.features = default_features();
+  data.x = (Eigen::MatrixXd(3, 2) << 0.1, 25.0, -0.5, 10.0, 0.0, 20.0).finished();
+  data.measured = data.x.col(0), data.reference = data.target = Eigen::VectorXd::Zero(3);
+  data.t_s = {0.0, 1.0, 2.0};
+  const AveragingBias b = averaging_bias(Quadratic(), data, d, 1.0);
+  double largest = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double s_w = dps_to_radps(d.inputs[0].sd[static_cast<std::size_t>(i)]), s_t = d.inputs[1].sd[static_cast<std::size_t>(i)];
+    largest = std::max(largest, radps_to_dph(Quadratic::a * s_w * s_w + Quadratic::c * s_t * s_t));
+  }
+  EXPECT_NEAR(b.largest_dph, largest, 1e-9 * largest);
+  EXPECT_EQ(b.blocks, 3u);
+  EXPECT_DOUBLE_EQ(b.threshold_dph, 0.1);
+  EXPECT_EQ(b.blocks_over, 2u);  // the third block's rate does not move: its bias is c 0.2^2, far below 0.1 deg/h
+  EXPECT_THAT(b.statement(), ::testing::HasSubstr("in 2 of 3 blocks"));
 }
 
 }  // namespace
