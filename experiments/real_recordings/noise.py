@@ -41,7 +41,7 @@ def kalibr_to_recording(gyrosid, work, unit):
     subprocess.run([sys.executable, os.path.join(realdata(), "tools", "convert_imudata.py"),
                     os.path.join(realdata(), "imudata", "adis_16405_imu%d.rda" % unit), "adis_16405_imu%d" % unit, kalibr, "kalibr"],
                    check=True, capture_output=True)
-    run_timed([gyrosid, "import", "--format", "kalibr", "--input", kalibr, "--stationary", "--temp-c", "25", "--out", rec])  # a placeholder: allan never reads it
+    run_timed([gyrosid, "import", "--format", "kalibr", "--input", kalibr, "--stationary", "--out", rec])  # no thermometer: no temp_c
     os.remove(kalibr)
     return rec
 

@@ -21,7 +21,7 @@ void register_import(CLI::App& app, Action& action) {
   cmd->add_option("--format", o->format, "kalibr, euroc, ros, imu_tk, ulog or rosbag")->capture_default_str();
   cmd->add_option("--input", o->import.input, "The log (imu_tk: the gyro file)")->required();
   cmd->add_option("--accel-input", o->import.accel_input, "imu_tk: the accelerometer file (same time stamps)");
-  auto* temp = cmd->add_option("--temp-c", o->temp_c, "Temperature to record: required unless the log has one (ulog sensor_gyro); replaces the log's if given");
+  auto* temp = cmd->add_option("--temp-c", o->temp_c, "Temperature to record (deg C): replaces the log's if given; a log without one (all but ulog sensor_gyro) and no --temp-c gives a recording without temp_c, which noise work (allan, explain) reads and calibrate refuses");
   cmd->add_flag("--stationary", o->import.stationary, "The IMU did not move: the true rate is written as zero");
   cmd->add_option("--topic", o->import.topic, "rosbag: the sensor_msgs/Imu topic; ulog: sensor_gyro or sensor_combined (default: sensor_gyro if logged)");
   cmd->add_option("--instance", o->import.instance, "ulog: the topic's instance (multi_id), one per gyro")->capture_default_str();
@@ -43,7 +43,7 @@ void register_import(CLI::App& app, Action& action) {
       "(--stationary, --temp-c) and says so in the metadata, with the median sample_rate_hz and whether the sampling\n"
       "is uniform. Times are the log's integer stamps less the first, exactly. The import streams (bounded memory).\n"
       "Examples:\n"
-      "  gyrosid import --format euroc --input mav0/imu0/data.csv --stationary --temp-c 22 --out static.csv\n"
+      "  gyrosid import --format euroc --input mav0/imu0/data.csv --stationary --out static.csv     # no thermometer: no temp_c\n"
       "  gyrosid import --format kalibr --input imu0.csv --stationary --temp-c 22 --out static.csv\n"
       "  gyrosid import --format ros --input imu.csv --stationary --temp-c 22 --out static.csv\n"
       "  gyrosid import --format imu_tk --input xsens_gyro.mat --accel-input xsens_acc.mat \\\n"

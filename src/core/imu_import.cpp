@@ -19,18 +19,9 @@ namespace gyrosid {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-bool has_own_temperature(ImuLogFormat f) { return f == ImuLogFormat::ulog; }
-
-}  // namespace
-
 std::string ImuImportOptions::validate() const {
   if (input.empty()) return "an input log is required (--input)";
   if (temp_c && !std::isfinite(*temp_c)) return "--temp-c must be finite";
-  if (!temp_c && !has_own_temperature(format)) {
-    return str_cat("a ", to_string(format), " log records no temperature: give the temperature to record (--temp-c)");
-  }
   if (!stationary) {
     return "the log records no true rate, which a recording needs: if the IMU did not move, say so (--stationary: "
            "the true rate is written as zero and the metadata say so); a moving log needs a reference from elsewhere";
@@ -60,7 +51,8 @@ namespace {
 class RowWriter {
  public:
   RowWriter(std::ostream& out, const ImuLogReader& reader, std::optional<double> temp_c)
-      : out_(out), reader_(reader), temp_c_(temp_c), tps_(reader.info().ticks_per_second) {}
+      : out_(out), reader_(reader), temp_c_(temp_c), with_temp_(temp_c || reader.info().has_temperature),
+        tps_(reader.info().ticks_per_second) {}
 
   void add(const ImuLogSample& s);
   void flush() {
@@ -71,7 +63,8 @@ class RowWriter {
   std::int64_t first_stamp() const { return first_; }
   const StepHistogram& steps() const { return steps_; }
   std::string header() const {
-    std::string h = "t_s,ref_rate_x_dps,ref_rate_y_dps,ref_rate_z_dps,gyro_x_dps,gyro_y_dps,gyro_z_dps,temp_c";
+    std::string h = "t_s,ref_rate_x_dps,ref_rate_y_dps,ref_rate_z_dps,gyro_x_dps,gyro_y_dps,gyro_z_dps";
+    if (with_temp_) h += ",temp_c";
     return reader_.info().has_accel ? h + ",accel_x_mps2,accel_y_mps2,accel_z_mps2" : h;
   }
 
@@ -85,6 +78,7 @@ class RowWriter {
   std::ostream& out_;
   const ImuLogReader& reader_;
   std::optional<double> temp_c_;
+  bool with_temp_;  // a temperature is known (the log's or --temp-c); otherwise the recording has no temp_c
   std::int64_t tps_;
   std::string buffer_;
   std::uint64_t rows_ = 0;
@@ -105,14 +99,14 @@ void RowWriter::add(const ImuLogSample& s) {
     if (!std::isfinite(s.gyro_radps[k])) fail(reader_.where(s.location), ": gyro ", axes[k], " is ", format_number(s.gyro_radps[k]), " (a recording's gyro must be finite)");
   }
   const double temp = temp_c_ ? *temp_c_ : s.temp_c;
-  if (!std::isfinite(temp)) {
+  if (with_temp_ && !std::isfinite(temp)) {
     fail(reader_.where(s.location), ": the temperature (", reader_.info().temperature_source, ") is ", format_number(temp),
          "; give --temp-c to record a constant instead");
   }
   append_ticks_as_seconds(buffer_, since_first, tps_);
   buffer_ += ",0,0,0";
   for (std::size_t k = 0; k < 3; ++k) number(units::radps_to_dps(s.gyro_radps[k]));
-  number(temp);
+  if (with_temp_) number(temp);
   if (reader_.info().has_accel) {
     for (std::size_t k = 0; k < 3; ++k) number(s.accel_mps2[k]);
   }
@@ -142,7 +136,9 @@ std::vector<std::pair<std::string, std::string>> metadata(const ImuImportOptions
   m.emplace_back("sampling", sampling.description);
   m.emplace_back("time", str_cat("t_s is ", info.time_source, " less the first (", w.first_stamp(), "), exactly"));
   m.emplace_back("reference", "stationary (true rate written as zero; Earth rate not removed)");
-  if (!o.temp_c) {
+  if (!o.temp_c && !info.has_temperature) {
+    m.emplace_back("temperature", "none: the log records none and none was given (--temp-c); commands that need one refuse the recording");
+  } else if (!o.temp_c) {
     m.emplace_back("temperature", "from the log: " + info.temperature_source);
   } else if (info.has_temperature) {
     m.emplace_back("temperature", str_cat("given: ", format_number(*o.temp_c), " C (replaces the log's ", info.temperature_source, ")"));
@@ -176,9 +172,6 @@ std::unique_ptr<ImuLogReader> open_reader(const ImuImportOptions& o, std::istrea
 
 ImportResult import_rows(ImuLogReader& reader, const ImuImportOptions& o, std::ostream& rows, std::uint64_t total_bytes) {
   if (const std::string p = o.validate(); !p.empty()) fail("import: ", p);
-  if (!o.temp_c && !reader.info().has_temperature) {
-    fail(o.input, ": the data read (", reader.info().time_source, ") come with no temperature: give the temperature to record (--temp-c)");
-  }
   RowWriter w(rows, reader, o.temp_c);
   std::optional<Progress> progress;
   if (total_bytes > 0) progress.emplace(str_cat("import ", o.input), total_bytes);
