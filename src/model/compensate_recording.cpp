@@ -52,9 +52,6 @@ CompensatedRecording compensate_triad_recording(const TriadModel& model, Recordi
   return out;
 }
 
-}  // namespace gyrosid
-
-namespace gyrosid {
 namespace {
 
 // The single-gyro recording a model reads, from rows of a recording with columns `names`: the gyro's
