@@ -87,8 +87,6 @@ NoiseModel given_noise_model(const BayesFitOptions& o, double dt, double y_scale
 
 namespace {
 
-constexpr double kLog2Pi = 1.8378770664093454836;
-
 // Sample times, their typical interval and the runs without gaps (for the Allan fit of the noise).
 struct TimeAxis {
   std::vector<double> t_s;

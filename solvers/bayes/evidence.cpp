@@ -12,8 +12,6 @@
 namespace gyrosid {
 namespace {
 
-constexpr double kLog2Pi = 1.8378770664093454836;
-
 // Rows per block of the Gram products: fixed, so sums are bit-identical whatever the thread count.
 constexpr Eigen::Index kGramBlock = 2048;
 

@@ -30,6 +30,8 @@
 
 namespace gyrosid {
 
+inline constexpr double kLog2Pi = 1.8378770664093454836;  // log(2 pi), of every Gaussian log density
+
 // Precision bounds keep the eigen-solution meaningful: alpha / beta above round-off of S's largest
 // eigenvalue, and beta below the scale at which E_D is round-off (targets have unit RMS).
 struct EvidenceBounds {

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/stats.h"
+#include "core/triad_axes.h"
 
 namespace gyrosid {
 
@@ -22,7 +23,6 @@ nlohmann::json CouplingTest::json() const {
 }
 
 CouplingTest coupling_test(const TriadFit& joint, const TriadFit& sequential, double level) {
-  static constexpr const char* kAxes[] = {"x", "y", "z"};
   std::vector<int> at;  // vec(M) indices 3 i + j
   CouplingTest t;
   t.level = level;
@@ -33,7 +33,7 @@ CouplingTest coupling_test(const TriadFit& joint, const TriadFit& sequential, do
       if (!joint.uncertainty.misalignment_known[ai][aj] || !sequential.uncertainty.misalignment_known[ai][aj]) continue;
       if (!std::isfinite(cov(3 * i + j, 3 * i + j))) continue;
       at.push_back(3 * i + j);
-      t.entries.push_back(std::string("M_") + kAxes[i] + kAxes[j]);
+      t.entries.push_back(std::string("M_") + kTriadAxes[i] + kTriadAxes[j]);
     }
   }
   if (at.empty()) fail("triad: estimation=auto: no entry of M was determined (with a covariance) by both the joint and the sequential fit");

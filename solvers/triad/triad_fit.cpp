@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/recording.h"
 #include "core/stats.h"
+#include "core/triad_axes.h"
 #include "core/units.h"
 #include "model/classical_model.h"
 #include "model/gaussian_node.h"
@@ -128,8 +129,6 @@ std::string TriadFitOptions::validate() const {
 }
 
 namespace {
-
-constexpr const char* kAxes[] = {"x", "y", "z"};
 
 // One solve of the triad problem: entries the data do not determine held at nominal, the back-end run, the
 // covariance at the solution.
@@ -260,7 +259,7 @@ TriadUncertainty uncertainty_of(const Stage& s, bool g_sensitivity, double max_s
       u.misalignment_inflation(i, j) = inflation;
       bool known = !is_fixed(s.problem, s.layout.misalignment[ai], j);
       if (known && !(sigma <= max_sigma)) {  // NaN: no covariance - not a measurement either
-        notes.push_back(str_cat("M_", kAxes[i], kAxes[j], ": sigma ", sigma, " exceeds max_sigma ", max_sigma, " (or could not be computed) - reported as not determined, compensated with 0"));
+        notes.push_back(str_cat("M_", kTriadAxes[i], kTriadAxes[j], ": sigma ", sigma, " exceeds max_sigma ", max_sigma, " (or could not be computed) - reported as not determined, compensated with 0"));
         known = false;
         model.misalignment(i, j) = 0.0;
       }
@@ -279,7 +278,7 @@ TriadUncertainty uncertainty_of(const Stage& s, bool g_sensitivity, double max_s
       (*u.g_sensitivity_sigma)(i, j) = sigma;
       bool known = !is_fixed(s.problem, s.layout.g_sensitivity[ai], j);
       if (known && !(sigma <= max_sigma)) {
-        notes.push_back(str_cat("G_", kAxes[i], kAxes[j], ": sigma ", sigma, " rad/s per m/s^2 exceeds max_sigma - reported as not determined"));
+        notes.push_back(str_cat("G_", kTriadAxes[i], kTriadAxes[j], ": sigma ", sigma, " rad/s per m/s^2 exceeds max_sigma - reported as not determined"));
         known = false;
         (*model.g_sensitivity)(i, j) = 0.0;
       }
@@ -352,7 +351,7 @@ std::shared_ptr<const CalibrationModel> fit_scale_factor_network(const TriadData
   const std::vector<Eigen::Index> rows = turning_rows(at.gyro, a, min_rate_dps);
   constexpr std::size_t kMinRows = 20;
   if (rows.size() < kMinRows) {
-    fail("triad: rbf_form=scale_factor: gyro ", kAxes[a], " turns at ", min_rate_dps, " deg/s or more on ", rows.size(),
+    fail("triad: rbf_form=scale_factor: gyro ", kTriadAxes[a], " turns at ", min_rate_dps, " deg/s or more on ", rows.size(),
          " samples - too few to fit its scale factor (rbf_min_rate_dps, or rbf_form=error)");
   }
   TriadData turning;
@@ -363,7 +362,7 @@ std::shared_ptr<const CalibrationModel> fit_scale_factor_network(const TriadData
   Eigen::VectorXd relative(turning.size());
   for (Eigen::Index r = 0; r < turning.size(); ++r) relative(r) = error(rows[static_cast<std::size_t>(r)]) / turning.gyro(r, a);
   CalibrationResult fitted = calibrate(axis_recording(turning, a, &relative), request);
-  stages.push_back({{"stage", str_cat("surface ", kAxes[a], " (relative error on ", rows.size(), " turning samples)")}, {"summary", fitted.summary}});
+  stages.push_back({{"stage", str_cat("surface ", kTriadAxes[a], " (relative error on ", rows.size(), " turning samples)")}, {"summary", fitted.summary}});
   const auto* net = dynamic_cast<const RbfNetwork*>(fitted.model.get());
   if (!net) fail("triad: rbf_form=scale_factor needs an RBF network from surface_solver '", request.solver, "'");
   auto scaled = std::make_shared<RbfNetwork>(*net);
@@ -392,7 +391,7 @@ std::array<std::shared_ptr<const CalibrationModel>, 3> fit_surfaces(const TriadD
       continue;
     }
     CalibrationResult r = calibrate(axis_recording(at, a, &error), request);
-    stages.push_back({{"stage", str_cat("surface ", kAxes[a])}, {"summary", r.summary}});
+    stages.push_back({{"stage", str_cat("surface ", kTriadAxes[a])}, {"summary", r.summary}});
     out[static_cast<std::size_t>(a)] = std::move(r.model);
   }
   return out;

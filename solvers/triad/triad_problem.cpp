@@ -5,11 +5,11 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/triad_axes.h"
 
 namespace gyrosid {
 namespace {
 
-constexpr const char* kAxes[] = {"x", "y", "z"};
 constexpr int kRowsPerBlock = 256;
 
 // Rows [begin, end) of one gyro: r = A theta_linear + sum_nodes - y (linear blocks in A's column order,
@@ -174,7 +174,7 @@ NlsProblem build_triad_problem(const TriadData& d, const TriadRows& rows, const 
   layout = TriadLayout{};
   for (int i = 0; i < 3; ++i) {
     const auto ai = static_cast<std::size_t>(i);
-    const std::string ax = kAxes[i];
+    const std::string ax = kTriadAxes[i];
     layout.misalignment[ai] = p.add_block("misalignment_" + ax, row_of(spec.start.misalignment, i),
                                           {"M_" + ax + "x", "M_" + ax + "y", "M_" + ax + "z"});
     std::vector<double> b(static_cast<std::size_t>(spec.bias_order + 1), 0.0);

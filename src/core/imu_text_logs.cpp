@@ -8,6 +8,7 @@
 #include "core/blank_trim.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "core/triad_axes.h"
 #include "core/units.h"
 
 namespace gyrosid {
@@ -84,18 +85,16 @@ struct ColumnRole {
   std::vector<std::string> units;
 };
 
-constexpr std::array<const char*, 3> kAxes{"x", "y", "z"};
-
 std::vector<ColumnRole> roles(CsvImuDialect d) {
   std::vector<ColumnRole> r;
   const bool ros = d == CsvImuDialect::ros;
   r.push_back({"time", {ros ? "%time" : "timestamp"}, {"", "ns"}});
-  for (const char* a : kAxes) {
+  for (const char* a : kTriadAxes) {
     r.push_back({str_cat("gyro ", a), ros ? std::vector<std::string>{str_cat("field.angular_velocity.", a)}
                                           : std::vector<std::string>{str_cat("omega_", a), str_cat("w_RS_S_", a)},
                  {"", "rad s^-1", "rad/s"}});
   }
-  for (const char* a : kAxes) {
+  for (const char* a : kTriadAxes) {
     r.push_back({str_cat("accel ", a), ros ? std::vector<std::string>{str_cat("field.linear_acceleration.", a)}
                                            : std::vector<std::string>{str_cat("alpha_", a), str_cat("a_RS_S_", a)},
                  {"", "m s^-2", "m/s^2"}});
@@ -245,7 +244,7 @@ bool ImuTkReader::row(LineSource& lines, std::int64_t& ns, std::array<double, 3>
   ns = *t;
   for (std::size_t k = 0; k < 3; ++k) {
     const auto v = parse_double(cells_[k + 1]);
-    if (!v) fail(here, ": column ", k + 2, " (", kAxes[k], "): '", cells_[k + 1], "' is not a number");
+    if (!v) fail(here, ": column ", k + 2, " (", kTriadAxes[k], "): '", cells_[k + 1], "' is not a number");
     counts[k] = *v;
   }
   return true;

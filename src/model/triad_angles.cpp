@@ -5,12 +5,12 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/triad_axes.h"
 #include "sensor/misalignment.h"
 
 namespace gyrosid {
 namespace {
 
-constexpr const char* kAxes[] = {"x", "y", "z"};
 // Thesis names per gyro: IA->RA (phi, theta, psi), insertion (mu, eta, xi); each with _x and _y.
 constexpr const char* kIa[] = {"phi", "theta", "psi"};
 constexpr const char* kInsertion[] = {"mu", "eta", "xi"};
@@ -56,7 +56,7 @@ AngleObservability analyse_angles(const std::array<std::array<bool, 3>, 3>& know
     for (int j = 0; j < 3; ++j) {
       if (i == j) continue;
       AngleObservability::Combination c;
-      c.entry = str_cat("M_", kAxes[i], kAxes[j]);
+      c.entry = str_cat("M_", kTriadAxes[i], kTriadAxes[j]);
       for (int k = 0; k < 12; ++k) {
         const double v = a(i * 3 + j, k);
         if (v == 0) continue;

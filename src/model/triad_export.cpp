@@ -9,12 +9,11 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/triad_axes.h"
 #include "core/units.h"
 
 namespace gyrosid {
 namespace {
-
-constexpr const char* kAxes[] = {"x", "y", "z"};
 
 std::string hex(double v) {
   std::ostringstream s;
@@ -63,7 +62,7 @@ void export_triad_c(const TriadModel& model, const std::filesystem::path& dir, c
   c << "/* G, rad/s per m/s^2. */\n" << c_matrix(prefix + "_g", model.g_sensitivity.value_or(Eigen::Matrix3d::Zero()));
   for (int a = 0; a < 3; ++a) {
     const Eigen::VectorXd& b = model.bias.coefficients[static_cast<std::size_t>(a)];
-    c << "static const double " << prefix << "_bias_" << kAxes[a] << "[" << b.size() << "] = {";
+    c << "static const double " << prefix << "_bias_" << kTriadAxes[a] << "[" << b.size() << "] = {";
     for (Eigen::Index k = 0; k < b.size(); ++k) c << (k ? ", " : "") << hex(b(k));
     c << "};\n";
   }
@@ -71,11 +70,11 @@ void export_triad_c(const TriadModel& model, const std::filesystem::path& dir, c
   for (int a = 0; a < 3; ++a) {
     const auto& s = model.surfaces[static_cast<std::size_t>(a)];
     if (!s) continue;
-    if (s->features() != default_features()) fail("C export: the surface of gyro ", kAxes[a], " takes inputs other than measured_rate, temperature");
+    if (s->features() != default_features()) fail("C export: the surface of gyro ", kTriadAxes[a], " takes inputs other than measured_rate, temperature");
     CExport e;
-    e.prefix = prefix + "_" + kAxes[a];
+    e.prefix = prefix + "_" + kTriadAxes[a];
     s->export_c_body(e);
-    c << "\n/* Surface of gyro " << kAxes[a] << " (" << s->kind() << "), rate error in rad/s. */\n" << e.source.str();
+    c << "\n/* Surface of gyro " << kTriadAxes[a] << " (" << s->kind() << "), rate error in rad/s. */\n" << e.source.str();
     surface_calls += str_cat("  x[0] = gyro_radps[", a, "]; x[1] = temp_c[", a, "]; r[", a, "] -= ", e.prefix, "_predict(x);\n");
   }
   c << "\nstatic double " << prefix << "_poly(const double* c, int n, double v) {\n  double s = 0.0;\n  int i;\n"
@@ -141,7 +140,7 @@ std::string kalibr_imu_yaml(const TriadModel& model, const KalibrExportInfo& inf
   y << "# Not representable in Kalibr's model (apply them before Kalibr's, or use the C99 export):\n";
   for (int a = 0; a < 3; ++a) {
     const Eigen::VectorXd& c = model.bias.coefficients[static_cast<std::size_t>(a)];
-    y << "#   gyro " << kAxes[a] << " bias b(T) = sum_k c_k ((T - " << model.bias.reference_c << " C) / " << model.bias.scale_c << " C)^k, c [deg/h] = [";
+    y << "#   gyro " << kTriadAxes[a] << " bias b(T) = sum_k c_k ((T - " << model.bias.reference_c << " C) / " << model.bias.scale_c << " C)^k, c [deg/h] = [";
     for (Eigen::Index i = 0; i < c.size(); ++i) y << (i ? ", " : "") << units::radps_to_dph(c(i));
     y << "]" << (model.surfaces[static_cast<std::size_t>(a)] ? str_cat("; error surface e(T, g): ", model.surfaces[static_cast<std::size_t>(a)]->kind(), " model") : "") << "\n";
   }

@@ -7,17 +7,16 @@
 #include <limits>
 
 #include "core/error.h"
+#include "core/triad_axes.h"
 #include "core/units.h"
 
 namespace gyrosid {
 namespace {
 
-constexpr const char* kAxes[] = {"x", "y", "z"};
-
 Eigen::MatrixX3d columns(const Recording& rec, const std::string& prefix, const std::string& suffix, double scale) {
   Eigen::MatrixX3d m(static_cast<Eigen::Index>(rec.rows()), 3);
   for (int a = 0; a < 3; ++a) {
-    const auto& c = rec.column(prefix + kAxes[a] + suffix);
+    const auto& c = rec.column(prefix + kTriadAxes[a] + suffix);
     for (std::size_t k = 0; k < c.size(); ++k) m(static_cast<Eigen::Index>(k), a) = c[k] * scale;
   }
   return m;
@@ -76,7 +75,7 @@ TriadData make_triad_data(const Recording& rec) {
 }
 
 Recording axis_recording(const TriadData& d, int axis, const Eigen::VectorXd* error) {
-  Recording rec(str_cat("<triad gyro ", kAxes[axis], ">"));
+  Recording rec(str_cat("<triad gyro ", kTriadAxes[axis], ">"));
   const auto n = static_cast<std::size_t>(d.size());
   std::vector<double> gyro(n), temp(n), ref(n);
   for (std::size_t k = 0; k < n; ++k) {
@@ -105,7 +104,7 @@ Eigen::MatrixX3d TriadModel::surface_errors(const TriadData& data) const {
   for (int a = 0; a < 3; ++a) {
     const auto& s = surfaces[static_cast<std::size_t>(a)];
     if (!s) continue;
-    if (s->target() != ModelTarget::error) fail("triad model: the surface of gyro ", kAxes[a], " must model the rate error (target error)");
+    if (s->target() != ModelTarget::error) fail("triad model: the surface of gyro ", kTriadAxes[a], " must model the rate error (target error)");
     e.col(a) = s->predict(make_dataset(axis_recording(data, a), s->features(), ModelTarget::error));
   }
   return e;
@@ -142,7 +141,7 @@ nlohmann::json triad_model_json(const TriadModel& m, const std::array<std::array
   nlohmann::json surfaces = nlohmann::json::object();
   for (int a = 0; a < 3; ++a) {
     const auto& s = m.surfaces[static_cast<std::size_t>(a)];
-    surfaces[kAxes[a]] = s ? s->to_json() : nlohmann::json(nullptr);
+    surfaces[kTriadAxes[a]] = s ? s->to_json() : nlohmann::json(nullptr);
   }
   return {{"format", kModelFormat},
           {"kind", kTriadModelKind},
@@ -169,7 +168,7 @@ TriadModel triad_model_from_json(const nlohmann::json& j, const std::string& sou
     if (!c.is_array() || c.size() != 3) fail(source, ": bias.coefficients_dph must hold one list per gyro (x, y, z)");
     for (int a = 0; a < 3; ++a) {
       const auto v = c[static_cast<std::size_t>(a)].get<std::vector<double>>();
-      if (v.empty()) fail(source, ": bias.coefficients_dph of gyro ", kAxes[a], " is empty");
+      if (v.empty()) fail(source, ": bias.coefficients_dph of gyro ", kTriadAxes[a], " is empty");
       Eigen::VectorXd& out = m.bias.coefficients[static_cast<std::size_t>(a)];
       out.resize(static_cast<Eigen::Index>(v.size()));
       for (std::size_t k = 0; k < v.size(); ++k) out(static_cast<Eigen::Index>(k)) = units::dph_to_radps(v[k]);
@@ -179,10 +178,10 @@ TriadModel triad_model_from_json(const nlohmann::json& j, const std::string& sou
     }
     const auto& s = j.at("surfaces");
     for (int a = 0; a < 3; ++a) {
-      const auto& sj = s.at(kAxes[a]);
+      const auto& sj = s.at(kTriadAxes[a]);
       if (sj.is_null()) continue;
-      std::shared_ptr<const CalibrationModel> surface = model_from_json(sj, str_cat(source, ": surfaces.", kAxes[a]));
-      if (surface->target() != ModelTarget::error) fail(source, ": surfaces.", kAxes[a], " must model the rate error (target error)");
+      std::shared_ptr<const CalibrationModel> surface = model_from_json(sj, str_cat(source, ": surfaces.", kTriadAxes[a]));
+      if (surface->target() != ModelTarget::error) fail(source, ": surfaces.", kTriadAxes[a], " must model the rate error (target error)");
       m.surfaces[static_cast<std::size_t>(a)] = std::move(surface);
     }
     return m;

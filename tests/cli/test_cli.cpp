@@ -20,6 +20,7 @@
 #include "core/recording.h"
 #include "core/units.h"
 #include "solvers/hand_turn_session.h"
+#include "read_file.h"
 
 namespace gyrosid {
 namespace {
@@ -43,12 +44,8 @@ Result run(const std::string& args) {
   return {WEXITSTATUS(status), out};
 }
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing_support::read_json;
+using testing_support::read_text;
 
 class Cli : public ::testing::Test {
  protected:
@@ -178,8 +175,6 @@ TEST_F(Cli, BadInputsAreClearErrorsAndLeaveNothingBehind) {
   EXPECT_NE(r.status, 0);
   EXPECT_THAT(r.output, HasSubstr("--out is required"));
 }
-
-nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(read_text(p)); }
 
 // simulate -> calibrate -> compensate -> surface -> export: each step reads what the previous one wrote.
 TEST_F(Cli, CalibrationChainOnNoiseFreeDataBeatsTheRawGyroByOrdersOfMagnitude) {

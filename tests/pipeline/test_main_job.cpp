@@ -10,16 +10,14 @@
 #include "core/error.h"
 #include "pipeline/main_job.h"
 #include "error_of.h"
+#include "read_file.h"
 
 namespace gyrosid {
 namespace {
 
 namespace fs = std::filesystem;
 
-nlohmann::json read_json(const fs::path& p) {
-  std::ifstream in(p);
-  return nlohmann::json::parse(in);
-}
+using testing_support::read_json;
 
 TEST(MainJob, InProcessEqualsTheCommandAndRanksTheRbfFirst) {
   const fs::path dir = fs::temp_directory_path() / "gyrosid_main_job_in_process";

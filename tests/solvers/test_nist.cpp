@@ -12,6 +12,7 @@
 #include <string>
 
 #include "solvers/ceres/gaussian_sum_cost.h"
+#include "solvers/log_relative_error.h"
 
 namespace gyrosid {
 namespace {
@@ -48,11 +49,7 @@ NistProblem load(const std::string& name) {
   return p;
 }
 
-// Log relative error, the StRD accuracy measure: -log10(|estimate - certified| / |certified|).
-double lre(double estimate, double certified) {
-  const double rel = std::abs(estimate - certified) / std::abs(certified);
-  return rel == 0 ? 15.0 : -std::log10(rel);
-}
+using testing_support::lre;
 
 void solve_and_check(const std::string& name) {
   const NistProblem p = load(name);

@@ -16,6 +16,7 @@
 #include "core/random.h"
 #include "solvers/nls/nls_covariance.h"
 #include "solvers/nls/nls_solver.h"
+#include "solvers/log_relative_error.h"
 
 namespace gyrosid {
 namespace {
@@ -68,10 +69,7 @@ NlsProblem gauss1_problem(const Gauss1& g, const std::vector<double>& start) {
   return p;
 }
 
-double lre(double estimate, double certified) {
-  const double rel = std::abs(estimate - certified) / std::abs(certified);
-  return rel == 0 ? 15.0 : -std::log10(rel);
-}
+using testing_support::lre;
 
 TEST(Nls, EveryBackEndSolvesNistGauss1ToTheCertifiedValues) {
   const Gauss1 g = load_gauss1();

@@ -8,8 +8,6 @@
 namespace gyrosid::explain::effects {
 namespace {
 
-const double kRatio = units::dph_to_radps(1.0);  // deg/h per (rad/s) -> rad/s per rad/s
-
 std::string axis_of(const std::string& channel) {
   for (const char* a : {"_x_", "_y_", "_z_"}) {
     if (channel.find(a) != std::string::npos) return std::string(1, a[1]);
@@ -107,7 +105,7 @@ class CrossAxisCoupling : public Effect {
   }
   std::vector<PhysicalParameter> parameters(const Term& t, const Eigen::VectorXd& beta, const Eigen::VectorXd& sigma,
                                             const TermScaling&) const override {
-    return per_channel(t, beta, sigma, [](const std::string& c) { return "k_" + axis_of(c) + "_mrad"; }, [](double x) { return 1e3 * x * kRatio; });
+    return per_channel(t, beta, sigma, [](const std::string& c) { return "k_" + axis_of(c) + "_mrad"; }, [](double x) { return 1e3 * x * kDphPerRadps; });
   }
 };
 

@@ -4,9 +4,13 @@
 
 #include <memory>
 
+#include "core/units.h"
 #include "explain/effect.h"
 
 namespace gyrosid::explain::effects {
+
+// A coefficient fitted on residuals in deg/h per rad/s of input, as rad/s per rad/s (a dimensionless ratio).
+inline constexpr double kDphPerRadps = units::dph_to_radps(1.0);
 
 // Temperature (temperature_effects.cpp).
 std::unique_ptr<Effect> temperature_bias();

@@ -10,9 +10,8 @@
 namespace gyrosid::explain::effects {
 namespace {
 
-constexpr const char* kStatic = "the rate does not vary";
+constexpr const char* kStaticRate = "the rate does not vary";
 constexpr const char* kAbsorbed = "absorbed by the simulation's scale-factor surface over (T, omega)";
-const double kRatio = units::dph_to_radps(1.0);  // deg/h per (rad/s) -> rad/s per rad/s
 
 // k_u<j>_ppm for the rate orders, k_t<i>_u<j>_ppm_per_c<i> for the temperature ones, at the scaling's
 // reference temperature and rate scale.
@@ -22,7 +21,7 @@ std::vector<PhysicalParameter> polynomial_parameters(const Term& t, const Eigen:
   const auto& orders = t.as<ScaleFactorPolynomial>()->orders();
   for (std::size_t c = 0; c < orders.size(); ++c) {
     const auto [i, j] = orders[c];
-    const double f = 1e6 * kRatio / std::pow(sc.t_scale_c, i);
+    const double f = 1e6 * kDphPerRadps / std::pow(sc.t_scale_c, i);
     const std::string name = i == 0 ? str_cat("k_u", j, "_ppm") : str_cat("k_t", i, "_u", j, i == 1 ? "_ppm_per_c" : str_cat("_ppm_per_c", i));
     const auto k = static_cast<Eigen::Index>(c);
     out.push_back(PhysicalParameter::estimate(name, beta(k) * f, sigma(k) * f));
@@ -45,7 +44,7 @@ class Asymmetry : public Effect {
   }
   std::string_view parameters_help() const override { return "asymmetry_ppm: scale factor at positive minus at negative rates (ppm)"; }
   Proposal propose(const CandidateContext& c) const override {
-    if (!c.rate_varies) return {{}, kStatic};
+    if (!c.rate_varies) return {{}, kStaticRate};
     if (c.base_has<AsymmetryTerm>()) return {};
     const Eigen::VectorXd& w = c.in.signals.rate;
     const double floor = units::dps_to_radps(1.0);
@@ -55,7 +54,7 @@ class Asymmetry : public Effect {
   }
   std::vector<PhysicalParameter> parameters(const Term&, const Eigen::VectorXd& beta, const Eigen::VectorXd& sigma,
                                             const TermScaling&) const override {
-    return {PhysicalParameter::estimate("asymmetry_ppm", 2e6 * beta(0) * kRatio, 2e6 * sigma(0) * kRatio)};
+    return {PhysicalParameter::estimate("asymmetry_ppm", 2e6 * beta(0) * kDphPerRadps, 2e6 * sigma(0) * kDphPerRadps)};
   }
   std::string separating_experiment(std::string_view other) const override {
     if (other == "scale_factor_nonlinearity") {
@@ -75,7 +74,7 @@ class Nonlinearity : public Effect {
   }
   std::string_view parameters_help() const override { return "k_u<j>_ppm: scale-factor error per (omega / rate_scale_dps)^j (ppm)"; }
   Proposal propose(const CandidateContext& c) const override {
-    if (!c.rate_varies) return {{}, kStatic};
+    if (!c.rate_varies) return {{}, kStaticRate};
     if (c.base_has<ScaleFactorSurface>()) return {{}, kAbsorbed};
     int max_j0 = -1;
     for (const auto& [i, j] : c.sf_orders) {
@@ -106,7 +105,7 @@ class TemperatureScaleFactor : public Effect {
     return "k_t<i>_u<j>_ppm_per_c<i>: scale-factor error per (T - t_ref_c)^i (omega / rate_scale_dps)^j";
   }
   Proposal propose(const CandidateContext& c) const override {
-    if (!c.rate_varies) return {{}, kStatic};
+    if (!c.rate_varies) return {{}, kStaticRate};
     if (c.base_has<ScaleFactorSurface>()) return {{}, kAbsorbed};
     if (!c.temp_varies) return {};
     int max_i = 0;

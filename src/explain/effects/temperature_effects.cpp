@@ -9,7 +9,7 @@
 namespace gyrosid::explain::effects {
 namespace {
 
-constexpr const char* kStatic = "the temperature does not vary";
+constexpr const char* kStaticTemperature = "the temperature does not vary";
 
 class TemperatureBias : public Effect {
  public:
@@ -22,7 +22,7 @@ class TemperatureBias : public Effect {
     return "c1_dph_per_c, c2_dph_per_c2, ...: the added powers of (T - t_ref_c); t_ref_c (deg C)";
   }
   Proposal propose(const CandidateContext& c) const override {
-    if (!c.temp_varies) return {{}, kStatic};
+    if (!c.temp_varies) return {{}, kStaticTemperature};
     const int max_bias = c.bias_orders.empty() ? 0 : *c.bias_orders.rbegin();
     std::vector<int> orders;
     for (int k : {1, 2, 3, max_bias + 1, max_bias + 2}) {
@@ -56,7 +56,7 @@ class Shupe : public Effect {
   }
   std::string_view parameters_help() const override { return "k_dph_per_cpm: bias per coil-temperature rate, (deg/h) per (deg C/min)"; }
   Proposal propose(const CandidateContext& c) const override {
-    if (!c.temp_varies) return {{}, kStatic};
+    if (!c.temp_varies) return {{}, kStaticTemperature};
     if (c.base_has<ShupeTerm>()) return {};
     return {{candidate(shupe_term())}, ""};
   }
@@ -89,7 +89,7 @@ class ThermalLag : public Effect {
   }
   std::string_view parameters_help() const override { return "tau_s: the first-order time constant from probe to coil (s)"; }
   Proposal propose(const CandidateContext& c) const override {
-    if (!c.temp_varies) return {{}, kStatic};
+    if (!c.temp_varies) return {{}, kStaticTemperature};
     const bool target = std::any_of(c.base.begin(), c.base.end(), [](const Term& t) {
       const auto* sf = t.as<ScaleFactorPolynomial>();
       return t.as<TemperaturePolynomial>() ||
@@ -129,7 +129,7 @@ class ThermalHysteresis : public Effect {
            "between the branches after a reversal (C)";
   }
   Proposal propose(const CandidateContext& c) const override {
-    if (!c.temp_varies) return {{}, kStatic};
+    if (!c.temp_varies) return {{}, kStaticTemperature};
     if (c.base_has<HysteresisTerm>()) return {};
     const Eigen::VectorXd branch = thermal_branch(c.in.signals, coil_temperature(c.in.signals, c.base_lag_tau_s), TermScaling{});
     if (!((branch.array() > 0).any() && (branch.array() < 0).any())) return {{}, "the recording has no pair of heating and cooling branches"};
