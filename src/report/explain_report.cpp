@@ -221,6 +221,8 @@ std::string report_markdown(const ExplainResult& r) {
 }
 
 // residuals.csv's heldout column: 0 training, 1 held out (confirms), 2 held out outside the training support.
+// Its heldout_scored column is 1 on exactly the rows the held-out proof scores (ExplainInput::confirms): the
+// held-out rms in explain.json and each effect's held-out gain are sums over those rows.
 int heldout_code(const explain::ExplainInput& in, Eigen::Index i) {
   if (!in.heldout[static_cast<std::size_t>(i)]) return 0;
   return in.confirms(i) ? 1 : 2;
@@ -231,10 +233,11 @@ int heldout_code(const explain::ExplainInput& in, Eigen::Index i) {
 void write_explain_outputs(const ExplainResult& r, const std::filesystem::path& dir) {
   write_file_atomic(dir / "explain.json", to_json(r.summary).dump(2) + "\n");
   write_file_atomic(dir / "residuals.csv", [&](std::ostream& out) {
-    out << "t_s,residual_before_dph,residual_after_dph,heldout\n";
+    out << "t_s,residual_before_dph,residual_after_dph,heldout,heldout_scored\n";
     for (Eigen::Index i = 0; i < r.input.size(); ++i) {
       out << format_number(r.input.signals.t_s[static_cast<std::size_t>(i)]) << ',' << format_number(r.residual_before_dph(i)) << ','
-          << format_number(r.residual_after_dph(i)) << ',' << heldout_code(r.input, i) << '\n';
+          << format_number(r.residual_after_dph(i)) << ',' << heldout_code(r.input, i) << ','
+          << (r.input.confirms(i) ? 1 : 0) << '\n';
     }
   });
   save_model(dir / "model.json", *r.model, {{"training", {{"recording", r.input.source}, {"explain", r.summary.simulation}}}});

@@ -271,8 +271,21 @@ TEST_F(Cli, ExplainWritesItsContract) {
   for (const char* key : {"rms_before_dph", "rms_after_dph", "heldout_rms_before_dph", "heldout_rms_after_dph"}) EXPECT_TRUE(j["fit"].contains(key)) << key;
   EXPECT_LT(j["fit"]["heldout_rms_after_dph"].get<double>(), j["fit"]["heldout_rms_before_dph"].get<double>());
   const std::string residuals = read_text(dir_ / "why" / "residuals.csv");
-  EXPECT_EQ(residuals.substr(0, residuals.find('\n')), "t_s,residual_before_dph,residual_after_dph,heldout");
+  EXPECT_EQ(residuals.substr(0, residuals.find('\n')), "t_s,residual_before_dph,residual_after_dph,heldout,heldout_scored");
   EXPECT_EQ(static_cast<std::size_t>(std::count(residuals.begin(), residuals.end(), '\n')), read_recording(path("rec.csv")).rows() + 1);
+  // heldout_scored marks the rows the held-out proof scores: their rms is explain.json's held-out rms, and
+  // every one of them is held out.
+  std::istringstream rows(residuals.substr(residuals.find('\n') + 1));
+  double ss = 0.0, t = 0.0, before = 0.0, after = 0.0;
+  int n = 0, held = 0, scored = 0;
+  char comma = 0;
+  while (rows >> t >> comma >> before >> comma >> after >> comma >> held >> comma >> scored) {
+    ASSERT_TRUE(scored == 0 || (scored == 1 && held > 0)) << "t_s " << t;
+    if (scored == 1) ss += after * after, ++n;
+  }
+  EXPECT_TRUE(rows.eof());
+  ASSERT_GT(n, 0);
+  EXPECT_NEAR(std::sqrt(ss / n), j["fit"]["heldout_rms_after_dph"].get<double>(), 1e-6 * j["fit"]["heldout_rms_after_dph"].get<double>());
   for (const char* png : {"residual_time.png", "residual_grid.png", "correlations.png", "allan.png", "report.md"}) {
     EXPECT_TRUE(fs::exists(dir_ / "why" / png)) << png;
   }
