@@ -174,7 +174,7 @@ TEST(GyroSensor, ReferenceSensorConfigLoadsWithTheThesisFigures) {
     for (double w = -100; w <= 100; w += 1) {
       GyroErrorModel sf_only;
       sf_only.scale_factor_surface = g.errors.scale_factor_surface;
-      peak = std::max(peak, std::abs(radps_to_dps(sf_only.forward(dps_to_radps(w), {t, 0, {}}) - dps_to_radps(w))));
+      peak = std::max(peak, std::abs(radps_to_dps(sf_only.forward(dps_to_radps(w), {t, 0}) - dps_to_radps(w))));
     }
   EXPECT_GT(peak, 0.08);
   EXPECT_LT(peak, 0.12);
