@@ -8,6 +8,7 @@
 #include "core/format.h"
 #include "core/progress.h"
 #include "core/recording_reader.h"
+#include "core/sample_timing.h"
 #include "core/units.h"
 
 namespace gyrosid {
@@ -45,27 +46,19 @@ RateSeries read_rate_series(const std::filesystem::path& path, const RateSeriesR
   if (!out.subtract.empty()) sub = rate_column(reader, out.subtract);
   const auto ref = out.subtract.empty() && out.column != g.ref ? reader.find(g.ref) : std::nullopt;
   const std::size_t t_col = *reader.find("t_s");
-  double t0 = 0.0, t_last = 0.0, dt = 0.0;
+  UniformStepCheck steps(request.purpose);
   double lo = INFINITY, hi = -INFINITY;
   Progress progress("reading " + reader.source(), std::max<std::size_t>(reader.total_bytes(), 1));
   std::vector<double> row;
   while (reader.next(row)) {
     const std::size_t n = reader.rows();
-    const double t = row[t_col];
-    if (n == 1) t0 = t;
-    if (n == 2) dt = t - t0;
-    if (n > 2 && std::abs(t - t_last - dt) > 1e-4 * dt) {
-      fail(reader.source(), ":", reader.line(), ": ", request.purpose, " needs uniform sampling, but the step here is ", format_number(t - t_last),
-           " s after steps of ", format_number(dt), " s (gyrosid does not resample silently; resample the recording first)");
-    }
-    t_last = t;
+    if (const std::string e = steps.add(row[t_col]); !e.empty()) fail(reader.source(), ":", reader.line(), ": ", e);
     out.rate_dph.push_back(row[col] * scale - (out.subtract.empty() ? 0.0 : row[sub.first] * sub.second));
     if (ref) lo = std::min(lo, row[*ref] * units::kSecondsPerHour), hi = std::max(hi, row[*ref] * units::kSecondsPerHour);
     if ((n & 0xffff) == 0) progress.update(reader.bytes_read());
   }
   progress.finish();
-  if (out.rate_dph.size() < 2) fail(reader.source(), ": ", request.purpose, " needs at least two samples");
-  out.dt_s = (t_last - t0) / static_cast<double>(out.rate_dph.size() - 1);
+  out.dt_s = steps.interval(reader.source());
   if (ref) out.reference_min_dph = lo, out.reference_max_dph = hi;
   return out;
 }

@@ -11,6 +11,7 @@
 #include "core/format.h"
 #include "core/progress.h"
 #include "core/recording_reader.h"
+#include "core/sample_timing.h"
 
 namespace gyrosid {
 namespace {
@@ -205,17 +206,11 @@ void write_recording(const Recording& recording, const std::filesystem::path& pa
 
 double uniform_sample_interval(const Recording& recording, std::string_view purpose) {
   const auto& t = recording.column("t_s");
-  if (t.size() < 2) fail(recording.source(), ": ", purpose, " needs at least two samples");
-  const double dt = t[1] - t[0];
-  for (std::size_t r = 2; r < t.size(); ++r) {
-    const double step = t[r] - t[r - 1];
-    if (std::abs(step - dt) > 1e-4 * dt) {
-      fail(recording.row_location(r), ": ", purpose, " needs uniform sampling, but the step here is ",
-           format_number(step), " s after steps of ", format_number(dt),
-           " s (gyrosid does not resample silently; resample the recording first)");
-    }
+  UniformStepCheck steps{std::string(purpose)};
+  for (std::size_t r = 0; r < t.size(); ++r) {
+    if (const std::string e = steps.add(t[r]); !e.empty()) fail(recording.row_location(r), ": ", e);
   }
-  return (t.back() - t.front()) / static_cast<double>(t.size() - 1);
+  return steps.interval(recording.source());
 }
 
 double median_sample_interval(std::span<const double> t_s) {

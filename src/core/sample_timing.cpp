@@ -120,4 +120,20 @@ SamplingSummary summarize_sampling(const StepHistogram& steps, std::int64_t tick
   return s;
 }
 
+std::string UniformStepCheck::add(double t_s) {
+  ++count_;
+  if (count_ == 1) first_ = t_s;
+  if (count_ == 2) step_ = t_s - first_;
+  const double step = t_s - last_;
+  last_ = t_s;
+  if (count_ <= 2 || std::abs(step - step_) <= kUniformStepTolerance * step_) return "";
+  return str_cat(purpose_, " needs uniform sampling, but the step here is ", format_number(step), " s after steps of ", format_number(step_),
+                 " s (gyrosid does not resample silently; resample the recording first)");
+}
+
+double UniformStepCheck::interval(std::string_view source) const {
+  if (count_ < 2) fail(source, ": ", purpose_, " needs at least two samples");
+  return (last_ - first_) / static_cast<double>(count_ - 1);
+}
+
 }  // namespace gyrosid

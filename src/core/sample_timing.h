@@ -1,4 +1,4 @@
-// Times of an imported stream, exact and in bounded memory.
+// Sample times: an imported stream's, exact and in bounded memory; and the uniform-sampling rule (UniformStepCheck).
 //
 // Exact times: a log's integer stamps (ns or us) less the first are written as decimal seconds by integer
 // arithmetic, so 30 ms is "0.03", never "0.030000000000000002" (the double nearest 0.03 is what a reader gets).
@@ -7,12 +7,14 @@
 // values. While the steps take fewer values than that (real logs: a few hundred), the median and every
 // statistic below are exact; beyond it the bins are merged in pairs (the bin width doubles) as often as needed,
 // and the statistics hold to the bin width. A stream is uniform when every step is within 1e-4 of the median
-// step (relative), the tolerance of uniform_sample_interval (core/recording.h).
+// step (relative), the tolerance of UniformStepCheck below.
 #pragma once
 
 #include <cstdint>
 #include <map>
 #include <string>
+#include <string_view>
+#include <utility>
 
 namespace gyrosid {
 
@@ -46,6 +48,24 @@ class StepHistogram {
 };
 
 inline constexpr double kUniformStepTolerance = 1e-4;
+
+// The rule of every computation that needs one sample interval (the Allan deviation, a recording's noise): each
+// step within kUniformStepTolerance of the first (relative); nothing is resampled. The times are fed in order,
+// from memory (uniform_sample_interval, core/recording.h) or streamed (read_rate_series, core/rate_series.h).
+class UniformStepCheck {
+ public:
+  explicit UniformStepCheck(std::string purpose) : purpose_(std::move(purpose)) {}
+  // Takes the next time. Returns "" while the rule holds, else the error for this sample (the caller prefixes
+  // its file and line): "<purpose> needs uniform sampling, but the step here is ...".
+  std::string add(double t_s);
+  // The mean interval (last - first) / (samples - 1). Error naming `source` with fewer than two samples.
+  double interval(std::string_view source) const;
+
+ private:
+  std::string purpose_;
+  std::size_t count_ = 0;
+  double first_ = 0.0, last_ = 0.0, step_ = 0.0;
+};
 
 struct SamplingSummary {
   double rate_hz = 0.0;        // 1 / the median step (0 with fewer than two samples)

@@ -101,6 +101,39 @@ struct CompensationSums {
   }
 };
 
+// The output's columns: the input's, then compensated<suffix> and, for a model with a posterior,
+// compensated_sigma<suffix> - in place where the input has them already.
+struct OutputColumns {
+  std::vector<std::string> names;
+  std::size_t comp = 0, sigma = 0;
+  bool with_sigma = false;
+
+  OutputColumns(std::vector<std::string> input, const std::string& suffix, bool posterior) : names(std::move(input)), with_sigma(posterior) {
+    comp = index("compensated" + suffix);
+    if (with_sigma) sigma = index("compensated_sigma" + suffix);
+  }
+  std::size_t index(const std::string& name) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it != names.end()) return static_cast<std::size_t>(it - names.begin());
+    names.push_back(name);
+    return names.size() - 1;
+  }
+};
+
+// `count` rows of a row-major block of `width` input columns as recording text, the compensated rate and its
+// sigma (rad/s) written in their columns in deg/s.
+void append_compensated_rows(const std::vector<double>& rows, std::size_t width, std::size_t count, const Eigen::VectorXd& comp,
+                             const Eigen::VectorXd& sigma, const OutputColumns& cols, std::string& text) {
+  std::vector<double> values(cols.names.size());
+  for (std::size_t r = 0; r < count; ++r) {
+    std::copy(rows.begin() + static_cast<std::ptrdiff_t>(r * width), rows.begin() + static_cast<std::ptrdiff_t>((r + 1) * width), values.begin());
+    values[cols.comp] = units::radps_to_dps(comp(static_cast<Eigen::Index>(r)));
+    if (cols.with_sigma) values[cols.sigma] = units::radps_to_dps(sigma(static_cast<Eigen::Index>(r)));
+    for (std::size_t c = 0; c < values.size(); ++c) (text += c ? "," : "") += format_number(values[c]);
+    text += '\n';
+  }
+}
+
 // The compensated rate (and its sigma, models with a posterior) of a dataset, deg/s.
 void compensate_dataset(const CalibrationModel& model, const Dataset& d, Eigen::VectorXd& comp, Eigen::VectorXd& sigma) {
   comp = compensate(model, d);
@@ -114,16 +147,7 @@ CompensatedRecording compensate_file(const CalibrationModel& model, const std::f
   RecordingReader reader(input);
   const GyroColumns g = gyro_columns(reader.names(), axis, reader.source());
   const ModelColumns picks(model, reader.names(), g, reader.source());
-  const std::string suffix = g.axis.empty() ? "_dps" : "_" + g.axis + "_dps";
-  std::vector<std::string> names = reader.names();
-  const auto column_of = [&](const std::string& name) {
-    const auto it = std::find(names.begin(), names.end(), name);
-    if (it != names.end()) return static_cast<std::size_t>(it - names.begin());
-    names.push_back(name);
-    return names.size() - 1;
-  };
-  const std::size_t comp_col = column_of("compensated" + suffix);
-  const std::size_t sigma_col = model.posterior() ? column_of("compensated_sigma" + suffix) : names.size();
+  const OutputColumns cols(reader.names(), g.axis.empty() ? "_dps" : "_" + g.axis + "_dps", model.posterior() != nullptr);
   const bool pointwise = model.pointwise() && std::find(model.features().begin(), model.features().end(), "temperature_rate") == model.features().end();
   Eigen::VectorXd whole_comp, whole_sigma;  // a model with dynamics: run over the whole recording first
   if (!pointwise) {
@@ -133,7 +157,7 @@ CompensatedRecording compensate_file(const CalibrationModel& model, const std::f
   CompensationSums sums;
   Recording header(reader.source());
   for (const auto& [key, value] : reader.metadata()) header.set_meta(key, value);
-  for (const auto& name : names) header.set_column(name, {});
+  for (const auto& name : cols.names) header.set_column(name, {});
   Progress progress("compensating " + reader.source(), std::max<std::size_t>(reader.total_bytes(), 1));
   write_file_atomic(output, [&](std::ostream& out) {
     std::string text = format_recording(header);
@@ -150,14 +174,7 @@ CompensatedRecording compensate_file(const CalibrationModel& model, const std::f
       if (pointwise) compensate_dataset(model, d, comp, sigma);
       else comp = whole_comp.segment(first, count), sigma = whole_sigma.size() ? Eigen::VectorXd(whole_sigma.segment(first, count)) : Eigen::VectorXd();
       sums.add(d, comp, sigma);
-      std::vector<double> values(names.size());
-      for (std::size_t r = 0; r < count; ++r) {
-        std::copy(rows.begin() + static_cast<std::ptrdiff_t>(r * width), rows.begin() + static_cast<std::ptrdiff_t>((r + 1) * width), values.begin());
-        values[comp_col] = units::radps_to_dps(comp(static_cast<Eigen::Index>(r)));
-        if (sigma.size()) values[sigma_col] = units::radps_to_dps(sigma(static_cast<Eigen::Index>(r)));
-        for (std::size_t c = 0; c < values.size(); ++c) (text += c ? "," : "") += format_number(values[c]);
-        text += '\n';
-      }
+      append_compensated_rows(rows, width, count, comp, sigma, cols, text);
       out.write(text.data(), static_cast<std::streamsize>(text.size()));
       text.clear();
       progress.update(reader.bytes_read());
