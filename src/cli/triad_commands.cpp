@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/recording.h"
+#include "core/triad_axes.h"
 #include "core/units.h"
 #include "solvers/nls/nls_solver.h"
 #include "report/triad_json.h"
@@ -41,9 +42,8 @@ void calibrate_triad(const TriadCalibrateRequest& r) {
   const std::string estimation = o.estimation == "auto" ? "auto (" + fit.summary.details["estimation_chosen"].get<std::string>() + " returned)" : o.estimation;
   std::cout << "wrote " << r.out << ": triad model, " << estimation << ", surfaces " << o.surfaces << ", " << o.solver << " "
             << to_string(fit.summary.termination) << ", " << format_significant(fit.summary.time_s, 3) << " s\n";
-  const char* axes[] = {"x", "y", "z"};
   for (int i = 0; i < 3; ++i) {
-    std::cout << "  gyro " << axes[i] << ": M row [";
+    std::cout << "  gyro " << kTriadAxes[i] << ": M row [";
     for (int j = 0; j < 3; ++j) {
       const bool known = fit.uncertainty.misalignment_known[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
       std::cout << (j ? ", " : "")

@@ -12,6 +12,7 @@
 #include "core/progress.h"
 #include "core/recording.h"
 #include "core/rosbag_imu.h"
+#include "core/triad_axes.h"
 #include "core/ulog_reader.h"
 #include "core/units.h"
 
@@ -94,9 +95,8 @@ void RowWriter::add(const ImuLogSample& s) {
   if (rows_ == 0) first_ = s.stamp;
   if (__builtin_sub_overflow(s.stamp, first_, &since_first)) fail(reader_.where(s.location), ": time stamp ", s.stamp, " is out of range");
   if (rows_ > 0) steps_.add(step);
-  const char* axes[] = {"x", "y", "z"};
   for (std::size_t k = 0; k < 3; ++k) {
-    if (!std::isfinite(s.gyro_radps[k])) fail(reader_.where(s.location), ": gyro ", axes[k], " is ", format_number(s.gyro_radps[k]), " (a recording's gyro must be finite)");
+    if (!std::isfinite(s.gyro_radps[k])) fail(reader_.where(s.location), ": gyro ", kTriadAxes[k], " is ", format_number(s.gyro_radps[k]), " (a recording's gyro must be finite)");
   }
   const double temp = temp_c_ ? *temp_c_ : s.temp_c;
   if (with_temp_ && !std::isfinite(temp)) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/triad_axes.h"
 #include "core/units.h"
 
 namespace gyrosid {
@@ -18,11 +19,10 @@ nlohmann::json matrix(const Eigen::Matrix3d& m, const std::array<std::array<bool
 }
 
 nlohmann::json observable_json(const TriadFit& f) {
-  constexpr const char* axes[] = {"x", "y", "z"};
   nlohmann::json entries = nlohmann::json::array();
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
-      if (f.uncertainty.misalignment_known[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]) entries.push_back(std::string("M_") + axes[i] + axes[j]);
+      if (f.uncertainty.misalignment_known[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]) entries.push_back(std::string("M_") + kTriadAxes[i] + kTriadAxes[j]);
     }
   }
   nlohmann::json combinations = nlohmann::json::array();

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/triad_axes.h"
 
 namespace gyrosid {
 
@@ -23,9 +24,8 @@ std::string GyroSensor::validate() const {
 }
 
 std::string TriadSensor::validate() const {
-  const char* names[] = {"x", "y", "z"};
   for (int i = 0; i < 3; ++i) {
-    if (auto p = gyros[i].validate(); !p.empty()) return str_cat("gyro ", names[i], ": ", p);
+    if (auto p = gyros[i].validate(); !p.empty()) return str_cat("gyro ", kTriadAxes[i], ": ", p);
   }
   return thermal.validate();
 }

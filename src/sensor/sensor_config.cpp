@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/triad_axes.h"
 #include "core/units.h"
 
 namespace gyrosid {
@@ -147,12 +148,11 @@ TriadSensor load_triad(const ConfigNode& node) {
   node.allow_only({"kind", "name", "description", "gyro", "gyros", "misalignment_mrad", "thermal"});
   TriadSensor t;
   t.name = node.text("name", "triad");
-  const char* axes[] = {"x", "y", "z"};
   if (node.has("gyro") == node.has("gyros")) {
     fail(node.where(), ": a triad needs either 'gyro' (one file for all three axes) or 'gyros' {x, y, z}");
   }
   for (int i = 0; i < 3; ++i) {
-    const std::string file = node.has("gyro") ? node.text("gyro") : node["gyros"].text(axes[i]);
+    const std::string file = node.has("gyro") ? node.text("gyro") : node["gyros"].text(kTriadAxes[i]);
     const ConfigNode gyro_node = ConfigNode::load(node.resolve(file));
     if (gyro_node.text("kind", "gyro") != "gyro") fail(gyro_node.where("kind"), ": a triad axis must be kind: gyro");
     t.gyros[i] = load_gyro(gyro_node);
@@ -160,7 +160,7 @@ TriadSensor load_triad(const ConfigNode& node) {
   if (auto m = node.find("misalignment_mrad")) {
     m->allow_only({"x", "y", "z"});
     for (int i = 0; i < 3; ++i) {
-      if (auto axis = m->find(axes[i])) {
+      if (auto axis = m->find(kTriadAxes[i])) {
         axis->allow_only({"ia", "insertion"});
         const auto ia = axis->numbers("ia", {0.0, 0.0});
         const auto ins = axis->numbers("insertion", {0.0, 0.0});

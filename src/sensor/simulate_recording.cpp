@@ -4,6 +4,7 @@
 
 #include "core/atomic_file.h"
 #include "core/format.h"
+#include "core/triad_axes.h"
 #include "core/units.h"
 
 namespace gyrosid {
@@ -50,12 +51,11 @@ Recording simulate_recording(const SensorSpec& sensor, const Excitation& ex, std
   } else {
     const auto& triad = std::get<TriadSensor>(sensor);
     const TriadOutput out = simulate_triad(triad, ex, seed);
-    const char* axes[] = {"x", "y", "z"};
     for (int i = 0; i < 3; ++i) {
-      rec.set_column(std::string("ref_rate_") + axes[i] + "_dps", to_dps(component(ex.omega_ib_b, i, 1.0)));
+      rec.set_column(std::string("ref_rate_") + kTriadAxes[i] + "_dps", to_dps(component(ex.omega_ib_b, i, 1.0)));
     }
     for (int i = 0; i < 3; ++i) {
-      rec.set_column(std::string("gyro_") + axes[i] + "_dps", to_dps(out.gyro[i].rate_radps));
+      rec.set_column(std::string("gyro_") + kTriadAxes[i] + "_dps", to_dps(out.gyro[i].rate_radps));
       s.clamped_samples += out.gyro[i].clamped_samples;
       s.saturated_samples += out.gyro[i].saturated_samples;
     }
