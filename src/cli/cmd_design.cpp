@@ -19,6 +19,7 @@
 #include "report/allan_report.h"
 #include "report/design_report.h"
 #include "sensor/sensor_config.h"
+#include "sensor/sensor_prior.h"
 #include "trajectory/programme.h"
 
 namespace gyrosid::cli {
@@ -28,6 +29,7 @@ struct DesignCommand {
   double budget_min = 0.0;
   std::string model = "rbf", envelope = "short,medium,long", uniform_domain = "-20,60,100", criterion;
   std::string sensor = kDefaultSensor, solver = "nlopt", out, options_of, reference, reference_model;
+  std::string prior;  // a prior over sensors (sensor/sensor_prior.h) in place of --sensor
   std::string noise;  // an allan.json whose identified model replaces the sensor config's noise
   std::string reference_statistic = "auto";
   std::vector<std::string> set, evaluate, compare{"builtin:trajectories/dual_scan.yaml"};
@@ -38,7 +40,7 @@ struct DesignCommand {
   std::string command_line() const {
     std::string out = evaluate.empty() ? str_cat("gyrosid design --budget-min ", format_number(budget_min)) : "gyrosid design --evaluate";
     for (const auto& e : evaluate) out += " " + e;
-    out += str_cat(" --model ", model, " --envelope ", envelope, " --sensor ", sensor);
+    out += str_cat(" --model ", model, " --envelope ", envelope, prior.empty() ? " --sensor " + sensor : " --prior " + prior);
     if (!noise.empty()) out += " --noise " + noise;
     if (evaluate.empty()) out += str_cat(" --solver ", solver, " --seed ", seed);
     if (!criterion.empty()) out += " --criterion " + criterion;
@@ -101,16 +103,51 @@ void write_evaluation(const DesignCommand& c, const design::DesignContext& conte
   }
 }
 
-// The sensor config, its gyros' noise replaced by an identified model when --noise names an allan.json
-// (noise/identify.h: the noise a real recording showed, in place of the config's assumption).
-SensorSpec sensor_with_measured_noise(const DesignCommand& c) {
-  const SensorSpec sensor = load_sensor_file(c.sensor);
-  if (c.noise.empty()) return sensor;
+// The prior (--prior) or the one sensor (--sensor), every member's gyro noise replaced by an identified model
+// when --noise names an allan.json (noise/identify.h: the noise a real recording showed, in place of the
+// configs' assumption).
+SensorPrior prior_with_measured_noise(const DesignCommand& c) {
+  SensorPrior prior = load_sensor_prior(c.prior.empty() ? c.sensor : c.prior);
+  if (c.noise.empty()) return prior;
   std::string left_out;
   const NoiseOptions noise = noise_options_of(load_identified_noise(c.noise).scaled(units::dph_to_radps(1.0)), &left_out);
   if (auto problem = noise.validate(); !problem.empty()) fail(c.noise, ": ", problem);
-  std::cout << "noise: " << c.noise << " in place of " << c.sensor << "'s" << (left_out.empty() ? "" : " (without " + left_out + ")") << "\n";
-  return with_gyro_noise(sensor, noise);
+  std::cout << "noise: " << c.noise << " in place of " << prior.source << "'s" << (left_out.empty() ? "" : " (without " + left_out + ")") << "\n";
+  for (auto& m : prior.members) m.sensor = with_gyro_noise(m.sensor, noise);
+  return prior;
+}
+
+// A design for a prior of more than one sensor: every member's context beside the nominal one (the first's,
+// built by the caller), with the same envelope, model, criterion and domain.
+struct PriorContexts {
+  std::vector<std::unique_ptr<design::DesignContext>> owned;  // members 1.. (member 0 is the nominal context)
+  std::vector<design::WeightedContext> members;
+};
+
+PriorContexts prior_contexts(const SensorPrior& prior, const design::DesignContext& nominal, std::shared_ptr<const design::Envelope> envelope,
+                             const design::ModelOptions& model) {
+  PriorContexts p;
+  p.members.push_back({&nominal, prior.members.front().weight});
+  for (std::size_t k = 1; k < prior.members.size(); ++k) {
+    p.owned.push_back(std::make_unique<design::DesignContext>(prior.members[k].sensor, envelope, nominal.family(), model, nominal.criterion(), nominal.model_domain()));
+    p.members.push_back({p.owned.back().get(), prior.members[k].weight});
+  }
+  return p;
+}
+
+// The design and the compared trajectories predicted on every member of the prior.
+std::vector<PriorMemberPredictions> prior_predictions(const SensorPrior& prior, const PriorContexts& contexts, const design::DesignResult& r,
+                                                      const std::vector<std::string>& compare) {
+  std::vector<PriorMemberPredictions> out;
+  for (std::size_t k = 0; k < prior.members.size(); ++k) {
+    PriorMemberPredictions m{prior.members[k].name, prior.members[k].origin, prior.members[k].weight, r.member_predictions[k], {}};
+    for (const auto& path : compare) {
+      const TrajectorySpec spec = load_trajectory_file(path);
+      m.compared.emplace_back(spec.profile.name, design::evaluate_trajectory(*contexts.members[k].context, spec));
+    }
+    out.push_back(std::move(m));
+  }
+  return out;
 }
 
 void run_design(DesignCommand c) {
@@ -155,17 +192,23 @@ void run_design(DesignCommand c) {
   const auto fixed_statistic = auto_statistic ? design::ReferenceStatistic::posterior
                                               : parse_enum<design::ReferenceStatistic>(c.reference_statistic, "--reference-statistic");
 
-  const SensorSpec sensor = sensor_with_measured_noise(c);
+  const SensorPrior prior = prior_with_measured_noise(c);
+  if (prior.members.size() > 1 && (criterion == design::Criterion::cof_minimax || evaluating)) {
+    fail("--prior ", c.prior, ": ", evaluating ? "--evaluate" : "criterion cof_minimax", " takes one sensor, not a prior of ", prior.members.size(),
+         " (cof_minimax compares against one reference; use --criterion cof)");
+  }
+  const SensorSpec& sensor = prior.members.front().sensor;
   auto envelope = std::make_shared<const design::Envelope>(design::load_envelope(settings.envelope, as_triad(sensor)));
   settings.space.budget_min = evaluating ? 60.0 : c.budget_min;
   const design::DesignSpace space = design::design_space(*envelope, settings.space);
   design::DesignContext context(sensor, envelope, family, settings.model, criterion, design::model_domain(space));
   DesignReportInput report;
   report.command = c.command_line();
-  report.model = c.model, report.sensor = c.sensor, report.solver = c.solver;
+  report.model = c.model, report.sensor = c.prior.empty() ? c.sensor : c.prior, report.solver = c.solver;
   const std::filesystem::path dir = c.out;
   nlohmann::json provenance = {{"model", c.model}, {"sensor", c.sensor}, {"noise", c.noise}, {"envelope", c.envelope}, {"seed", c.seed},
                                {"solver", c.solver}, {"options", c.set}, {"command", c.command_line()}};
+  if (!c.prior.empty()) provenance["prior"] = c.prior;
   // The reference's trajectory when it is predicted with --model: a --compare of the same path is not predicted again.
   std::string reference_as_compared;
   if (criterion == design::Criterion::cof_minimax || !c.reference.empty()) {
@@ -193,7 +236,7 @@ void run_design(DesignCommand c) {
   if (evaluating) return write_evaluation(c, context, report, provenance);
   // The solver's finished stages are saved as it goes; --resume continues a killed design to the same result.
   std::vector<std::string> inputs = split(c.envelope);
-  inputs.insert(inputs.end(), {c.sensor, c.reference});
+  inputs.insert(inputs.end(), {c.sensor, c.prior, c.reference});
   inputs.insert(inputs.end(), c.compare.begin(), c.compare.end());
   Checkpoint checkpoint = run_checkpoint(c.out, "design", run_fingerprint(*c.command, inputs), c.resume);
   design::DesignRequest request;
@@ -204,10 +247,16 @@ void run_design(DesignCommand c) {
   request.solver = c.solver;
   request.solver_options = solver_options;
   request.seed = c.seed;
-  const design::DesignResult r = design::design_trajectory(context, request);
+  const PriorContexts members = prior_contexts(prior, context, envelope, settings.model);
+  const design::DesignResult r = design::design_trajectory(members.members, request);
   report.result = &r;
+  nlohmann::json design_file = design_json(r, provenance);
+  if (members.members.size() > 1) {
+    report.prior = prior_predictions(prior, members, r, c.compare);
+    design_file["prior"] = prior_json(prior.name, prior.source, report.prior);
+  }
   write_file_atomic(dir / "trajectory.yaml", programme_yaml(r.trajectory));
-  write_file_atomic(dir / "design.json", design_json(r, provenance).dump(2) + "\n");
+  write_file_atomic(dir / "design.json", design_file.dump(2) + "\n");
   write_file_atomic(dir / "calibration.yaml", design::calibration_yaml(family, settings.model, context.model_domain(), context.noise()));
   plot_design_coverage(dir / "coverage.png", design::observe_trajectory(context, r.trajectory), context.envelope(),
                        str_cat("design for ", c.envelope, " (", format_significant(r.trajectory.profile.duration_min(), 4), " min, ",
@@ -233,7 +282,12 @@ void register_design(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_option("--uniform-domain", c->uniform_domain, "The uniform envelope: T_MIN_C,T_MAX_C,RATE_DPS")->capture_default_str();
   cmd->add_option("--criterion", c->criterion, "cof or cof_minimax (flights), surface, d_optimal, a_optimal or effects (greybox); default cof, surface for uniform");
-  cmd->add_option("--sensor", c->sensor, "Sensor config: its noise, thermal lag and error model")->capture_default_str();
+  auto* sensor = cmd->add_option("--sensor", c->sensor, "Sensor config: its noise, thermal lag and error model")->capture_default_str();
+  cmd->add_option("--prior", c->prior, "A prior over sensors (format gyrosid-prior/1: sensor configs with weights, and draws around "
+                                       "them; docs/prior_format.md) in place of --sensor: the design minimises the weighted mean "
+                                       "of its objective over the members and reports its prediction on each (criterion cof, "
+                                       "surface, d_optimal, a_optimal or effects). A sensor config is a prior of one sensor")
+      ->excludes(sensor);
   cmd->add_option("--noise", c->noise, "An allan.json (gyrosid allan on a recording of the gyro): its identified noise model replaces the "
                                        "sensor config's - the design for the noise the gyro showed");
   cmd->add_option("--solver", c->solver, "Design solver: nlopt or ipopt")->capture_default_str();

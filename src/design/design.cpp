@@ -91,11 +91,21 @@ double trajectory_objective(const DesignContext& context, const TrajectorySpec& 
 }
 
 DesignResult design_trajectory(const DesignContext& context, const DesignRequest& request) {
+  return design_trajectory(std::vector<WeightedContext>{{&context, 1.0}}, request);
+}
+
+DesignResult design_trajectory(const std::vector<WeightedContext>& members, const DesignRequest& request) {
+  if (members.empty()) fail("design: a prior over sensors needs at least one member");
+  const DesignContext& context = *members.front().context;
   if (auto p = request.selection.validate(context.criterion(), !context.reference_cof_m().empty()); !p.empty()) fail("design: ", p);
+  if (members.size() > 1 && request.selection.rounds > 0) {
+    fail("design: the exact selection (select.rounds > 0, cof_minimax's default) is not available under a prior of ",
+         members.size(), " sensors; set select.rounds=0");
+  }
   auto solver = make_design_solver(request.solver, request.solver_options, request.seed);
   solver->use_checkpoint(request.checkpoint);
   const DesignSpace space = design_space(context.envelope(), request.space);
-  const DesignProblem problem(context, space, request.quadrature);
+  const DesignProblem problem(members, space, request.quadrature);
   DesignResult r;
   r.initial = space.initial();
   TableProfile best = r.initial;
@@ -136,6 +146,10 @@ DesignResult design_trajectory(const DesignContext& context, const DesignRequest
                                      request.selection.rounds > 0 ? ", chosen by the exact predictor" : "", ", seed ", request.seed, ")");
   r.predicted = chosen ? *chosen : evaluate_trajectory(context, r.trajectory);
   r.initial_predicted = evaluate_trajectory(context, spec(r.initial));
+  if (members.size() > 1) {
+    r.member_predictions.push_back(r.predicted);
+    for (std::size_t k = 1; k < members.size(); ++k) r.member_predictions.push_back(evaluate_trajectory(*members[k].context, r.trajectory));
+  }
   return r;
 }
 

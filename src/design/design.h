@@ -57,6 +57,9 @@ struct DesignResult {
   SolveSummary summary;        // with the exact selection: details["exact_selection"] (its candidates, choice, time)
   TableProfile initial;        // the programme the solver started from
   Prediction initial_predicted;
+  // A design for a prior over sensors with more than one member: the design's prediction on each member (the
+  // problem's order; `predicted` is the first's). Empty for one sensor.
+  std::vector<Prediction> member_predictions;
 };
 
 // The chamber programme's space for a request: its temperatures around the envelope's.
@@ -65,6 +68,9 @@ DesignSpace design_space(const Envelope& envelope, const DesignSpaceOptions& opt
 Domain model_domain(const DesignSpace& space);
 
 DesignResult design_trajectory(const DesignContext& context, const DesignRequest& request);
+// The design for a prior over sensors: the weighted mean of the members' objectives (design_problem.h). The
+// exact selection (select.rounds > 0) compares against one reference and is refused for more than one member.
+DesignResult design_trajectory(const std::vector<WeightedContext>& members, const DesignRequest& request);
 // On the trajectory's own samples, with the model widened to the trajectory's temperatures when they exceed
 // the context's domain (the model a user would fit to that trajectory).
 Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpec& trajectory);

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "core/error.h"
+
 namespace gyrosid::design {
 
 void QuadratureOptions::bind(OptionTable& t) {
@@ -14,15 +16,34 @@ void QuadratureOptions::bind(OptionTable& t) {
 }
 
 DesignProblem::DesignProblem(const DesignContext& context, const DesignSpace& space, QuadratureOptions quadrature)
-    : context_(context), space_(space), q_(quadrature) {}
+    : DesignProblem(std::vector<WeightedContext>{{&context, 1.0}}, space, quadrature) {}
+
+DesignProblem::DesignProblem(std::vector<WeightedContext> members, const DesignSpace& space, QuadratureOptions quadrature)
+    : members_(std::move(members)), space_(space), q_(quadrature) {
+  if (members_.empty()) fail("design: a prior over sensors needs at least one member");
+  for (const auto& m : members_) {
+    if (!m.context || !(m.weight > 0.0)) fail("design: every member of a prior needs a context and a positive weight");
+  }
+}
+
+template <class Observe>
+double DesignProblem::mean_objective(const Observe& observe_member) const {
+  double sum = 0.0, weights = 0.0;
+  for (const auto& [c, w] : members_) {
+    sum += w * c->objective(c->estimate(observe_member(*c), c->objective_needs_target()), offsets_);
+    weights += w;
+  }
+  return sum / weights;
+}
 
 Observations DesignProblem::observe_programme(const TableProfile& programme) const {
   const Quadrature q = programme_quadrature(programme, q_.max_spacing_s, q_.points_per_cycle);
-  return observe(programme, q.times, q.weights_s, context_.gyro(), context_.thermal());
+  return observe(programme, q.times, q.weights_s, context().gyro(), context().thermal());
 }
 
 double DesignProblem::objective(const TableProfile& programme) const {
-  return context_.objective(context_.estimate(observe_programme(programme), context_.objective_needs_target()), offsets_);
+  const Quadrature q = programme_quadrature(programme, q_.max_spacing_s, q_.points_per_cycle);
+  return mean_objective([&](const DesignContext& c) { return observe(programme, q.times, q.weights_s, c.gyro(), c.thermal()); });
 }
 
 namespace {
@@ -62,8 +83,7 @@ double DesignProblem::smooth_objective(const SmoothProgramme& x) const {
     }
     start += d;
   }
-  const Observations o = observe(p, times, span, context_.gyro(), context_.thermal(), &relax);
-  return context_.objective(context_.estimate(o, context_.objective_needs_target()), offsets_);
+  return mean_objective([&](const DesignContext& c) { return observe(p, times, span, c.gyro(), c.thermal(), &relax); });
 }
 
 }  // namespace gyrosid::design

@@ -1,6 +1,11 @@
 // The optimisation problem a design solver sees: the design space (design_space.h) and the objective of
 // the design context (assessment.h) evaluated on a quadrature of each candidate programme - exactly on the
-// programme for the box encoding, on the rate-occupancy relaxation for the smooth one.
+// programme for the box encoding, on the rate-occupancy relaxation for the smooth one. Under a prior over
+// sensors (sensor/sensor_prior.h) the objective is the weighted mean over its members' contexts,
+//   J(programme) = sum_k w_k J_k(programme) / sum_k w_k,
+// each member seeing the programme through its own thermal path and judged against its own error and noise:
+// the expected objective over the prior (Bayesian design, Chaloner & Verdinelli 1995, s2.2; the criteria are
+// logs, so this is the expected log criterion: a design good on every member, not on the average member).
 #pragma once
 
 #include <Eigen/Core>
@@ -20,11 +25,21 @@ struct QuadratureOptions {
   void bind(OptionTable& table); // keys quadrature.<name>
 };
 
+// A member of a prior over sensors: its design context (same envelope, model and criterion as the others)
+// and its weight (> 0).
+struct WeightedContext {
+  const DesignContext* context = nullptr;
+  double weight = 1.0;
+};
+
 class DesignProblem {
  public:
   DesignProblem(const DesignContext& context, const DesignSpace& space, QuadratureOptions quadrature);
+  // `members` non-empty; the first is the nominal one (context()).
+  DesignProblem(std::vector<WeightedContext> members, const DesignSpace& space, QuadratureOptions quadrature);
 
-  const DesignContext& context() const { return context_; }
+  const DesignContext& context() const { return *members_.front().context; }
+  const std::vector<WeightedContext>& members() const { return members_; }
   const DesignSpace& space() const { return space_; }
 
   // cof_minimax: offsets added to the flights' log ratios (DesignContext::objective; exact_selection.h).
@@ -34,10 +49,14 @@ class DesignProblem {
   double objective(const TableProfile& programme) const;      // on the programme's quadrature
   double box_objective(const Eigen::VectorXd& v) const { return objective(space_.decode_box(v)); }
   double smooth_objective(const SmoothProgramme& x) const;    // on the relaxation
-  Observations observe_programme(const TableProfile& programme) const;
+  Observations observe_programme(const TableProfile& programme) const;  // as the nominal member sees it
 
  private:
-  const DesignContext& context_;
+  // The weighted mean over the members of their objectives on the observations `observe(member)` gives.
+  template <class Observe>
+  double mean_objective(const Observe& observe) const;
+
+  std::vector<WeightedContext> members_;
   const DesignSpace& space_;
   QuadratureOptions q_;
   std::vector<double> offsets_;

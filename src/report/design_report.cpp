@@ -1,5 +1,6 @@
 #include "report/design_report.h"
 
+#include <algorithm>
 #include <sstream>
 
 #include "core/format.h"
@@ -70,6 +71,41 @@ nlohmann::json design_json(const design::DesignResult& r, const nlohmann::json& 
           {"provenance", provenance}};
 }
 
+namespace {
+
+// Weighted mean, least and largest of `values`.
+nlohmann::json spread(const std::vector<double>& values, const std::vector<double>& weights) {
+  double sum = 0.0, w = 0.0;
+  for (std::size_t k = 0; k < values.size(); ++k) sum += weights[k] * values[k], w += weights[k];
+  return {{"mean", sum / w}, {"min", *std::min_element(values.begin(), values.end())}, {"max", *std::max_element(values.begin(), values.end())}};
+}
+
+}  // namespace
+
+nlohmann::json prior_json(const std::string& name, const std::string& source, const std::vector<PriorMemberPredictions>& members) {
+  nlohmann::json j = {{"name", name}, {"source", source}, {"members", nlohmann::json::array()}, {"flights", nlohmann::json::object()}};
+  std::vector<double> weights;
+  for (const auto& m : members) {
+    nlohmann::json compared = nlohmann::json::object();
+    for (const auto& [trajectory, p] : m.compared) compared[trajectory] = prediction_json(p);
+    j["members"].push_back({{"name", m.name}, {"origin", m.origin}, {"weight", m.weight}, {"predicted", prediction_json(m.design)}, {"compared", compared}});
+    weights.push_back(m.weight);
+  }
+  const auto& flights = members.front().design.flights;
+  for (std::size_t f = 0; f < flights.size(); ++f) {
+    std::vector<double> cof;
+    for (const auto& m : members) cof.push_back(m.design.flights[f].cof_m);
+    nlohmann::json flight = {{"design_cof_m", spread(cof, weights)}, {"gain_over", nlohmann::json::object()}};
+    for (std::size_t t = 0; t < members.front().compared.size(); ++t) {
+      std::vector<double> gain;
+      for (const auto& m : members) gain.push_back(m.compared[t].second.flights[f].cof_m / m.design.flights[f].cof_m);
+      flight["gain_over"][members.front().compared[t].first] = spread(gain, weights);
+    }
+    j["flights"][flights[f].flight] = flight;
+  }
+  return j;
+}
+
 void plot_design_coverage(const std::filesystem::path& png, const design::Observations& o, const design::Envelope& e,
                           const std::string& title) {
   std::vector<std::vector<double>> samples, envelope;
@@ -98,6 +134,28 @@ void prediction_rows(std::ostringstream& out, const std::string& name, const des
   for (const auto& f : p.flights) out << " | " << fmt(f.cof_m) << " | " << fmt(f.surface_rms_dph);
   if (p.uniform_surface_rms_dph) out << " | " << fmt(*p.uniform_surface_rms_dph);
   out << " | " << fmt(p.objective, 4) << " |\n";
+}
+
+// The design's cof_m on each member of the prior and its gain over each compared trajectory there.
+void prior_rows(std::ostringstream& out, const std::vector<PriorMemberPredictions>& members) {
+  const auto& head = members.front();
+  out << "\n## Over the prior (" << members.size() << " sensors)\n\nThe design's predicted criterion of fit on each member, and "
+         "its gain cof_m(trajectory) / cof_m(design) over each compared trajectory there (> 1: the design is better).\n\n| member | weight";
+  for (const auto& f : head.design.flights) {
+    out << " | " << f.flight << " cof_m";
+    for (const auto& [name, p] : head.compared) out << " | " << f.flight << " gain over " << name;
+  }
+  out << " |\n|---|---";
+  for (std::size_t i = 0; i < head.design.flights.size() * (1 + head.compared.size()); ++i) out << "|---";
+  out << "|\n";
+  for (const auto& m : members) {
+    out << "| " << m.name << " | " << fmt(m.weight);
+    for (std::size_t f = 0; f < m.design.flights.size(); ++f) {
+      out << " | " << fmt(m.design.flights[f].cof_m);
+      for (const auto& [name, p] : m.compared) out << " | " << fmt(p.flights[f].cof_m / m.design.flights[f].cof_m);
+    }
+    out << " |\n";
+  }
 }
 
 }  // namespace
@@ -150,6 +208,7 @@ std::string design_report_markdown(const DesignReportInput& in) {
                   : fmt(units::radps_to_dps(s.rate.value_radps)))
           << " | " << (tri ? fmt(s.rate.cycles) : "dwell") << " | " << s.position << " |\n";
     }
+    if (!in.prior.empty()) prior_rows(out, in.prior);
     const SolveSummary& s = in.result->summary;
     out << "\n## Solver\n\n`" << s.solver << "`: " << to_string(s.termination) << " (" << s.message << "), " << s.iterations
         << " iterations, " << s.evaluations << " objective evaluations, " << fmt(s.time_s) << " s, peak "

@@ -24,9 +24,23 @@ nlohmann::json design_json(const design::DesignResult& result, const nlohmann::j
 void plot_design_coverage(const std::filesystem::path& png, const design::Observations& observations,
                           const design::Envelope& envelope, const std::string& title);
 
+// A design for a prior over sensors (sensor/sensor_prior.h): the design's and the compared trajectories'
+// predictions on one member.
+struct PriorMemberPredictions {
+  std::string name, origin;
+  double weight = 1.0;
+  design::Prediction design;
+  std::vector<std::pair<std::string, design::Prediction>> compared;  // by trajectory name
+};
+// design.json's "prior": every member's predictions, and per flight the spread over the members - the weighted
+// mean, least and largest of the design's cof_m and of its gain cof_m(compared) / cof_m(design) on each compared
+// trajectory.
+nlohmann::json prior_json(const std::string& name, const std::string& source, const std::vector<PriorMemberPredictions>& members);
+
 struct DesignReportInput {
   const design::DesignResult* result = nullptr;  // null for an evaluation only
   std::vector<std::pair<std::string, design::Prediction>> compared;  // reference trajectories by name
+  std::vector<PriorMemberPredictions> prior;      // a design for a prior of more than one sensor
   std::string command;                                            // how it was made
   std::string model, sensor, solver;
 };
