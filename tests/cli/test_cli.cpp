@@ -587,6 +587,35 @@ TEST_F(Cli, DesignWritesATrajectoryThatSimulateReadsDeterministically) {
   EXPECT_FALSE(fs::exists(dir_ / "x"));
 }
 
+// --prior: a sensor config is the prior of that sensor (the same design as --sensor, byte for byte); a prior of
+// two writes the design's prediction and gain on each member; what a prior cannot take is refused by name.
+TEST_F(Cli, DesignForAPriorOverSensors) {
+  const std::string quick = " --envelope short --model classical --budget-min 8 --set space.segments=2 --set global_evaluations=30 "
+                            "--set local_evaluations=20 --seed 4 --compare builtin:trajectories/single_scan.yaml";
+  ASSERT_EQ(run("design" + quick + " --out " + path("s")).status, 0);
+  const Result one = run("design" + quick + " --prior builtin:sensors/open_loop_fog.yaml --out " + path("p1"));
+  ASSERT_EQ(one.status, 0) << one.output;
+  EXPECT_EQ(read_text(dir_ / "s" / "trajectory.yaml"), read_text(dir_ / "p1" / "trajectory.yaml"));
+  EXPECT_FALSE(read_json(dir_ / "p1" / "design.json").contains("prior"));
+  std::ofstream(path("two.yaml")) << ("format: gyrosid-prior/1\nname: two\nmembers:\n  - {sensor: builtin:sensors/open_loop_fog.yaml}\n"
+                                "  - {sensor: builtin:priors/open_loop_fog_drift.yaml, weight: 2}\n");
+  const Result two = run("design" + quick + " --prior " + path("two.yaml") + " --out " + path("p2"));
+  ASSERT_EQ(two.status, 0) << two.output;
+  const nlohmann::json j = read_json(dir_ / "p2" / "design.json");
+  ASSERT_EQ(j["prior"]["members"].size(), 2u);
+  EXPECT_EQ(j["prior"]["members"][1]["weight"], 2.0);
+  // The spread is over the members' own predictions: its mean is their weighted mean.
+  const double a = j["prior"]["members"][0]["predicted"]["flights"]["short"]["cof_m"], b = j["prior"]["members"][1]["predicted"]["flights"]["short"]["cof_m"];
+  EXPECT_NEAR(j["prior"]["flights"]["short"]["design_cof_m"]["mean"].get<double>(), (a + 2.0 * b) / 3.0, 1e-12 * a);
+  EXPECT_EQ(j["prior"]["members"][0]["predicted"], j["predicted"]);
+  EXPECT_THAT(read_text(dir_ / "p2" / "report.md"), HasSubstr("## Over the prior (2 sensors)"));
+  EXPECT_THAT(run("design" + quick + " --prior " + path("two.yaml") + " --criterion cof_minimax --out " + path("x")).output,
+              HasSubstr("criterion cof_minimax takes one sensor, not a prior of 2"));
+  EXPECT_THAT(run("design" + quick + " --prior " + path("two.yaml") + " --sensor builtin:sensors/open_loop_fog.yaml --out " + path("x")).output,
+              HasSubstr("excludes"));
+  EXPECT_FALSE(fs::exists(dir_ / "x"));
+}
+
 // cof_minimax against a reference that is also a --compare predicts it once (one report row); --evaluate with a
 // reference writes the evaluated trajectories only; --help names the exact selection's keys.
 TEST_F(Cli, DesignAgainstAReferencePredictsItOnce) {

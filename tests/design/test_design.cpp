@@ -490,6 +490,31 @@ TEST(DesignProblem, TheSolversObjectiveIsTheOneOfTheTrajectorysOwnSamples) {
   }
 }
 
+TEST(DesignProblem, UnderAPriorTheObjectiveIsTheMembersWeightedMeanAndTheDesignIsPredictedOnEach) {
+  // Two members, the second with twice the white noise (weight 3): its cof objective, log tr(S P S'), is the
+  // first's plus log 4 exactly for the least-squares part (P scales by 4), so the prior's objective is the first
+  // member's plus 3/4 log 4 on any programme.
+  SensorSpec loud_sensor = reference_sensor();
+  std::get<GyroSensor>(loud_sensor).noise.arw_rad_rt_s *= 2.0;
+  const SmallProblem quiet, loud(ModelFamily::classical, Criterion::cof, ModelOptions{}, loud_sensor);
+  const DesignProblem prior({{&quiet.context, 1.0}, {&loud.context, 3.0}}, quiet.space, QuadratureOptions{});
+  for (const TableProfile& programme : {quiet.space.initial(), small_programme().profile}) {
+    const double j1 = quiet.problem.objective(programme), j2 = loud.problem.objective(programme);
+    EXPECT_NEAR(j2 - j1, std::log(4.0), 2e-3);
+    EXPECT_NEAR(prior.objective(programme), (j1 + 3.0 * j2) / 4.0, 1e-12 * std::abs(j1));
+  }
+  // A design for the prior is predicted on every member: the loud member's noise part is twice the quiet one's.
+  DesignRequest request;
+  request.space = quiet.space.options();
+  request.solver_options = {{"global_evaluations", "40"}, {"local_evaluations", "20"}};
+  const DesignResult r = design_trajectory({{&quiet.context, 1.0}, {&loud.context, 3.0}}, request);
+  ASSERT_EQ(r.member_predictions.size(), 2u);
+  for (std::size_t f = 0; f < r.predicted.flights.size(); ++f) {
+    EXPECT_EQ(r.member_predictions[0].flights[f].cof_m, r.predicted.flights[f].cof_m);
+    EXPECT_NEAR(r.member_predictions[1].flights[f].cof_noise_m / r.predicted.flights[f].cof_noise_m, 2.0, 4e-3);
+  }
+}
+
 TEST(DesignSolvers, BothImproveOnTheirStartDeterministicallyAndNameBadOptions) {
   const SmallProblem small;
   const double start = small.problem.objective(small.space.initial());
