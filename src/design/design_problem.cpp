@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/parallel.h"
 
 namespace gyrosid::design {
 
@@ -26,13 +27,21 @@ DesignProblem::DesignProblem(std::vector<WeightedContext> members, const DesignS
   }
 }
 
+// The members are evaluated in parallel (each its own output; summed in order, so the same result on any number
+// of threads).
 template <class Observe>
 double DesignProblem::mean_objective(const Observe& observe_member) const {
+  std::vector<double> value(members_.size());
+  const auto evaluate = [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (auto k = static_cast<std::size_t>(begin); k < static_cast<std::size_t>(end); ++k) {
+      const DesignContext& c = *members_[k].context;
+      value[k] = c.objective(c.estimate(observe_member(c), c.objective_needs_target()), offsets_);
+    }
+  };
+  if (members_.size() == 1) evaluate(0, 1);
+  else parallel_for(static_cast<std::ptrdiff_t>(members_.size()), evaluate);
   double sum = 0.0, weights = 0.0;
-  for (const auto& [c, w] : members_) {
-    sum += w * c->objective(c->estimate(observe_member(*c), c->objective_needs_target()), offsets_);
-    weights += w;
-  }
+  for (std::size_t k = 0; k < members_.size(); ++k) sum += members_[k].weight * value[k], weights += members_[k].weight;
   return sum / weights;
 }
 
