@@ -244,6 +244,7 @@ void run_design(DesignCommand c) {
   request.space = settings.space;
   request.quadrature = settings.quadrature;
   request.selection = settings.selection;
+  request.prior = settings.prior;
   request.solver = c.solver;
   request.solver_options = solver_options;
   request.seed = c.seed;

@@ -13,11 +13,12 @@ OptionTable DesignSettings::table() {
   envelope.bind(t);
   quadrature.bind(t);
   selection.bind(t);
+  prior.bind(t);
   return t;
 }
 
 bool DesignSettings::owns(const std::string& key) {
-  for (const char* prefix : {"space.", "model.", "envelope.", "quadrature.", "select."}) {
+  for (const char* prefix : {"space.", "model.", "envelope.", "quadrature.", "select.", "prior."}) {
     if (key.rfind(prefix, 0) == 0) return true;
   }
   return false;
@@ -105,7 +106,7 @@ DesignResult design_trajectory(const std::vector<WeightedContext>& members, cons
   auto solver = make_design_solver(request.solver, request.solver_options, request.seed);
   solver->use_checkpoint(request.checkpoint);
   const DesignSpace space = design_space(context.envelope(), request.space);
-  const DesignProblem problem(members, space, request.quadrature);
+  const DesignProblem problem(members, space, request.quadrature, request.prior);
   DesignResult r;
   r.initial = space.initial();
   TableProfile best = r.initial;

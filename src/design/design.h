@@ -23,13 +23,14 @@
 namespace gyrosid::design {
 
 // Every option of a design besides the solver's, bound to key=value names (space.*, model.*, envelope.*,
-// quadrature.*, select.*) for `gyrosid design --set`.
+// quadrature.*, select.*, prior.*) for `gyrosid design --set`.
 struct DesignSettings {
   ModelOptions model;
   EnvelopeOptions envelope;
   DesignSpaceOptions space;
   QuadratureOptions quadrature;
   ExactSelectionOptions selection;
+  PriorOptions prior;
   OptionTable table();  // binds this object's fields: keep it in place while the table is used
   static bool owns(const std::string& key);  // a key of this table (else: a solver option)
   // Applies the options that are this table's (space.*, model.*, ...); returns the others, the solver's.
@@ -45,6 +46,7 @@ struct DesignRequest {
   DesignSpaceOptions space;
   QuadratureOptions quadrature;
   ExactSelectionOptions selection;  // select.rounds > 0: the final choice by the exact predictor (exact_selection.h)
+  PriorOptions prior;               // how a prior's members are combined (design_problem.h)
   std::string solver = "nlopt";
   OptionMap solver_options;
   std::uint64_t seed = 1;

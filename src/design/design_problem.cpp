@@ -2,7 +2,9 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "core/error.h"
 #include "core/parallel.h"
@@ -19,8 +21,28 @@ void QuadratureOptions::bind(OptionTable& t) {
 DesignProblem::DesignProblem(const DesignContext& context, const DesignSpace& space, QuadratureOptions quadrature)
     : DesignProblem(std::vector<WeightedContext>{{&context, 1.0}}, space, quadrature) {}
 
-DesignProblem::DesignProblem(std::vector<WeightedContext> members, const DesignSpace& space, QuadratureOptions quadrature)
-    : members_(std::move(members)), space_(space), q_(quadrature) {
+void PriorOptions::bind(OptionTable& t) {
+  t.real("prior.worst_share", &worst_share, 0.0, 1.0, "--prior: the share of the prior's weight whose mean objective is minimised "
+                                                      "(1: the mean over all members; 0.25: the worst quarter)", true);
+}
+
+double upper_tail_mean(const std::vector<double>& values, const std::vector<double>& weights, double share) {
+  std::vector<std::size_t> order(values.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return values[a] > values[b]; });
+  const double want = share * std::accumulate(weights.begin(), weights.end(), 0.0);
+  double sum = 0.0, taken = 0.0;
+  for (std::size_t k : order) {
+    const double w = std::min(weights[k], want - taken);
+    if (w <= 0.0) break;
+    sum += w * values[k], taken += w;
+  }
+  return sum / taken;
+}
+
+DesignProblem::DesignProblem(std::vector<WeightedContext> members, const DesignSpace& space, QuadratureOptions quadrature, PriorOptions prior)
+    : members_(std::move(members)), space_(space), q_(quadrature), prior_(prior) {
+  if (!(prior_.worst_share > 0.0 && prior_.worst_share <= 1.0)) fail("design: prior.worst_share must be in (0, 1], got ", prior_.worst_share);
   if (members_.empty()) fail("design: a prior over sensors needs at least one member");
   for (const auto& m : members_) {
     if (!m.context || !(m.weight > 0.0)) fail("design: every member of a prior needs a context and a positive weight");
@@ -40,6 +62,11 @@ double DesignProblem::mean_objective(const Observe& observe_member) const {
   };
   if (members_.size() == 1) evaluate(0, 1);
   else parallel_for(static_cast<std::ptrdiff_t>(members_.size()), evaluate);
+  if (prior_.worst_share < 1.0) {
+    std::vector<double> weights;
+    for (const auto& m : members_) weights.push_back(m.weight);
+    return upper_tail_mean(value, weights, prior_.worst_share);
+  }
   double sum = 0.0, weights = 0.0;
   for (std::size_t k = 0; k < members_.size(); ++k) sum += members_[k].weight * value[k], weights += members_[k].weight;
   return sum / weights;

@@ -6,6 +6,10 @@
 // each member seeing the programme through its own thermal path and judged against its own error and noise:
 // the expected objective over the prior (Bayesian design, Chaloner & Verdinelli 1995, s2.2; the criteria are
 // logs, so this is the expected log criterion: a design good on every member, not on the average member).
+// With prior.worst_share = s < 1 it is the mean over the worst members holding the share s of the weight
+// (the upper-tail mean, conditional value at risk at level 1 - s; Rockafellar & Uryasev 2000): the design
+// for the sensors it does worst on. The boundary member counts with the part of its weight that fills s, so
+// the statistic is continuous in the members' objectives.
 #pragma once
 
 #include <Eigen/Core>
@@ -16,6 +20,14 @@
 #include "design/design_space.h"
 
 namespace gyrosid::design {
+
+struct PriorOptions {
+  double worst_share = 1.0;       // the share of the prior's weight whose mean objective is minimised (1: all)
+  void bind(OptionTable& table);  // keys prior.<name>
+};
+
+// The mean of `values` over the largest ones holding `share` of the total weight (above).
+double upper_tail_mean(const std::vector<double>& values, const std::vector<double>& weights, double share);
 
 struct QuadratureOptions {
   double max_spacing_s = 10.0;   // exact programme: at most this far apart ...
@@ -36,7 +48,7 @@ class DesignProblem {
  public:
   DesignProblem(const DesignContext& context, const DesignSpace& space, QuadratureOptions quadrature);
   // `members` non-empty; the first is the nominal one (context()).
-  DesignProblem(std::vector<WeightedContext> members, const DesignSpace& space, QuadratureOptions quadrature);
+  DesignProblem(std::vector<WeightedContext> members, const DesignSpace& space, QuadratureOptions quadrature, PriorOptions prior = {});
 
   const DesignContext& context() const { return *members_.front().context; }
   const std::vector<WeightedContext>& members() const { return members_; }
@@ -59,6 +71,7 @@ class DesignProblem {
   std::vector<WeightedContext> members_;
   const DesignSpace& space_;
   QuadratureOptions q_;
+  PriorOptions prior_;
   std::vector<double> offsets_;
 };
 

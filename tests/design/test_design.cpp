@@ -502,6 +502,9 @@ TEST(DesignProblem, UnderAPriorTheObjectiveIsTheMembersWeightedMeanAndTheDesignI
     const double j1 = quiet.problem.objective(programme), j2 = loud.problem.objective(programme);
     EXPECT_NEAR(j2 - j1, std::log(4.0), 2e-3);
     EXPECT_NEAR(prior.objective(programme), (j1 + 3.0 * j2) / 4.0, 1e-12 * std::abs(j1));
+    // The worst half of the weight (2 of 4) lies within the loud member's 3: its objective alone.
+    const DesignProblem worst({{&quiet.context, 1.0}, {&loud.context, 3.0}}, quiet.space, QuadratureOptions{}, PriorOptions{0.5});
+    EXPECT_EQ(worst.objective(programme), j2);
   }
   // A design for the prior is predicted on every member: the loud member's noise part is twice the quiet one's.
   DesignRequest request;
@@ -513,6 +516,18 @@ TEST(DesignProblem, UnderAPriorTheObjectiveIsTheMembersWeightedMeanAndTheDesignI
     EXPECT_EQ(r.member_predictions[0].flights[f].cof_m, r.predicted.flights[f].cof_m);
     EXPECT_NEAR(r.member_predictions[1].flights[f].cof_noise_m / r.predicted.flights[f].cof_noise_m, 2.0, 4e-3);
   }
+}
+
+TEST(DesignProblem, TheUpperTailMeanIsTheMeanOfTheWorstShareOfTheWeight) {
+  const std::vector<double> v{1.0, 5.0, 3.0, 2.0}, w(4, 1.0);
+  EXPECT_DOUBLE_EQ(upper_tail_mean(v, w, 1.0), 2.75);
+  EXPECT_DOUBLE_EQ(upper_tail_mean(v, w, 0.5), 4.0);
+  EXPECT_DOUBLE_EQ(upper_tail_mean(v, w, 0.375), (5.0 + 0.5 * 3.0) / 1.5);  // the boundary member by the part that fills the share
+  EXPECT_DOUBLE_EQ(upper_tail_mean(v, w, 0.25), 5.0);
+  EXPECT_DOUBLE_EQ(upper_tail_mean(v, w, 0.1), 5.0);
+  EXPECT_DOUBLE_EQ(upper_tail_mean(v, {1.0, 1.0, 6.0, 1.0}, 0.5), (5.0 + 3.5 * 3.0) / 4.5);  // weights count, not members
+  // Continuous in the values: two members crossing change nothing at the crossing.
+  EXPECT_DOUBLE_EQ(upper_tail_mean({3.0, 3.0}, {1.0, 1.0}, 0.5), 3.0);
 }
 
 TEST(DesignSolvers, BothImproveOnTheirStartDeterministicallyAndNameBadOptions) {
