@@ -76,7 +76,8 @@ def main():
     g = a.gyrosid
     designs, design_time = {}, {}
     for name, source in (("sensor", ["--sensor", "builtin:sensors/open_loop_fog.yaml"]),
-                         ("prior", ["--prior", "builtin:priors/open_loop_fog_type.yaml"])):
+                         ("prior", ["--prior", "builtin:priors/open_loop_fog_type.yaml"]),
+                         ("prior_worst_half", ["--prior", "builtin:priors/open_loop_fog_type.yaml", "--set", "prior.worst_share=0.5"])):
         d = os.path.join(a.work, "design_" + name)
         if not os.path.exists(os.path.join(d, "design.json")):
             start = time.time()
@@ -86,6 +87,7 @@ def main():
         design_time[name] = json.load(open(os.path.join(d, "time.json")))["s"]
     calibration = os.path.join(a.work, "design_sensor", "calibration.yaml")
     trajectories = {"design (sensor)": (designs["sensor"], calibration), "design (prior)": (designs["prior"], calibration),
+                    "design (prior, worst half)": (designs["prior_worst_half"], calibration),
                     "dual scan": ("builtin:trajectories/dual_scan.yaml", calibration),
                     "8-h soak, classical": ("builtin:trajectories/classical_soak.yaml", "builtin:calibration/classical.yaml")}
     sensors = {"other_fog (independent)": os.path.join(ROOT, "experiments", "trajectory_design", "other_fog.yaml")}
@@ -94,13 +96,13 @@ def main():
     summary = {"design_time_s": design_time, "seeds": a.seeds, "sensors": {}}
     for sname, spath in sensors.items():
         tag = os.path.splitext(os.path.basename(spath))[0]
-        ev = os.path.join(a.work, "evaluate_" + tag)
-        run([g, "--quiet", "design", "--evaluate", designs["sensor"], designs["prior"], "builtin:trajectories/dual_scan.yaml",
+        ev = os.path.join(a.work, "evaluate_designs_" + tag)
+        run([g, "--quiet", "design", "--evaluate", designs["sensor"], designs["prior"], designs["prior_worst_half"], "builtin:trajectories/dual_scan.yaml",
              "--sensor", spath, "--out", ev], os.path.join(ev, "evaluation.json"))
         predicted = json.load(open(os.path.join(ev, "evaluation.json")))["trajectories"]
         row = {}
         for tname, (tpath, cal) in trajectories.items():
-            out = os.path.join(a.work, "sweep_%s_%s.json" % (tag, tname.split()[0] + tname.split()[-1]))
+            out = os.path.join(a.work, "sweep_%s_%s_%s.json" % (tag, "".join(c for c in tname if c.isalnum()), a.seeds))
             run(["/usr/bin/python3", SWEEP, g, tag + "_" + tname.replace(" ", "_").replace(",", "").replace("(", "").replace(")", ""), tpath,
                  "--seeds", a.seeds, "--long", "--sensor", spath, "--calibration", cal, "--work", os.path.join(a.work, "sweeps"), "--out", out])
             per_seed = json.load(open(out))
@@ -111,20 +113,44 @@ def main():
         summary["sensors"][sname] = row
     os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
     json.dump(summary, open(os.path.join(HERE, "results", "summary.json"), "w"), indent=1)
-    lines = ["| test sensor | flight | design (sensor) | design (prior) | dual scan | soak, classical | prior / dual | sensor / dual | prior / soak | prior: predicted / achieved |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
-    for sname, row in summary["sensors"].items():
-        for f in FLIGHTS:
-            v = {t: row[t]["achieved_m"][f] for t in row}
-            pr = row["design (prior)"]
-            lines.append("| %s | %s | %.3g | %.3g | %.3g | %.3g | **%.2fx** | %.2fx | %.2fx | %.2f |" % (
-                sname, f, v["design (sensor)"], v["design (prior)"], v["dual scan"], v["8-h soak, classical"],
-                v["dual scan"] / v["design (prior)"], v["dual scan"] / v["design (sensor)"], v["8-h soak, classical"] / v["design (prior)"],
-                pr["predicted_m"][f] / pr["achieved_m"][f]))
+    lines = table(summary) + [""] + aggregate(summary)
     open(os.path.join(HERE, "results", "summary.md"), "w").write("\n".join(lines) + "\n")
     print("\n".join(lines))
     print("design time: %s" % design_time)
 
+
+DESIGNS = ("design (sensor)", "design (prior)", "design (prior, worst half)")
+
+
+def table(summary):
+    lines = ["| test sensor | flight | " + " | ".join(DESIGNS) + " | dual scan | soak, classical | " +
+             " | ".join("%s / dual" % d.replace("design ", "") for d in DESIGNS) + " | prior: predicted / achieved |",
+             "|---" * (6 + len(DESIGNS) + 1) + "|"]
+    for sname, row in summary["sensors"].items():
+        for f in FLIGHTS:
+            v = {t: row[t]["achieved_m"][f] for t in row}
+            pr = row["design (prior)"]
+            lines.append("| %s | %s | %s | %.3g | %.3g | %s | %.2f |" % (
+                sname, f, " | ".join("%.3g" % v[d] for d in DESIGNS), v["dual scan"], v["8-h soak, classical"],
+                " | ".join("%.2fx" % (v["dual scan"] / v[d]) for d in DESIGNS), pr["predicted_m"][f] / pr["achieved_m"][f]))
+    return lines
+
+
+def aggregate(summary):
+    lines = ["| design | geometric mean gain over the dual scan | flights lost to the dual scan | worst gain | flights won against the soak | prediction within 1.5x |",
+             "|---|---|---|---|---|---|"]
+    for d in DESIGNS:
+        gains, soak, within = [], [], []
+        for row in summary["sensors"].values():
+            for f in FLIGHTS:
+                gains.append(row["dual scan"]["achieved_m"][f] / row[d]["achieved_m"][f])
+                soak.append(row["8-h soak, classical"]["achieved_m"][f] / row[d]["achieved_m"][f])
+                r = row[d]["predicted_m"][f] / row[d]["achieved_m"][f]
+                within.append(1 / 1.5 <= r <= 1.5)
+        n = len(gains)
+        lines.append("| %s | %.2fx | %d of %d | %.2fx | %d of %d | %d of %d |" % (
+            d, float(np.exp(np.mean(np.log(gains)))), sum(g < 1 for g in gains), n, min(gains), sum(s > 1 for s in soak), n, sum(within), n))
+    return lines
 
 if __name__ == "__main__":
     main()

@@ -20,16 +20,20 @@
 #include "report/design_report.h"
 #include "sensor/sensor_config.h"
 #include "sensor/sensor_prior.h"
+#include "trajectory/equipment.h"
 #include "trajectory/programme.h"
 
 namespace gyrosid::cli {
 namespace {
+
+constexpr const char* kDefaultEquipment = "builtin:equipment/thesis_lab.yaml";
 
 struct DesignCommand {
   double budget_min = 0.0;
   std::string model = "rbf", envelope = "short,medium,long", uniform_domain = "-20,60,100", criterion;
   std::string sensor = kDefaultSensor, solver = "nlopt", out, options_of, reference, reference_model;
   std::string prior;  // a prior over sensors (sensor/sensor_prior.h) in place of --sensor
+  std::string equipment = kDefaultEquipment;
   std::string noise;  // an allan.json whose identified model replaces the sensor config's noise
   std::string reference_statistic = "auto";
   std::vector<std::string> set, evaluate, compare{"builtin:trajectories/dual_scan.yaml"};
@@ -42,6 +46,7 @@ struct DesignCommand {
     for (const auto& e : evaluate) out += " " + e;
     out += str_cat(" --model ", model, " --envelope ", envelope, prior.empty() ? " --sensor " + sensor : " --prior " + prior);
     if (!noise.empty()) out += " --noise " + noise;
+    if (equipment != kDefaultEquipment) out += " --equipment " + equipment;
     if (evaluate.empty()) out += str_cat(" --solver ", solver, " --seed ", seed);
     if (!criterion.empty()) out += " --criterion " + criterion;
     if (!reference.empty()) out += str_cat(" --reference ", reference, reference_model.empty() ? "" : " --reference-model " + reference_model,
@@ -158,6 +163,10 @@ void run_design(DesignCommand c) {
     const auto [key, value] = split_option(kv);
     options[key] = value;
   }
+  const Equipment equipment = load_equipment(c.equipment);  // what the hardware can do; --set space.* overrides it
+  settings.space.chamber = equipment.chamber;
+  if (std::isfinite(equipment.table.max_acceleration_radps2)) settings.space.table_max_acceleration_dps2 = units::radps_to_dps(equipment.table.max_acceleration_radps2);
+  if (std::isfinite(equipment.table_max_rate_radps)) settings.space.table_max_rate_dps = units::radps_to_dps(equipment.table_max_rate_radps);
   const OptionMap solver_options = settings.apply(options);
   const auto envelope_names = split(c.envelope);
   if (envelope_names.size() == 1 && envelope_names.front() == "uniform") {
@@ -209,6 +218,7 @@ void run_design(DesignCommand c) {
   nlohmann::json provenance = {{"model", c.model}, {"sensor", c.sensor}, {"noise", c.noise}, {"envelope", c.envelope}, {"seed", c.seed},
                                {"solver", c.solver}, {"options", c.set}, {"command", c.command_line()}};
   if (!c.prior.empty()) provenance["prior"] = c.prior;
+  if (c.equipment != kDefaultEquipment) provenance["equipment"] = c.equipment;
   // The reference's trajectory when it is predicted with --model: a --compare of the same path is not predicted again.
   std::string reference_as_compared;
   if (criterion == design::Criterion::cof_minimax || !c.reference.empty()) {
@@ -236,7 +246,7 @@ void run_design(DesignCommand c) {
   if (evaluating) return write_evaluation(c, context, report, provenance);
   // The solver's finished stages are saved as it goes; --resume continues a killed design to the same result.
   std::vector<std::string> inputs = split(c.envelope);
-  inputs.insert(inputs.end(), {c.sensor, c.prior, c.reference});
+  inputs.insert(inputs.end(), {c.sensor, c.prior, c.equipment, c.reference});
   inputs.insert(inputs.end(), c.compare.begin(), c.compare.end());
   Checkpoint checkpoint = run_checkpoint(c.out, "design", run_fingerprint(*c.command, inputs), c.resume);
   design::DesignRequest request;
@@ -257,6 +267,7 @@ void run_design(DesignCommand c) {
     design_file["prior"] = prior_json(prior.name, prior.source, report.prior);
   }
   write_file_atomic(dir / "trajectory.yaml", programme_yaml(r.trajectory));
+  write_file_atomic(dir / "setpoints.csv", setpoint_table_csv(r.trajectory.profile));
   write_file_atomic(dir / "design.json", design_file.dump(2) + "\n");
   write_file_atomic(dir / "calibration.yaml", design::calibration_yaml(family, settings.model, context.model_domain(), context.noise()));
   plot_design_coverage(dir / "coverage.png", design::observe_trajectory(context, r.trajectory), context.envelope(),
@@ -265,7 +276,7 @@ void run_design(DesignCommand c) {
   write_file_atomic(dir / "report.md", design_report_markdown(report));
   checkpoint.finish();
   std::cout << "wrote " << c.out << "/trajectory.yaml (" << format_significant(r.trajectory.profile.duration_min(), 4) << " min, "
-            << r.trajectory.profile.segments.size() << " segments), design.json, coverage.png, report.md, calibration.yaml\n"
+            << r.trajectory.profile.segments.size() << " segments), setpoints.csv, design.json, coverage.png, report.md, calibration.yaml\n"
             << "predicted: " << describe(r.predicted) << "\n";
   for (const auto& [name, p] : report.compared) std::cout << name << " (" << format_significant(p.duration_min, 4) << " min): " << describe(p) << "\n";
   std::cout << c.solver << ": " << to_string(r.summary.termination) << ", " << r.summary.evaluations << " evaluations, "
@@ -289,6 +300,10 @@ void register_design(CLI::App& app, Action& action) {
                                        "of its objective over the members and reports its prediction on each (criterion cof, "
                                        "surface, d_optimal, a_optimal or effects). A sensor config is a prior of one sensor")
       ->excludes(sensor);
+  cmd->add_option("--equipment", c->equipment, "Equipment file: the chamber's range and heating and cooling limits, the table's rate and "
+                                               "acceleration limits (configs/equipment/thesis_lab.yaml shows every key); "
+                                               "--set space.* overrides it")
+      ->capture_default_str();
   cmd->add_option("--noise", c->noise, "An allan.json (gyrosid allan on a recording of the gyro): its identified noise model replaces the "
                                        "sensor config's - the design for the noise the gyro showed");
   cmd->add_option("--solver", c->solver, "Design solver: nlopt or ipopt")->capture_default_str();
@@ -308,7 +323,8 @@ void register_design(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_option("--compare", c->compare, "Trajectories predicted beside the design in report.md")->capture_default_str();
   cmd->add_option("--evaluate", c->evaluate, "Predict the accuracy of these trajectory configs instead of designing");
-  cmd->add_option("--out", c->out, "Output directory: trajectory.yaml, design.json, coverage.png, report.md, calibration.yaml");
+  cmd->add_option("--out", c->out, "Output directory: trajectory.yaml, setpoints.csv (the programme as a controller's time-stamped "
+                                   "set points), design.json, coverage.png, report.md, calibration.yaml");
   cmd->add_flag("--resume", c->resume, "Continue a killed design from its checkpoint in --out (the finished global search or "
                                        "Ipopt starts; same inputs and seed: the result equals an uninterrupted run's)");
   cmd->footer(

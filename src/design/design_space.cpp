@@ -21,6 +21,11 @@ void DesignSpaceOptions::bind(OptionTable& t) {
       .real("space.min_share", &min_share, 0.0, 0.5, "shortest segment as a fraction of the budget", true)
       .real("space.rate_hz", &rate_hz, 0.0, 1000.0, "sampling rate of the designed trajectory", true)
       .real("space.chamber_rate_limit_c_per_min", &chamber.rate_limit_c_per_min, 0.0, 1e3, "chamber rate limit", true)
+      .real("space.chamber_cooling_limit_c_per_min", &chamber.cooling_limit_c_per_min, 0.0, 1e3,
+            "chamber cooling rate limit (default: the heating limit, space.chamber_rate_limit_c_per_min)", true)
+      .real("space.table_max_acceleration_dps2", &table_max_acceleration_dps2, 0.0, 1e6,
+            "table angular acceleration limit (default: none; a triangle's cycles are cut to keep its slope below it)", true)
+      .real("space.table_max_rate_dps", &table_max_rate_dps, 0.0, 1e5, "the table's rate limit (default: none; caps the design's rates)", true)
       .real("space.chamber_min_c", &chamber.min_c, -273.0, 1000.0, "chamber range, low end")
       .real("space.chamber_max_c", &chamber.max_c, -273.0, 1000.0, "chamber range, high end")
       .real("space.latitude_deg", &latitude_deg, -90.0, 90.0, "latitude of the rate table");
@@ -45,6 +50,7 @@ DesignSpace::DesignSpace(DesignSpaceOptions o, double lo, double hi, double w_ma
   t_hi_ = std::min(o_.chamber.max_c, std::isnan(o_.temp_max_c) ? hi + o_.temperature_margin_c : o_.temp_max_c);
   if (!(t_hi_ > t_lo_)) fail("design: the chamber range [", o_.chamber.min_c, ", ", o_.chamber.max_c, "] C misses the design's temperatures");
   w_max_ = std::isnan(o_.max_rate_dps) ? w_max : units::dps_to_radps(o_.max_rate_dps);
+  if (!std::isnan(o_.table_max_rate_dps)) w_max_ = std::min(w_max_, units::dps_to_radps(o_.table_max_rate_dps));
   per_segment_ = 6 + (o_.positions.size() > 1 ? 1 : 0);
 }
 
@@ -88,12 +94,16 @@ TableProfile DesignSpace::assemble(double start_c, const std::vector<ProfileSegm
   p.kind = "programme";
   p.latitude_rad = units::deg_to_rad(o_.latitude_deg);
   p.limits = o_.chamber;
+  if (!std::isnan(o_.table_max_acceleration_dps2)) p.table_limits.max_acceleration_radps2 = units::dps_to_radps(o_.table_max_acceleration_dps2);
   double prev = std::clamp(start_c, t_lo_, t_hi_);
   for (ProfileSegment s : segments) {
-    // The chamber moves towards the target no faster than its limit.
-    const double reach = o_.chamber.rate_limit_c_per_min * s.duration_s / 60.0;
+    // The chamber moves towards the target no faster than its heating or cooling limit.
     s.chamber_start_c = prev;
-    s.chamber_end_c = prev + std::clamp(std::clamp(s.chamber_end_c, t_lo_, t_hi_) - prev, -reach, reach);
+    s.chamber_end_c = o_.chamber.reach_c(prev, std::clamp(s.chamber_end_c, t_lo_, t_hi_), s.duration_s);
+    // A triangle no steeper than the table's acceleration limit: at most duration a / (2 (high - low)) cycles.
+    if (s.rate.shape == RateProfile::Shape::triangle) {
+      s.rate.cycles = std::min(s.rate.cycles, s.duration_s * p.table_limits.max_acceleration_radps2 / (2.0 * (s.rate.high_radps - s.rate.low_radps)));
+    }
     s.label = s.chamber_end_c == prev ? str_cat("plateau ", format_significant(prev, 3), " C")
                                       : str_cat("ramp ", format_significant(prev, 3), " -> ", format_significant(s.chamber_end_c, 3), " C");
     prev = s.chamber_end_c;

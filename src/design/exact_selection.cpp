@@ -79,10 +79,9 @@ TableProfile blend_programmes(const TableProfile& first, const TableProfile& sec
       ProfileSegment q = s;
       q.duration_s = s.duration_s * scale;
       q.rate.cycles = s.rate.cycles * scale;  // the same cycle period
-      // the chamber goes towards the segment's end temperature no faster than its limit (C/min)
-      const double reach = out.limits.rate_limit_c_per_min * q.duration_s / 60.0;
+      // the chamber goes towards the segment's end temperature no faster than its limits (C/min)
       q.chamber_start_c = temp;
-      q.chamber_end_c = temp + std::clamp(s.chamber_end_c - temp, -reach, reach);
+      q.chamber_end_c = out.limits.reach_c(temp, s.chamber_end_c, q.duration_s);
       temp = q.chamber_end_c;
       out.segments.push_back(q);
     }

@@ -122,16 +122,16 @@ class RelaxedNlp : public Ipopt::TNLP {
     return true;
   }
 
-  // The ramp-rate constant in scaled units: |dT~| <= c d~, c = r B / (60 T_s).
-  double ramp() const { return s_.options().chamber.rate_limit_c_per_min * s_.budget_s() / 60.0 / kTempScale; }
+  // The ramp-rate constants in scaled units: -c_cool d~ <= dT~ <= c_heat d~, c = r B / (60 T_s).
+  double ramp(bool heating) const { return s_.options().chamber.limit_c_per_min(heating) * s_.budget_s() / 60.0 / kTempScale; }
 
   bool eval_g(Index, const Number* z, bool, Index, Number* g) override {
     g[0] = 0.0;
     for (int i = 0; i < k_; ++i) g[0] += z[1 + i];
     for (int i = 0; i < k_; ++i) {
       const double prev = i == 0 ? z[0] : z[1 + k_ + i - 1], step = z[1 + k_ + i] - prev;
-      g[1 + 2 * i] = step - ramp() * z[1 + i];
-      g[2 + 2 * i] = -step - ramp() * z[1 + i];
+      g[1 + 2 * i] = step - ramp(true) * z[1 + i];
+      g[2 + 2 * i] = -step - ramp(false) * z[1 + i];
       g[1 + 2 * k_ + i] = z[1 + 2 * k_ + i] - z[1 + 3 * k_ + i];
     }
     return true;
@@ -150,7 +150,7 @@ class RelaxedNlp : public Ipopt::TNLP {
         const Index r = sign > 0 ? 1 + 2 * i : 2 + 2 * i;
         put(r, 1 + k_ + i, sign);
         put(r, prev, -sign);
-        put(r, 1 + i, -ramp());
+        put(r, 1 + i, -ramp(sign > 0));
       }
       put(1 + 2 * k_ + i, 1 + 2 * k_ + i, 1.0);
       put(1 + 2 * k_ + i, 1 + 3 * k_ + i, -1.0);

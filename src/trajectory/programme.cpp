@@ -66,8 +66,12 @@ std::string programme_yaml(const TrajectorySpec& spec) {
   out << "kind: programme\nname: " << quoted(p.name) << "\n";
   if (!spec.description.empty()) out << "description: " << quoted(spec.description) << "\n";
   out << "latitude_deg: " << n(units::rad_to_deg(p.latitude_rad)) << "\n";
-  out << "chamber: {rate_limit_c_per_min: " << n(p.limits.rate_limit_c_per_min) << ", min_c: " << n(p.limits.min_c)
-      << ", max_c: " << n(p.limits.max_c) << "}\n";
+  out << "chamber: {rate_limit_c_per_min: " << n(p.limits.rate_limit_c_per_min)
+      << (p.limits.limit_c_per_min(false) == p.limits.rate_limit_c_per_min ? "" : ", cooling_limit_c_per_min: " + n(p.limits.cooling_limit_c_per_min))
+      << ", min_c: " << n(p.limits.min_c) << ", max_c: " << n(p.limits.max_c) << "}\n";
+  if (std::isfinite(p.table_limits.max_acceleration_radps2)) {
+    out << "table: {max_acceleration_dps2: " << n(radps_to_dps(p.table_limits.max_acceleration_radps2)) << "}\n";
+  }
   out << "segments:\n";
   for (const auto& s : p.segments) {
     out << "  - {label: " << quoted(s.label) << ", duration_min: " << n(s.duration_s / 60.0) << ", chamber_c: ["

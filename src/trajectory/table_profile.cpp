@@ -5,6 +5,7 @@
 
 #include "core/earth.h"
 #include "core/error.h"
+#include "core/units.h"
 #include "core/rotation.h"
 
 namespace gyrosid {
@@ -85,10 +86,18 @@ std::string TableProfile::check_limits() const {
                        limits.max_c, "] C");
       }
     }
+    const bool heating = s.chamber_end_c >= s.chamber_start_c;
     const double rate = std::abs(s.chamber_end_c - s.chamber_start_c) / (s.duration_s / 60.0);
-    if (rate > limits.rate_limit_c_per_min * (1.0 + 1e-9)) {
-      return str_cat(where, ": chamber rate ", rate, " C/min exceeds the chamber limit ", limits.rate_limit_c_per_min,
-                     " C/min");
+    if (rate > limits.limit_c_per_min(heating) * (1.0 + 1e-9)) {
+      return str_cat(where, ": chamber ", heating ? "heating" : "cooling", " rate ", rate, " C/min exceeds the chamber's limit ",
+                     limits.limit_c_per_min(heating), " C/min");
+    }
+    if (s.rate.shape == RateProfile::Shape::triangle) {
+      const double acceleration = 2.0 * (s.rate.high_radps - s.rate.low_radps) * s.rate.cycles / s.duration_s;
+      if (acceleration > table_limits.max_acceleration_radps2 * (1.0 + 1e-9)) {
+        return str_cat(where, ": table acceleration ", units::radps_to_dps(acceleration), " deg/s^2 exceeds the table's limit ",
+                       units::radps_to_dps(table_limits.max_acceleration_radps2), " deg/s^2");
+      }
     }
     if (s.position < 1 || s.position > kMountPositions) {
       return str_cat(where, ": mount position ", s.position, " is not 1..", kMountPositions, " (Table 2.1's 1..6, body diagonals 7..10)");

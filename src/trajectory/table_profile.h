@@ -21,6 +21,8 @@ inline constexpr int kMountPositions = 10;
 
 #include <Eigen/Core>
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -55,10 +57,24 @@ struct ProfileSegment {
   bool operator==(const ProfileSegment&) const = default;
 };
 
+// What the equipment can do (an equipment file, design/equipment.h, or a programme's `chamber:`/`table:`).
 struct ChamberLimits {
-  double rate_limit_c_per_min = 5.0;  // thesis s4.4: 5 C/min is "quite a high" chamber rate
+  double rate_limit_c_per_min = 5.0;     // heating; thesis s4.4: 5 C/min is "quite a high" chamber rate
+  double cooling_limit_c_per_min = NAN;  // NaN: the heating limit (a chamber often cools slower than it heats)
   double min_c = -70.0;
   double max_c = 180.0;
+  double limit_c_per_min(bool heating) const {
+    return heating || std::isnan(cooling_limit_c_per_min) ? rate_limit_c_per_min : cooling_limit_c_per_min;
+  }
+  // Where the chamber gets from `from_c` towards `target_c` in `duration_s`, no faster than its limit.
+  double reach_c(double from_c, double target_c, double duration_s) const {
+    const double heat = rate_limit_c_per_min * duration_s / 60.0, cool = limit_c_per_min(false) * duration_s / 60.0;
+    return from_c + std::clamp(target_c - from_c, -cool, heat);
+  }
+};
+
+struct TableLimits {
+  double max_acceleration_radps2 = INFINITY;  // angular acceleration: a triangle's slope 2 (high - low) / period
 };
 
 struct TableProfile {
@@ -67,6 +83,7 @@ struct TableProfile {
   std::vector<ProfileSegment> segments;
   double latitude_rad = 0.0;
   ChamberLimits limits;
+  TableLimits table_limits;
 
   double duration_s() const;
   double duration_min() const { return duration_s() / 60.0; }

@@ -25,7 +25,7 @@ Options validated(Options o, const ConfigNode& node) {
 }
 
 // The keys every trajectory kind takes, besides its own.
-const std::vector<std::string> kCommonKeys = {"kind", "name", "description", "latitude_deg", "chamber", "sampling", "position"};
+const std::vector<std::string> kCommonKeys = {"kind", "name", "description", "latitude_deg", "chamber", "table", "sampling", "position"};
 
 TableProfile read_static(const ConfigNode& node, int position) {
   StaticOptions o;
@@ -130,10 +130,22 @@ const KindReader& reader_of(CalibrationKind kind) {
 ChamberLimits read_chamber(const ConfigNode& node) {
   ChamberLimits limits;
   if (auto chamber = node.find("chamber")) {
-    chamber->allow_only({"rate_limit_c_per_min", "min_c", "max_c"});
+    chamber->allow_only({"rate_limit_c_per_min", "cooling_limit_c_per_min", "min_c", "max_c"});
     limits.rate_limit_c_per_min = chamber->number("rate_limit_c_per_min", limits.rate_limit_c_per_min);
+    limits.cooling_limit_c_per_min = chamber->number("cooling_limit_c_per_min", limits.cooling_limit_c_per_min);
     limits.min_c = chamber->number("min_c", limits.min_c);
     limits.max_c = chamber->number("max_c", limits.max_c);
+  }
+  return limits;
+}
+
+TableLimits read_table_limits(const ConfigNode& node) {
+  TableLimits limits;
+  if (auto table = node.find("table")) {
+    table->allow_only({"max_acceleration_dps2"});
+    const double a = table->number("max_acceleration_dps2", INFINITY);
+    if (!(a > 0)) fail(table->where("max_acceleration_dps2"), ": must be positive");
+    limits.max_acceleration_radps2 = units::dps_to_radps(a);
   }
   return limits;
 }
@@ -165,6 +177,7 @@ TrajectorySpec load_trajectory(const ConfigNode& node) {
   spec.description = node.text("description", "");
   spec.profile.latitude_rad = units::deg_to_rad(node.number("latitude_deg", 0.0));
   spec.profile.limits = read_chamber(node);
+  spec.profile.table_limits = read_table_limits(node);
   if (auto p = spec.profile.check_limits(); !p.empty()) fail(node.where(), ": ", p);
   spec.sampling = read_sampling(node);
   return spec;

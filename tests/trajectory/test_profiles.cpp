@@ -91,7 +91,7 @@ TEST(Trajectories, LimitViolationsAreErrorsNamingTheSegment) {
   o.scan_rate_c_per_min = 8;
   TableProfile p = dual_scan(o);
   EXPECT_THAT(p.check_limits(), ::testing::HasSubstr("segment 1 ('up scan'"));
-  EXPECT_THAT(p.check_limits(), ::testing::HasSubstr("exceeds the chamber limit 5"));
+  EXPECT_THAT(p.check_limits(), ::testing::HasSubstr("exceeds the chamber's limit 5"));
   p.limits.rate_limit_c_per_min = 10;
   p.limits.min_c = -40;
   EXPECT_THAT(p.check_limits(), ::testing::HasSubstr("outside the chamber range"));
@@ -104,7 +104,7 @@ TEST(Trajectories, LimitViolationsAreErrorsNamingTheSegment) {
     FAIL();
   } catch (const Error& e) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr("bad.yaml:1"));
-    EXPECT_THAT(e.what(), ::testing::HasSubstr("6 C/min exceeds the chamber limit 5"));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("6 C/min exceeds the chamber's limit 5"));
   }
 }
 
@@ -242,7 +242,7 @@ TEST(Trajectories, ProgrammeLimitsAreCheckedAsForTheHandMadeKinds) {
   };
   EXPECT_EQ(error_of("segments:\n  - {duration_min: 10, chamber_c: [0, 50], rate_dps: 10}\n"), "");
   EXPECT_THAT(error_of("segments:\n  - {duration_min: 9, chamber_c: [0, 50], rate_dps: 10}\n"),
-              ::testing::HasSubstr("exceeds the chamber limit 5"));
+              ::testing::HasSubstr("exceeds the chamber's limit 5"));
   EXPECT_THAT(error_of("segments:\n  - {duration_min: 20, chamber_c: [0, -50], rate_dps: 10}\n"),
               ::testing::HasSubstr("outside the chamber range"));
   EXPECT_THAT(error_of("segments:\n  - {duration_min: 5, chamber_c: 10, rate_dps: 0}\n  - {duration_min: 5, chamber_c: 20, rate_dps: 0}\n"),
