@@ -192,7 +192,7 @@ std::string report_markdown(const ExplainResult& r) {
      << (j.recording.thermal_cycles ? "whole thermal cycles" : "equal spans of time") << "), " << heldout_text(j.recording.heldout_every)
      << (j.recording.heldout_outside_support
              ? str_cat(" (", j.recording.heldout_outside_support, " held-out samples lie outside the training blocks' support - the "
-                       "simulation extrapolates there - and confirm nothing)")
+                       "simulation or the refitted model extrapolates there - and confirm nothing)")
              : std::string())
      << ". Run time " << format_significant(j.run_time_s, 3) << " s" << stage_times_text(j.stage_times) << ".\n\n";
   if (!j.recording.temperature_recorded) md << "The recording has no temperature: it is held, and no temperature effect can be tested.\n\n";
