@@ -220,9 +220,10 @@ std::string report_markdown(const ExplainResult& r) {
   return md.str();
 }
 
-// residuals.csv's heldout column: 0 training, 1 held out (confirms), 2 held out outside the training support.
-// Its heldout_scored column is 1 on exactly the rows the held-out proof scores (ExplainInput::confirms): the
-// held-out rms in explain.json and each effect's held-out gain are sums over those rows.
+// residuals.csv's heldout column: 0 training, 1 held out (confirms), 2 held out outside the training support
+// of the simulation or the refitted model. Its heldout_scored column is 1 on exactly the rows the held-out
+// proof scores (ExplainInput::confirms): the held-out rms in explain.json is over those rows. (Each effect's
+// held-out gain is over the rows where neither model of its own comparison extrapolates, judge.h.)
 int heldout_code(const explain::ExplainInput& in, Eigen::Index i) {
   if (!in.heldout[static_cast<std::size_t>(i)]) return 0;
   return in.confirms(i) ? 1 : 2;
