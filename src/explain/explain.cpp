@@ -302,7 +302,8 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   // 1. The simulation and the structure whose coefficients are re-estimated.
   Simulation sim = make_simulation(in, o.model_path, o.baseline_path, o.baseline_form, o.input);
   const ModelSpec& base = sim.base;
-  in.outside_support = outside_training_support(model_columns(base, in.signals, scaling), in.heldout, o.heldout_leverage);
+  HeldoutSupport support(in, base, scaling, o.heldout_leverage);
+  in.outside_support = support.baseline();
   result.simulation_residual_dph = sim.prior ? Eigen::VectorXd(y - in.signals.channel(kPriorChannel) * kDph) : y;
   clock.lap("input and simulation");
 
@@ -314,7 +315,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   clock.lap("candidates and selection");
 
   // 3. Stability and held-out confirmation of every selected effect; 4. the joint refit with intervals.
-  const Judgement judgement = judge_effects(in, y, base, sel, scaling, w, candidates);
+  const Judgement judgement = judge_effects(in, y, base, sel, scaling, w, support, candidates);
   const Accepted accepted = accept(judgement.effects, base, sel, o.min_stability, o.selection.ambiguity_bic);
   clock.lap("judging (stability, held-out, profiles)");
   const std::optional<ProfiledFit> profile = profiled_start(judgement, accepted);
@@ -325,6 +326,8 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   const Eigen::MatrixXd x_before = model_columns(base, in.signals, scaling);
   result.residual_before_dph = y - x_before * gls(x_before, y, w).beta;
   result.residual_after_dph = y - model_columns(final_fit.model, in.signals, scaling) * final_fit.beta;
+  // The reported held-out fit compares the baseline with the refitted model where neither extrapolates.
+  in.outside_support = support.outside({&final_fit.model});
 
   // The final noise model, from the final residual's training samples (Allan fit, then maximum likelihood), and the diagnostics.
   std::vector<Eigen::Index> training_rows;

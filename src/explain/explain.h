@@ -8,8 +8,8 @@
 //   2. candidates from the effect library (effect.h), projected off what the simulation can absorb,
 //      selected forward by BIC with block-bootstrap p-values and Holm's correction (selection.h);
 //   3. every selected effect must survive leave-one-block-out refits (stability) and must not make the
-//      held-out blocks worse (judge.h) - held-out samples where the simulation extrapolates excluded
-//      (heldout_support.h); one the held-out blocks cannot test needs dBIC >= ambiguity_bic against the
+//      held-out blocks worse (judge.h) - held-out samples where the simulation or the model judged
+//      extrapolates excluded (heldout_support.h); one the held-out blocks cannot test needs dBIC >= ambiguity_bic against the
 //      coloured noise re-estimated with it; the model is refitted jointly in Ceres with confidence
 //      intervals (refit.h);
 //   4. the residual is diagnosed before and after (diagnostics.h); significant structure no effect
@@ -40,8 +40,8 @@ struct ExplainOptions {
   InputOptions input;
   SelectionOptions selection;
   double min_stability = 0.5; // fraction of leave-one-block-out refits in which an effect must keep dBIC > 0
-  // Held-out samples whose leverage under the simulation's training fit exceeds this multiple of the mean
-  // training leverage are outside the training support (heldout_support.h) and confirm nothing.
+  // Held-out samples whose leverage under the training fit of the simulation or of a model judged exceeds this
+  // multiple of the mean training leverage are outside the training support (heldout_support.h) and confirm nothing.
   double heldout_leverage = 10.0;
   std::string validate() const;
 };

@@ -29,8 +29,10 @@ struct ExplainInput {
   std::vector<std::string> skipped;                            // channels left out (nan), with the reason
   std::vector<int> block;      // block index per sample
   std::vector<char> heldout;   // 1 for held-out samples
-  // Held-out samples outside the training blocks' support (heldout_support.h): they confirm nothing.
-  // Empty until the simulation is known (explain_recording sets it).
+  // Held-out samples the reported held-out fit leaves out: outside the training blocks' support of the
+  // baseline's columns or of the refitted model's (heldout_support.h) - the baseline's alone until the
+  // refit. Each effect's held-out test uses its own comparison's mask (judge.h). Empty until the simulation
+  // is known (explain_recording sets it).
   std::vector<char> outside_support;
   std::vector<int> segment;    // runs of uniform sampling (a gap over 1.5 sample intervals starts a new one)
   int blocks = 0;
@@ -40,11 +42,13 @@ struct ExplainInput {
 
   Eigen::Index size() const { return error.size(); }
   Eigen::Index training_size() const;
-  // A held-out sample that confirms: held out and inside the training blocks' support.
-  bool confirms(Eigen::Index i) const {
+  // A held-out sample that confirms: held out and inside the training blocks' support (of `outside`, a
+  // mask of HeldoutSupport; by default outside_support).
+  bool confirms(Eigen::Index i, const std::vector<char>& outside) const {
     const auto k = static_cast<std::size_t>(i);
-    return heldout[k] != 0 && (outside_support.empty() || outside_support[k] == 0);
+    return heldout[k] != 0 && (outside.empty() || outside[k] == 0);
   }
+  bool confirms(Eigen::Index i) const { return confirms(i, outside_support); }
   // A sample the residual diagnostics see: a training sample. Held out, the residual is a prediction error
   // with the simulation's own parameter error in it - shared by every sample of a (T, omega) cell the
   // training blocks visited sparsely, so a cell or window test there would read extrapolation as structure;

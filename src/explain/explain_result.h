@@ -132,7 +132,7 @@ struct RecordingSummary {
   int blocks = 0;
   bool thermal_cycles = false;
   int heldout_every = 4;  // every heldout_every-th block from the third is held out
-  long heldout_outside_support = 0;  // held-out samples where the simulation extrapolates (heldout_support.h)
+  long heldout_outside_support = 0;  // held-out samples where the simulation or the refitted model extrapolates (heldout_support.h)
   std::vector<std::string> skipped_channels;
   bool temperature_recorded = true;  // false: no thermometer, the temperature held (no temperature effect testable)
   // Block means the recording was reduced to before explaining (core/decimation.h's to_json, with

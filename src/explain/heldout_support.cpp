@@ -41,3 +41,38 @@ std::vector<char> outside_training_support(const Eigen::MatrixXd& x, const std::
 }
 
 }  // namespace gyrosid::explain
+
+namespace gyrosid::explain {
+namespace {
+
+// What identifies a model's columns on a recording: its terms (kinds, orders, grids, parameters) and lag.
+nlohmann::json model_key(const ModelSpec& m) {
+  nlohmann::json terms = nlohmann::json::array();
+  for (const Term& t : m.terms) terms.push_back(t.to_json());
+  return {{"terms", terms}, {"lag_tau_s", m.lag_tau_s}};
+}
+
+}  // namespace
+
+HeldoutSupport::HeldoutSupport(const ExplainInput& in, const ModelSpec& base, const TermScaling& scaling, double ratio)
+    : in_(in), scaling_(scaling), ratio_(ratio), base_(outside_training_support(model_columns(base, in.signals, scaling), in.heldout, ratio)) {}
+
+const std::vector<char>& HeldoutSupport::of(const ModelSpec& model) {
+  nlohmann::json key = model_key(model);
+  for (const auto& [k, mask] : cache_) {
+    if (k == key) return mask;
+  }
+  cache_.emplace_back(std::move(key), outside_training_support(model_columns(model, in_.signals, scaling_), in_.heldout, ratio_));
+  return cache_.back().second;
+}
+
+std::vector<char> HeldoutSupport::outside(const std::vector<const ModelSpec*>& models) {
+  std::vector<char> out = base_;
+  for (const ModelSpec* m : models) {
+    const std::vector<char>& mask = of(*m);
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = out[i] || mask[i];
+  }
+  return out;
+}
+
+}  // namespace gyrosid::explain

@@ -22,12 +22,29 @@ Whitener rows_whitener(const ExplainInput& in, const NoiseModel& noise, const st
 }
 
 // Sum of squared residuals on the confirming held-out rows (unwhitened: a user's view of the fit).
-double heldout_rss(const Eigen::VectorXd& residual, const ExplainInput& in) {
+double heldout_rss(const Eigen::VectorXd& residual, const ExplainInput& in, const std::vector<char>& outside) {
   double s = 0.0;
   for (Eigen::Index i = 0; i < in.size(); ++i) {
-    if (in.confirms(i)) s += residual(i) * residual(i);
+    if (in.confirms(i, outside)) s += residual(i) * residual(i);
   }
   return s;
+}
+
+// The held-out test of one effect: the selected model (residual_full) against it without the effect
+// (residual_minus), both scored on the held-out rows inside the training support of the baseline and of
+// both models (`outside`, heldout_support.h). `sigma`: the training fit's noise level.
+void heldout_test(const ExplainInput& in, const NoiseModel& noise, const std::vector<char>& outside, const Eigen::VectorXd& residual_full,
+                  const Eigen::VectorXd& residual_minus, double sigma, Judged& j) {
+  j.heldout_rss_without = heldout_rss(residual_minus, in, outside);
+  j.heldout_gain = j.heldout_rss_without - heldout_rss(residual_full, in, outside);
+  j.heldout_samples = 0;
+  for (Eigen::Index i = 0; i < in.size(); ++i) j.heldout_samples += in.confirms(i, outside);
+  if (j.heldout_samples == 0) return;
+  const Whitener heldout_w = rows_whitener(in, noise, [&](Eigen::Index i) { return in.confirms(i, outside); });
+  const Eigen::VectorXd r = heldout_w.apply(residual_full), d = heldout_w.apply(residual_minus - residual_full);
+  const double sigma_h = std::sqrt(r.squaredNorm() / std::max<double>(1.0, static_cast<double>(r.size())));
+  j.heldout_testable = d.norm() / std::sqrt(static_cast<double>(std::max<Eigen::Index>(1, d.size()))) > 0.05 * sigma;
+  j.heldout_z = d.norm() > 0 ? (d.squaredNorm() + 2.0 * r.dot(d)) / (2.0 * sigma_h * d.norm()) : 0.0;
 }
 
 std::vector<int> training_blocks(const ExplainInput& in) {
@@ -117,15 +134,11 @@ RowFit gls(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Whitener& w
 }
 
 Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const SelectionResult& sel,
-                        const TermScaling& scaling, const Whitener& w, const std::vector<Candidate>& candidates) {
+                        const TermScaling& scaling, const Whitener& w, HeldoutSupport& support, const std::vector<Candidate>& candidates) {
   const Eigen::MatrixXd x_full = model_columns(sel.model, in.signals, scaling);
   const RowFit fit_full = gls(x_full, y, w);
   const Eigen::VectorXd residual_full = y - x_full * fit_full.beta;
   const double sigma = std::sqrt(fit_full.rss / std::max<double>(1.0, static_cast<double>(fit_full.n) - fit_full.rank));
-  std::size_t confirming = 0;
-  for (Eigen::Index i = 0; i < in.size(); ++i) confirming += in.confirms(i);
-  const std::optional<Whitener> heldout_w =
-      confirming ? std::optional<Whitener>(rows_whitener(in, sel.noise, [&](Eigen::Index i) { return in.confirms(i); })) : std::nullopt;
   Judgement out;
   std::size_t term = base.terms.size();
   const bool lag_selected = sel.model.lag_tau_s != base.lag_tau_s;
@@ -163,15 +176,7 @@ Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const 
     }
     const Eigen::MatrixXd x_minus = model_columns(minus, in.signals, scaling);
     const Eigen::VectorXd residual_minus = y - x_minus * gls(x_minus, y, w).beta;
-    j.heldout_rss_without = heldout_rss(residual_minus, in);
-    j.heldout_gain = j.heldout_rss_without - heldout_rss(residual_full, in);
-    j.heldout_samples = confirming;
-    if (heldout_w) {
-      const Eigen::VectorXd r = heldout_w->apply(residual_full), d = heldout_w->apply(residual_minus - residual_full);
-      const double sigma_h = std::sqrt(r.squaredNorm() / std::max<double>(1.0, static_cast<double>(r.size())));
-      j.heldout_testable = d.norm() / std::sqrt(static_cast<double>(std::max<Eigen::Index>(1, d.size()))) > 0.05 * sigma;
-      j.heldout_z = d.norm() > 0 ? (d.squaredNorm() + 2.0 * r.dot(d)) / (2.0 * sigma_h * d.norm()) : 0.0;
-    }
+    heldout_test(in, sel.noise, support.outside({&sel.model, &minus}), residual_full, residual_minus, sigma, j);
     j.stability = stability(blocks, x_minus, lag ? 0 : selected.candidate.nonlinear_parameters());
     const ProfiledFit without = profiled_fit(in, y, minus, lag_selected && !lag, scaling, w);
     j.profiled_without = without;

@@ -1,12 +1,13 @@
 // Judging the selected effects before they are accepted: each must keep dBIC > 0 when one training block
 // is left out (stability) and, where the held-out blocks see it, improve them significantly - the gain
 // |d|^2 + 2 r'd in the whitened held-out residual (d the change the effect makes, r the residual with it)
-// against its noise 2 sigma |d|.
+// against its noise 2 sigma |d|, on the held-out samples where neither model extrapolates (heldout_support.h).
 #pragma once
 
 #include <optional>
 #include <vector>
 
+#include "explain/heldout_support.h"
 #include "explain/refit.h"
 #include "explain/selection.h"
 
@@ -31,7 +32,7 @@ struct Judged {
   double stability = 1.0;        // fraction of leave-one-training-block-out refits with dBIC > 0
   double heldout_gain = 0.0;     // held-out sum of squares without the effect minus with it, (deg/h)^2
   double heldout_rss_without = 0.0;  // held-out sum of squares of the selected model without it, (deg/h)^2
-  std::size_t heldout_samples = 0;
+  std::size_t heldout_samples = 0;  // the held-out samples scored: inside the support of the baseline and of both models
   double heldout_z = 0.0;        // that gain in the whitened held-out samples over its standard error
   bool heldout_testable = false; // the held-out blocks see the effect (the two predictions differ there)
   // Its dBIC against the selected model without it when the others' nonlinear parameters (a lag, a
@@ -61,10 +62,12 @@ struct Judgement {
   std::optional<ProfiledFit> full;  // the selected model's profile, when a nonlinear parameter was re-optimised
 };
 
-// `y` in deg/h on every sample; `w` the training whitener of the selection's noise model; `candidates` the
-// selection's (their further components are the rivals above).
+// `y` in deg/h on every sample; `w` the training whitener of the selection's noise model; `support` the
+// recording's held-out support (each effect is scored held out on the rows inside the support of the
+// baseline, the selected model and the selected model without it); `candidates` the selection's (their
+// further components are the rivals above).
 Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const SelectionResult& sel,
-                        const TermScaling& scaling, const Whitener& w, const std::vector<Candidate>& candidates = {});
+                        const TermScaling& scaling, const Whitener& w, HeldoutSupport& support, const std::vector<Candidate>& candidates = {});
 
 // Generalised least squares on the rows a whitener covers: coefficients, RSS, count and rank.
 struct RowFit {

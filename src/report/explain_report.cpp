@@ -192,7 +192,7 @@ std::string report_markdown(const ExplainResult& r) {
      << (j.recording.thermal_cycles ? "whole thermal cycles" : "equal spans of time") << "), " << heldout_text(j.recording.heldout_every)
      << (j.recording.heldout_outside_support
              ? str_cat(" (", j.recording.heldout_outside_support, " held-out samples lie outside the training blocks' support - the "
-                       "simulation extrapolates there - and confirm nothing)")
+                       "simulation or the refitted model extrapolates there - and confirm nothing)")
              : std::string())
      << ". Run time " << format_significant(j.run_time_s, 3) << " s" << stage_times_text(j.stage_times) << ".\n\n";
   if (!j.recording.temperature_recorded) md << "The recording has no temperature: it is held, and no temperature effect can be tested.\n\n";
@@ -220,9 +220,10 @@ std::string report_markdown(const ExplainResult& r) {
   return md.str();
 }
 
-// residuals.csv's heldout column: 0 training, 1 held out (confirms), 2 held out outside the training support.
-// Its heldout_scored column is 1 on exactly the rows the held-out proof scores (ExplainInput::confirms): the
-// held-out rms in explain.json and each effect's held-out gain are sums over those rows.
+// residuals.csv's heldout column: 0 training, 1 held out (confirms), 2 held out outside the training support
+// of the simulation or the refitted model. Its heldout_scored column is 1 on exactly the rows the held-out
+// proof scores (ExplainInput::confirms): the held-out rms in explain.json is over those rows. (Each effect's
+// held-out gain is over the rows where neither model of its own comparison extrapolates, judge.h.)
 int heldout_code(const explain::ExplainInput& in, Eigen::Index i) {
   if (!in.heldout[static_cast<std::size_t>(i)]) return 0;
   return in.confirms(i) ? 1 : 2;

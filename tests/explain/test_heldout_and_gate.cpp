@@ -10,6 +10,7 @@
 #include "explain/heldout_support.h"
 #include "explain/judge.h"
 #include "explain/noise_likelihood.h"
+#include "model/terms/term_kinds.h"
 
 namespace gyrosid::explain {
 namespace {
@@ -57,6 +58,78 @@ TEST(HeldoutSupport, AColumnZeroOnTheTrainingRowsMakesItsHeldOutSamplesUnsupport
   EXPECT_EQ(out[static_cast<std::size_t>(n)], 0);
   EXPECT_EQ(out[static_cast<std::size_t>(n + 1)], 1);
   for (int i = 0; i < n; ++i) EXPECT_EQ(out[static_cast<std::size_t>(i)], 0);
+}
+
+// Signals at 1 Hz with the given probe temperatures (rate zero) and the held-out rows from `first_heldout` on.
+ExplainInput temperature_input(const std::vector<double>& temp, std::size_t first_heldout) {
+  ExplainInput in;
+  const auto n = static_cast<Eigen::Index>(temp.size());
+  in.signals.t_s.resize(temp.size());
+  for (std::size_t i = 0; i < temp.size(); ++i) in.signals.t_s[i] = static_cast<double>(i);
+  in.signals.rate = Eigen::VectorXd::Zero(n);
+  in.signals.temp_c = Eigen::Map<const Eigen::VectorXd>(temp.data(), n);
+  in.error = Eigen::VectorXd::Zero(n);
+  in.heldout.assign(temp.size(), 0);
+  for (std::size_t i = first_heldout; i < temp.size(); ++i) in.heldout[i] = 1;
+  return in;
+}
+
+// Coverage judged with the judged model's inputs (issue 34). Training: the probe switches between 0 and 40 C
+// every 10 s, so a coil lagging it by 600 s stays at 20 C within a ripple of a few tenths; held out: the
+// probe held at 0 C, where the lagged coil cools from 20 C towards 0 C. The baseline (bias + a linear
+// temperature term at the probe) has seen 0 C on half its training rows and keeps every held-out row; the
+// same terms at the lagged temperature are a straight line in T_coil, whose leverage is analytic
+// (1/n + (x0 - mean)^2 / Sxx): every held-out row where the coil has left the training ripple is outside.
+TEST(HeldoutSupport, ALaggedModelLeavesOutTheHeldOutRowsWhereItsTemperatureLeftTheTrainingRange) {
+  const std::size_t n_train = 2000, n_held = 2000;
+  std::vector<double> temp{20.0};  // in equilibrium at the mean, so the lagged coil starts inside the ripple
+  for (std::size_t i = 1; i < n_train; ++i) temp.push_back((i / 10) % 2 ? 40.0 : 0.0);
+  for (std::size_t i = 0; i < n_held; ++i) temp.push_back(0.0);
+  const ExplainInput in = temperature_input(temp, n_train);
+  const ModelSpec base{{bias_term(), temperature_polynomial({1})}, 0.0};
+  const ModelSpec lagged{base.terms, 600.0};
+  HeldoutSupport support(in, base, TermScaling::of(in.signals), 10.0);
+  for (std::size_t i = 0; i < temp.size(); ++i) ASSERT_EQ(support.baseline()[i], 0) << i;
+
+  const Eigen::VectorXd coil = coil_temperature(in.signals, 600.0).temp_c;
+  double mean = 0.0, sxx = 0.0;
+  for (std::size_t i = 0; i < n_train; ++i) mean += coil(static_cast<Eigen::Index>(i)) / n_train;
+  for (std::size_t i = 0; i < n_train; ++i) sxx += std::pow(coil(static_cast<Eigen::Index>(i)) - mean, 2);
+  const double threshold = 10.0 * 2.0 / n_train;
+  const std::vector<char> out = support.outside({&lagged});
+  std::size_t flagged = 0;
+  for (std::size_t i = 0; i < temp.size(); ++i) {
+    const double h = 1.0 / n_train + std::pow(coil(static_cast<Eigen::Index>(i)) - mean, 2) / sxx;
+    EXPECT_EQ(out[i] != 0, in.heldout[i] && h > threshold) << i << ": coil " << coil(static_cast<Eigen::Index>(i)) << " C, leverage " << h;
+    flagged += out[i];
+  }
+  // The ripple spans 19.7-20.1 C (Sxx ~ 21 C^2): the coil leaves it within the first few held-out seconds.
+  EXPECT_GT(flagged, n_held - 20);
+  EXPECT_EQ(out[n_train], 0);  // the first held-out second: the coil is still at 20 C
+  EXPECT_EQ(support.outside({&lagged}), out);  // the cached mask
+  EXPECT_EQ(support.outside({&base}), support.baseline());
+}
+
+// The same for a regressor the baseline does not have: an auxiliary channel v in [0, 1] on the training
+// rows and 0.5 or 4 on the held-out rows. With v's column beside the baseline's, exactly the held-out rows
+// at v = 4 are outside (leverage ~ 3.5^2 / (n var) = 0.073 against 10 * 3 / n = 0.015); the baseline alone
+// keeps them all.
+TEST(HeldoutSupport, ARegressorOutsideItsTrainingRangeLeavesOutExactlyThoseHeldOutRows) {
+  const std::size_t n_train = 2000;
+  std::vector<double> temp, v;
+  for (std::size_t i = 0; i < n_train; ++i) temp.push_back((i / 10) % 2 ? 40.0 : 0.0), v.push_back(static_cast<double>(i % 101) / 100.0);
+  for (std::size_t i = 0; i < 40; ++i) temp.push_back(i % 2 ? 40.0 : 0.0), v.push_back(i % 4 == 3 ? 4.0 : 0.5);
+  ExplainInput in = temperature_input(temp, n_train);
+  in.signals.channels["v"] = Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+  const ModelSpec base{{bias_term(), temperature_polynomial({1})}, 0.0};
+  ModelSpec judged = base;
+  judged.terms.push_back(channel_term({"v"}));
+  HeldoutSupport support(in, base, TermScaling::of(in.signals), 10.0);
+  const std::vector<char> out = support.outside({&judged});
+  for (std::size_t i = 0; i < temp.size(); ++i) {
+    EXPECT_EQ(support.baseline()[i], 0) << i;
+    EXPECT_EQ(out[i], i >= n_train && v[i] == 4.0 ? 1 : 0) << i;
+  }
 }
 
 // White noise (sd 1) plus a Gauss-Markov wander (sd 1, tau 300 s) around a constant: started from a
