@@ -163,10 +163,7 @@ void run_design(DesignCommand c) {
     const auto [key, value] = split_option(kv);
     options[key] = value;
   }
-  const Equipment equipment = load_equipment(c.equipment);  // what the hardware can do; --set space.* overrides it
-  settings.space.chamber = equipment.chamber;
-  if (std::isfinite(equipment.table.max_acceleration_radps2)) settings.space.table_max_acceleration_dps2 = units::radps_to_dps(equipment.table.max_acceleration_radps2);
-  if (std::isfinite(equipment.table_max_rate_radps)) settings.space.table_max_rate_dps = units::radps_to_dps(equipment.table_max_rate_radps);
+  settings.space.take(load_equipment(c.equipment));  // what the hardware can do; --set space.* overrides it
   const OptionMap solver_options = settings.apply(options);
   const auto envelope_names = split(c.envelope);
   if (envelope_names.size() == 1 && envelope_names.front() == "uniform") {
@@ -203,8 +200,8 @@ void run_design(DesignCommand c) {
 
   const SensorPrior prior = prior_with_measured_noise(c);
   if (prior.members.size() > 1 && (criterion == design::Criterion::cof_minimax || evaluating)) {
-    fail("--prior ", c.prior, ": ", evaluating ? "--evaluate" : "criterion cof_minimax", " takes one sensor, not a prior of ", prior.members.size(),
-         " (cof_minimax compares against one reference; use --criterion cof)");
+    fail("--prior ", c.prior, ": ", evaluating ? "--evaluate takes one sensor (--sensor)" : "criterion cof_minimax takes one sensor (it compares against one reference; use --criterion cof)",
+         ", not a prior of ", prior.members.size());
   }
   const SensorSpec& sensor = prior.members.front().sensor;
   auto envelope = std::make_shared<const design::Envelope>(design::load_envelope(settings.envelope, as_triad(sensor)));

@@ -31,6 +31,12 @@ void DesignSpaceOptions::bind(OptionTable& t) {
       .real("space.latitude_deg", &latitude_deg, -90.0, 90.0, "latitude of the rate table");
 }
 
+void DesignSpaceOptions::take(const Equipment& e) {
+  chamber = e.chamber;
+  if (std::isfinite(e.table.max_acceleration_radps2)) table_max_acceleration_dps2 = units::radps_to_dps(e.table.max_acceleration_radps2);
+  if (std::isfinite(e.table_max_rate_radps)) table_max_rate_dps = units::radps_to_dps(e.table_max_rate_radps);
+}
+
 std::string DesignSpaceOptions::validate() const {
   if (!(budget_min > 0)) return str_cat("budget ", budget_min, " min must be positive");
   if (!(min_period_s < max_period_s)) return "space.min_period_s must be below space.max_period_s";

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "trajectory/equipment.h"
 #include "trajectory/table_profile.h"
 #include "solvers/common/options.h"
 
@@ -43,6 +44,7 @@ struct DesignSpaceOptions {
   double latitude_deg = -25.86;
   void bind(OptionTable& table);  // keys space.<name>
   std::string validate() const;
+  void take(const Equipment& equipment);  // the chamber's limits and the table's (trajectory/equipment.h)
 };
 
 // The smooth encoding's variables in natural units.

@@ -19,6 +19,7 @@
 #include "core/random.h"
 #include "core/recording.h"
 #include "core/units.h"
+#include "trajectory/trajectory_config.h"
 #include "solvers/hand_turn_session.h"
 #include "read_file.h"
 
@@ -610,9 +611,36 @@ TEST_F(Cli, DesignForAPriorOverSensors) {
   EXPECT_EQ(j["prior"]["members"][0]["predicted"], j["predicted"]);
   EXPECT_THAT(read_text(dir_ / "p2" / "report.md"), HasSubstr("## Over the prior (2 sensors)"));
   EXPECT_THAT(run("design" + quick + " --prior " + path("two.yaml") + " --criterion cof_minimax --out " + path("x")).output,
-              HasSubstr("criterion cof_minimax takes one sensor, not a prior of 2"));
+              HasSubstr("criterion cof_minimax takes one sensor (it compares against one reference; use --criterion cof), not a prior of 2"));
   EXPECT_THAT(run("design" + quick + " --prior " + path("two.yaml") + " --sensor builtin:sensors/open_loop_fog.yaml --out " + path("x")).output,
               HasSubstr("excludes"));
+  EXPECT_FALSE(fs::exists(dir_ / "x"));
+}
+
+// --equipment: the design keeps the chamber's cooling limit and the table's rate and acceleration, writes them
+// into trajectory.yaml (which simulate checks again) and writes the set-point table; --set space.* overrides.
+TEST_F(Cli, DesignKeepsTheEquipmentFile) {
+  std::ofstream(path("lab.yaml")) << "kind: equipment\nchamber: {min_c: -40, max_c: 85, heating_c_per_min: 3, cooling_c_per_min: 1}\n"
+                                     "table: {max_rate_dps: 50, max_acceleration_dps2: 2}\n";
+  const std::string quick = " --envelope short --model classical --budget-min 8 --set space.segments=2 --set global_evaluations=30 "
+                            "--set local_evaluations=20 --seed 4 --equipment " + path("lab.yaml");
+  const Result r = run("design" + quick + " --out " + path("e"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const TrajectorySpec t = load_trajectory_file(path("e/trajectory.yaml"));  // check_limits with the file's limits
+  EXPECT_EQ(t.profile.limits.limit_c_per_min(false), 1.0);
+  EXPECT_EQ(t.profile.limits.min_c, -40.0);
+  EXPECT_NEAR(t.profile.table_limits.max_acceleration_radps2, units::dps_to_radps(2.0), 1e-15);
+  for (const auto& s : t.profile.segments) {
+    EXPECT_GE((s.chamber_end_c - s.chamber_start_c) / (s.duration_s / 60.0), -1.0 - 1e-9) << s.label;
+    const double peak = s.rate.shape == RateProfile::Shape::triangle ? std::max(std::abs(s.rate.low_radps), std::abs(s.rate.high_radps))
+                                                                     : std::abs(s.rate.value_radps);
+    EXPECT_LE(peak, units::dps_to_radps(50.0) * (1 + 1e-12)) << s.label;
+  }
+  EXPECT_EQ(read_text(dir_ / "e" / "setpoints.csv").substr(0, 47), "t_s,chamber_setpoint_c,table_rate_dps,position\n");
+  const Result over = run("design" + quick + " --set space.chamber_cooling_limit_c_per_min=0.5 --out " + path("o"));
+  ASSERT_EQ(over.status, 0) << over.output;
+  EXPECT_EQ(load_trajectory_file(path("o/trajectory.yaml")).profile.limits.limit_c_per_min(false), 0.5);
+  EXPECT_THAT(run("design" + quick + "x --out " + path("x")).output, HasSubstr("lab.yamlx"));
   EXPECT_FALSE(fs::exists(dir_ / "x"));
 }
 
