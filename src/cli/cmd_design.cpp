@@ -143,13 +143,12 @@ PriorContexts prior_contexts(const SensorPrior& prior, const design::DesignConte
 // The design and the compared trajectories predicted on every member of the prior.
 std::vector<PriorMemberPredictions> prior_predictions(const SensorPrior& prior, const PriorContexts& contexts, const design::DesignResult& r,
                                                       const std::vector<std::string>& compare) {
+  std::vector<TrajectorySpec> compared;
+  for (const auto& path : compare) compared.push_back(load_trajectory_file(path));
   std::vector<PriorMemberPredictions> out;
   for (std::size_t k = 0; k < prior.members.size(); ++k) {
     PriorMemberPredictions m{prior.members[k].name, prior.members[k].origin, prior.members[k].weight, r.member_predictions[k], {}};
-    for (const auto& path : compare) {
-      const TrajectorySpec spec = load_trajectory_file(path);
-      m.compared.emplace_back(spec.profile.name, design::evaluate_trajectory(*contexts.members[k].context, spec));
-    }
+    for (const auto& spec : compared) m.compared.emplace_back(spec.profile.name, design::evaluate_trajectory(*contexts.members[k].context, spec));
     out.push_back(std::move(m));
   }
   return out;
