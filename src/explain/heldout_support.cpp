@@ -40,9 +40,6 @@ std::vector<char> outside_training_support(const Eigen::MatrixXd& x, const std::
   return out;
 }
 
-}  // namespace gyrosid::explain
-
-namespace gyrosid::explain {
 namespace {
 
 // What identifies a model's columns on a recording: its terms (kinds, orders, grids, parameters) and lag.
