@@ -3,10 +3,10 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <cstdio>
 
 #include "core/config.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/random.h"
 
 namespace gyrosid {
@@ -31,12 +31,6 @@ std::vector<std::string> split_path(const std::string& path) {
 
 bool is_index(const std::string& s) { return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos; }
 
-std::string exact(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
 // Every number of `node` (a scalar, or nested lists of them) mapped by f, in place. False if one is not a number.
 template <class F>
 bool map_numbers(YAML::Node node, const F& f) {
@@ -48,7 +42,7 @@ bool map_numbers(YAML::Node node, const F& f) {
   }
   double v = 0.0;
   if (!node.IsScalar() || !YAML::convert<double>::decode(node, v)) return false;
-  node = exact(f(v));
+  node = format_number(f(v));  // reads back to the same double
   return true;
 }
 
