@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   register_explain(app, action);
   register_design(app, action);
   register_import(app, action);
+  register_session(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

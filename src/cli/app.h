@@ -25,5 +25,6 @@ void register_cof(CLI::App& app, Action& action);
 void register_explain(CLI::App& app, Action& action);
 void register_design(CLI::App& app, Action& action);
 void register_import(CLI::App& app, Action& action);
+void register_session(CLI::App& app, Action& action);
 
 }  // namespace gyrosid::cli

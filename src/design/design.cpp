@@ -103,10 +103,18 @@ DesignResult design_trajectory(const std::vector<WeightedContext>& members, cons
     fail("design: the exact selection (select.rounds > 0, cof_minimax's default) is not available under a prior of ",
          members.size(), " sensors; set select.rounds=0");
   }
+  const bool continuing = !request.recorded.segments.empty();
+  if (continuing && (request.solver != "nlopt" || request.selection.rounds > 0)) {
+    fail("design: continuing recorded segments takes the nlopt solver without the exact selection (select.rounds=0), not ", request.solver);
+  }
   auto solver = make_design_solver(request.solver, request.solver_options, request.seed);
   solver->use_checkpoint(request.checkpoint);
-  const DesignSpace space = design_space(context.envelope(), request.space);
-  const DesignProblem problem(members, space, request.quadrature, request.prior);
+  DesignSpaceOptions space_options = request.space;
+  if (continuing) space_options.start_c = request.recorded.segments.back().chamber_end_c;
+  const DesignSpace space = design_space(context.envelope(), space_options);
+  DesignProblem problem(members, space, request.quadrature, request.prior);
+  problem.set_recorded(request.recorded);
+  if (continuing) problem.continued(space.initial());  // a recording that cannot be continued fails here, by name
   DesignResult r;
   r.initial = space.initial();
   TableProfile best = r.initial;
@@ -145,11 +153,12 @@ DesignResult design_trajectory(const std::vector<WeightedContext>& members, cons
   r.trajectory.description = str_cat("designed by gyrosid design (", to_string(context.family()), " model, criterion ",
                                      to_string(context.criterion()), ", solver ", request.solver,
                                      request.selection.rounds > 0 ? ", chosen by the exact predictor" : "", ", seed ", request.seed, ")");
-  r.predicted = chosen ? *chosen : evaluate_trajectory(context, r.trajectory);
-  r.initial_predicted = evaluate_trajectory(context, spec(r.initial));
+  const TrajectorySpec judged = spec(problem.continued(best));  // recorded + new
+  r.predicted = chosen ? *chosen : evaluate_trajectory(context, judged);
+  r.initial_predicted = evaluate_trajectory(context, spec(problem.continued(r.initial)));
   if (members.size() > 1) {
     r.member_predictions.push_back(r.predicted);
-    for (std::size_t k = 1; k < members.size(); ++k) r.member_predictions.push_back(evaluate_trajectory(*members[k].context, r.trajectory));
+    for (std::size_t k = 1; k < members.size(); ++k) r.member_predictions.push_back(evaluate_trajectory(*members[k].context, judged));
   }
   return r;
 }

@@ -51,11 +51,15 @@ struct DesignRequest {
   OptionMap solver_options;
   std::uint64_t seed = 1;
   Checkpoint* checkpoint = nullptr;  // the solver's finished stages (design_solver.h); not owned, may be null
+  // An adaptive session's segments already recorded (empty: none): the design continues them from their end
+  // temperature, space.budget_min is the new part's, and it is judged, predicted and compared as recorded + new
+  // (design_problem.h). The nlopt solver only.
+  TableProfile recorded;
 };
 
 struct DesignResult {
-  TrajectorySpec trajectory;   // kind programme, sampled at space.rate_hz
-  Prediction predicted;        // on the trajectory's own samples
+  TrajectorySpec trajectory;   // kind programme, sampled at space.rate_hz (after recorded segments: the new part)
+  Prediction predicted;        // on the trajectory's own samples (after recorded segments: on recorded + new)
   SolveSummary summary;        // with the exact selection: details["exact_selection"] (its candidates, choice, time)
   TableProfile initial;        // the programme the solver started from
   Prediction initial_predicted;

@@ -73,13 +73,15 @@ double DesignProblem::mean_objective(const Observe& observe_member) const {
 }
 
 Observations DesignProblem::observe_programme(const TableProfile& programme) const {
-  const Quadrature q = programme_quadrature(programme, q_.max_spacing_s, q_.points_per_cycle);
-  return observe(programme, q.times, q.weights_s, context().gyro(), context().thermal());
+  const TableProfile all = continued(programme);
+  const Quadrature q = programme_quadrature(all, q_.max_spacing_s, q_.points_per_cycle);
+  return observe(all, q.times, q.weights_s, context().gyro(), context().thermal());
 }
 
 double DesignProblem::objective(const TableProfile& programme) const {
-  const Quadrature q = programme_quadrature(programme, q_.max_spacing_s, q_.points_per_cycle);
-  return mean_objective([&](const DesignContext& c) { return observe(programme, q.times, q.weights_s, c.gyro(), c.thermal()); });
+  const TableProfile all = continued(programme);
+  const Quadrature q = programme_quadrature(all, q_.max_spacing_s, q_.points_per_cycle);
+  return mean_objective([&](const DesignContext& c) { return observe(all, q.times, q.weights_s, c.gyro(), c.thermal()); });
 }
 
 namespace {
@@ -100,6 +102,7 @@ std::pair<std::vector<double>, std::vector<double>> unit_legendre(int n) {
 }  // namespace
 
 double DesignProblem::smooth_objective(const SmoothProgramme& x) const {
+  if (!recorded_.segments.empty()) fail("design: the smooth relaxation (ipopt) cannot continue recorded segments; use the nlopt solver");
   const TableProfile p = space_.decode_smooth(x);
   const auto [nodes, weights] = unit_legendre(q_.relaxed_rates);
   std::vector<double> times, span;

@@ -54,6 +54,14 @@ class DesignProblem {
   const std::vector<WeightedContext>& members() const { return members_; }
   const DesignSpace& space() const { return space_; }
 
+  // An adaptive session's recorded segments (gyrosid session): every programme is judged as their continuation,
+  // the objective that of everything the final calibration will see (the information adds; the thermal path
+  // runs on from where the recorded part left the coil). Box encoding only: the smooth relaxation refuses it.
+  void set_recorded(TableProfile recorded) { recorded_ = std::move(recorded); }
+  const TableProfile& recorded() const { return recorded_; }
+  // The programme after the recorded segments (itself when none are).
+  TableProfile continued(const TableProfile& programme) const { return concatenate(recorded_, programme); }
+
   // cof_minimax: offsets added to the flights' log ratios (DesignContext::objective; exact_selection.h).
   void set_flight_offsets(std::vector<double> offsets) { offsets_ = std::move(offsets); }
   const std::vector<double>& flight_offsets() const { return offsets_; }
@@ -73,6 +81,7 @@ class DesignProblem {
   QuadratureOptions q_;
   PriorOptions prior_;
   std::vector<double> offsets_;
+  TableProfile recorded_;
 };
 
 }  // namespace gyrosid::design

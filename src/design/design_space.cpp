@@ -44,6 +44,9 @@ std::string DesignSpaceOptions::validate() const {
   if (min_share * segments >= 1.0) return str_cat("space.min_share x space.segments = ", min_share * segments, " must be below 1");
   if (!(chamber.min_c < chamber.max_c)) return "space.chamber_min_c must be below space.chamber_max_c";
   if (positions.empty()) return "the design needs at least one mount position";
+  if (!std::isnan(start_c) && (start_c < chamber.min_c || start_c > chamber.max_c)) {
+    return str_cat("the start temperature ", start_c, " C is outside the chamber range [", chamber.min_c, ", ", chamber.max_c, "] C");
+  }
   for (int p : positions) {
     if (p < 1 || p > 6) return str_cat("mount position ", p, " is not one of Table 2.1's positions 1..6");
   }
@@ -101,7 +104,7 @@ TableProfile DesignSpace::assemble(double start_c, const std::vector<ProfileSegm
   p.latitude_rad = units::deg_to_rad(o_.latitude_deg);
   p.limits = o_.chamber;
   if (!std::isnan(o_.table_max_acceleration_dps2)) p.table_limits.max_acceleration_radps2 = units::dps_to_radps(o_.table_max_acceleration_dps2);
-  double prev = std::clamp(start_c, t_lo_, t_hi_);
+  double prev = std::isnan(o_.start_c) ? std::clamp(start_c, t_lo_, t_hi_) : o_.start_c;  // a pinned start: v(0) unused
   for (ProfileSegment s : segments) {
     // The chamber moves towards the target no faster than its heating or cooling limit.
     s.chamber_start_c = prev;

@@ -38,6 +38,8 @@ struct DesignSpaceOptions {
   double min_share = 0.02;                    // smallest segment, fraction of the budget
   double rate_hz = 3.0;                       // sampling of the designed trajectory
   std::vector<int> positions{2};              // mount positions the design may use (Table 2.1)
+  double start_c = NAN;                       // the chamber's temperature at the start (NaN: the design chooses;
+                                              // an adaptive session's next segment starts where the last ended)
   ChamberLimits chamber;
   double table_max_acceleration_dps2 = NAN;   // NaN: no limit (a triangle's cycles are cut to respect one)
   double table_max_rate_dps = NAN;            // NaN: no limit; else it caps max_rate_dps and the domain's rate

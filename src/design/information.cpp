@@ -21,7 +21,8 @@ NoiseSpec NoiseSpec::of(const NoiseOptions& o) {
   return n;
 }
 
-Eigen::MatrixXd whiten(const Eigen::MatrixXd& a, const std::vector<double>& t, const Eigen::VectorXd& w, const NoiseSpec& noise) {
+Eigen::MatrixXd whiten(const Eigen::MatrixXd& a, const std::vector<double>& t, const Eigen::VectorXd& w, const NoiseSpec& noise,
+                       double* log_determinant) {
   const Eigen::Index n = a.rows(), p = a.cols();
   if (static_cast<Eigen::Index>(t.size()) != n || w.size() != n) fail("whiten: ", n, " rows, ", t.size(), " times, ", w.size(), " weights");
   if (!noise.any()) fail("the sensor has no noise: a design minimises the noise-driven calibration error (give the sensor config its noise)");
@@ -38,7 +39,10 @@ Eigen::MatrixXd whiten(const Eigen::MatrixXd& a, const std::vector<double>& t, c
   }
   const bool rrw = noise.rrw_psd > 0;
   const Eigen::Index m = static_cast<Eigen::Index>(states.size()) + (rrw ? 1 : 0);
-  if (m == 0) return (a.array().colwise() * (w.array() / white_psd).sqrt()).matrix();
+  if (m == 0) {
+    if (log_determinant) *log_determinant = (white_psd / w.array()).log().sum();
+    return (a.array().colwise() * (w.array() / white_psd).sqrt()).matrix();
+  }
   if (!(white_psd > 0)) fail("design: coloured noise without a white part cannot be whitened observation by observation");
 
   // Kalman filter on states [g_1..g_m', b]: y_k = sum g + b + v_k, var v_k = white_psd / w_k; the gains do not
@@ -46,6 +50,7 @@ Eigen::MatrixXd whiten(const Eigen::MatrixXd& a, const std::vector<double>& t, c
   Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(m, m), x = Eigen::MatrixXd::Zero(m, p), out(n, p);
   for (std::size_t i = 0; i < states.size(); ++i) cov(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)) = std::pow(states[i].sigma_radps, 2);
   Eigen::VectorXd phi(m), q(m);
+  double log_det = 0.0;
   for (Eigen::Index k = 0; k < n; ++k) {
     const double dt = k == 0 ? 0.0 : t[static_cast<std::size_t>(k)] - t[static_cast<std::size_t>(k - 1)];
     if (dt < 0) fail("whiten: observation times must be ascending");
@@ -59,11 +64,13 @@ Eigen::MatrixXd whiten(const Eigen::MatrixXd& a, const std::vector<double>& t, c
     cov.diagonal() += q;
     const Eigen::VectorXd ph = cov.rowwise().sum();  // P h, h = ones
     const double s = ph.sum() + white_psd / w(k);
+    log_det += std::log(s);
     const Eigen::RowVectorXd innovation = a.row(k) - x.colwise().sum();
     out.row(k) = innovation / std::sqrt(s);
     x += (ph / s) * innovation;
     cov -= ph * ph.transpose() / s;
   }
+  if (log_determinant) *log_determinant = log_det;
   return out;
 }
 

@@ -37,8 +37,10 @@ struct NoiseSpec {
 
 // Rows of [a | extra] whitened under the noise: `a` has one row per observation at times `t_s` (ascending,
 // repeats allowed) standing for `weight_s` seconds each.
+// `log_determinant` (when not null): sum_k log s_k of the innovation variances, the Gaussian log-likelihood's
+// determinant term.
 Eigen::MatrixXd whiten(const Eigen::MatrixXd& a, const std::vector<double>& t_s, const Eigen::VectorXd& weight_s,
-                       const NoiseSpec& noise);
+                       const NoiseSpec& noise, double* log_determinant = nullptr);
 
 // The Gaussian prior of the parameters: mean m and a square root L of the covariance (diagonal for
 // independent scales).

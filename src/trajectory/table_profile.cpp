@@ -107,6 +107,19 @@ std::string TableProfile::check_limits() const {
   return "";
 }
 
+TableProfile concatenate(const TableProfile& first, const TableProfile& then) {
+  if (first.segments.empty()) return then;
+  if (then.segments.empty()) return first;
+  const double end_c = first.segments.back().chamber_end_c, start_c = then.segments.front().chamber_start_c;
+  if (std::abs(end_c - start_c) > 1e-9) {
+    fail("'", then.name, "' starts the chamber at ", start_c, " C but '", first.name, "' ends at ", end_c, " C: the chamber cannot jump");
+  }
+  if (std::abs(first.latitude_rad - then.latitude_rad) > 1e-12) fail("'", then.name, "' and '", first.name, "' are on different latitudes");
+  TableProfile p = first;
+  p.segments.insert(p.segments.end(), then.segments.begin(), then.segments.end());
+  return p;
+}
+
 Eigen::Matrix3d mount_orientation(int position) {
   const Eigen::Vector3d n(1, 0, 0), e(0, 1, 0), d(0, 0, 1);
   Eigen::Matrix3d c;

@@ -93,6 +93,11 @@ struct TableProfile {
   std::string check_limits() const;
 };
 
+// `first` then `then` as one programme (an adaptive session's segments, run one after the other): the
+// segments of both, the name, limits and latitude of `first`. Error when `then` does not start where `first`
+// ends (the chamber cannot jump) or the latitudes differ.
+TableProfile concatenate(const TableProfile& first, const TableProfile& then);
+
 // Body axes in table axes for mount position 1..kMountPositions (columns: body x, y, z).
 Eigen::Matrix3d mount_orientation(int position);
 

@@ -617,6 +617,58 @@ TEST_F(Cli, DesignForAPriorOverSensors) {
   EXPECT_FALSE(fs::exists(dir_ / "x"));
 }
 
+// session: a simulated session joins its segments into the recording of one uninterrupted run of the true
+// sensor, learns which member of the prior recorded it, and ends with a model; the same session in the lab
+// (no --truth) stops for each recording and, given the same recordings, designs the same segments byte for byte.
+TEST_F(Cli, SessionAdaptsToTheUnitAndWaitsForTheLab) {
+  std::ofstream(path("two.yaml")) << ("format: gyrosid-prior/1\nname: two\nmembers:\n  - {sensor: builtin:sensors/open_loop_fog.yaml}\n"
+                                "  - {sensor: builtin:priors/open_loop_fog_drift.yaml}\n");
+  const std::string truth = "builtin:priors/open_loop_fog_drift.yaml";
+  const std::string quick = " --prior " + path("two.yaml") + " --budget-min 12 --pilot-min 4 --envelope short --model classical "
+                            "--set space.segments=2 --set global_evaluations=30 --set local_evaluations=20 --seed 4 --out ";
+  const Result r = run("session" + quick + path("sim") + " --truth " + truth);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const nlohmann::json j = read_json(dir_ / "sim" / "session.json");
+  EXPECT_EQ(j["status"], "complete");
+  ASSERT_EQ(j["segments"].size(), 2u);
+  EXPECT_EQ(j["segments"][1]["start_min"], 4.0);
+  EXPECT_EQ(j["segments"][1]["duration_min"], 8.0);
+  // The member that recorded (the drift unit) takes the posterior; the redesign is for it alone.
+  EXPECT_GT(j["segments"][0]["posterior"]["members"][1]["weight"].get<double>(), 0.99);
+  EXPECT_EQ(j["segments"][1]["designed_for"].size(), 1u);
+  // The joined recording is the truth simulated on the joined programme in one run: the same numbers.
+  ASSERT_EQ(run("simulate --sensor " + truth + " --trajectory " + path("sim/trajectory.yaml") + " --seed 4 --out " + path("one.csv")).status, 0);
+  const Recording joined = read_recording(path("sim/recording.csv")), one = read_recording(path("one.csv"));
+  ASSERT_EQ(joined.rows(), 12u * 60u * 3u);
+  for (const char* c : {"t_s", "gyro_dps", "temp_c", "ref_rate_dps"}) EXPECT_EQ(joined.column(c), one.column(c)) << c;
+  EXPECT_TRUE(fs::exists(dir_ / "sim" / "model.json"));
+  EXPECT_TRUE(fs::exists(dir_ / "sim" / "segment_1" / "model.json"));  // the interim calibration
+  // In the lab: it designs the pilot and waits; each recording given, --resume goes on.
+  const Result w = run("session" + quick + path("lab"));
+  ASSERT_EQ(w.status, 0) << w.output;
+  EXPECT_THAT(w.output, HasSubstr("record it to " + path("lab/segment_1/recording.csv")));
+  EXPECT_THAT(read_text(dir_ / "lab" / "session.json"), HasSubstr("waiting for"));
+  EXPECT_THAT(run("session" + quick + path("lab")).output, HasSubstr("holds a session (session.json): continue it with --resume"));
+  for (const char* k : {"1", "2"}) {
+    const std::string seg = std::string("segment_") + k;
+    EXPECT_EQ(read_text(dir_ / "lab" / seg / "trajectory.yaml"), read_text(dir_ / "sim" / seg / "trajectory.yaml")) << seg;
+    fs::copy_file(dir_ / "sim" / seg / "recording.csv", dir_ / "lab" / seg / "recording.csv");
+    const Result next = run("session" + quick + path("lab") + " --resume");
+    ASSERT_EQ(next.status, 0) << next.output;
+  }
+  EXPECT_EQ(read_json(dir_ / "lab" / "session.json")["status"], "complete");
+  EXPECT_EQ(read_text(dir_ / "lab" / "recording.csv"), read_text(dir_ / "sim" / "recording.csv"));
+  // A resume with other inputs is refused; bad options are named.
+  const auto with_pilot = [&](const std::string& minutes) {
+    std::string q = quick;
+    return q.replace(q.find("--pilot-min 4"), 13, "--pilot-min " + minutes);
+  };
+  EXPECT_THAT(run("session" + with_pilot("5") + path("lab") + " --resume").output, HasSubstr("another fingerprint"));
+  EXPECT_THAT(run("session" + with_pilot("12") + path("x")).output, HasSubstr("--pilot-min 12 must lie in (0, --budget-min 12)"));
+  EXPECT_THAT(run("session" + quick + path("x") + " --set session.drop_share=0.7").output, HasSubstr("session.drop_share"));
+  EXPECT_THAT(run("session" + quick + path("x") + " --truth builtin:sensors/fog_triad.yaml").output, HasSubstr("is a triad"));
+}
+
 // --equipment: the design keeps the chamber's cooling limit and the table's rate and acceleration, writes them
 // into trajectory.yaml (which simulate checks again) and writes the set-point table; --set space.* overrides.
 TEST_F(Cli, DesignKeepsTheEquipmentFile) {

@@ -1,0 +1,352 @@
+#include "pipeline/session.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numeric>
+
+#include "core/atomic_file.h"
+#include "core/checkpoint.h"
+#include "core/config.h"
+#include "core/error.h"
+#include "core/format.h"
+#include "design/design.h"
+#include "design/sensor_posterior.h"
+#include "model/calibration_model.h"
+#include "report/design_report.h"
+#include "sensor/sensor_prior.h"
+#include "sim/simulate.h"
+#include "solvers/calibrate.h"
+#include "trajectory/equipment.h"
+#include "trajectory/programme.h"
+
+namespace gyrosid {
+
+void SessionOptions::bind(OptionTable& t) {
+  t.real("session.min_effective_members", &min_effective_members, 1.0, 1e6, "the posterior's tempering floor: at least this many "
+                                                                          "effective members (at most half the prior's)")
+      .real("session.drop_share", &drop_share, 0.0, 0.5, "members below this posterior weight are left out of a redesign");
+}
+
+std::string SessionOptions::validate() const {
+  if (prior.empty()) return "--prior is required (a gyrosid-prior/1 file, or a sensor config)";
+  if (out.empty()) return "--out DIR is required";
+  if (!(budget_min > 0)) return str_cat("--budget-min ", budget_min, " must be positive");
+  if (!(pilot_min > 0 && pilot_min < budget_min)) return str_cat("--pilot-min ", pilot_min, " must lie in (0, --budget-min ", budget_min, ")");
+  double last = pilot_min;
+  for (double u : updates_at_min) {
+    if (!(u > last && u < budget_min)) return str_cat("--update-at-min ", u, ": updates must increase after the pilot (", pilot_min, " min) and come before the end (", budget_min, " min)");
+    last = u;
+  }
+  if (!(min_effective_members >= 1.0)) return str_cat("session.min_effective_members ", min_effective_members, " must be at least 1");
+  if (!(drop_share >= 0.0 && drop_share < 0.5)) return str_cat("session.drop_share ", drop_share, " must lie in [0, 0.5)");
+  return "";
+}
+
+std::vector<double> SessionOptions::boundaries_min() const {
+  std::vector<double> b{pilot_min};
+  b.insert(b.end(), updates_at_min.begin(), updates_at_min.end());
+  b.push_back(budget_min);
+  return b;
+}
+
+namespace {
+
+const GyroSensor& one_gyro(const SensorSpec& spec, const std::string& what) {
+  if (const auto* g = std::get_if<GyroSensor>(&spec)) return *g;
+  fail(what, " is a triad: a session calibrates one gyro");
+}
+
+// What every segment shares: the prior, its members' design contexts, the design's settings and the calibration.
+struct SessionSetup {
+  SensorPrior prior;
+  std::optional<SensorSpec> truth;
+  design::DesignSettings settings;
+  OptionMap solver_options;
+  design::ModelFamily family = design::ModelFamily::rbf;
+  std::vector<std::unique_ptr<design::DesignContext>> contexts;  // one per member
+  std::string calibration_text, calibration_source;
+  CalibrationRequest calibration;
+};
+
+void prepare(const SessionOptions& o, SessionSetup& s) {
+  s.prior = load_sensor_prior(o.prior);
+  for (const auto& m : s.prior.members) one_gyro(m.sensor, str_cat("prior member '", m.name, "' (", m.origin, ")"));
+  if (!o.truth.empty()) s.truth = load_sensor_file(o.truth), one_gyro(*s.truth, "--truth " + o.truth);
+  s.settings.space.take(load_equipment(o.equipment));
+  s.solver_options = s.settings.apply(o.settings);
+  design::make_design_solver("nlopt", s.solver_options, o.seed);  // bad options fail before any work
+  s.family = parse_enum<design::ModelFamily>(o.model, "--model");
+  s.settings.envelope.flights.clear();
+  for (std::size_t a = 0, b; a <= o.envelope.size(); a = b + 1) {
+    b = std::min(o.envelope.find(',', a), o.envelope.size());
+    if (b > a) s.settings.envelope.flights.push_back(o.envelope.substr(a, b - a));
+  }
+  auto envelope = std::make_shared<const design::Envelope>(design::load_envelope(s.settings.envelope, as_triad(s.prior.members.front().sensor)));
+  s.settings.space.budget_min = o.budget_min;
+  const design::Domain domain = design::model_domain(design::design_space(*envelope, s.settings.space));
+  for (std::size_t k = 0; k < s.prior.members.size(); ++k) {
+    if (o.on_step) o.on_step(str_cat("session: the design context of member ", k + 1, "/", s.prior.members.size()));
+    s.contexts.push_back(std::make_unique<design::DesignContext>(s.prior.members[k].sensor, envelope, s.family, s.settings.model,
+                                                                 design::Criterion::cof, domain));
+  }
+  if (o.calibration.empty()) {
+    s.calibration_text = design::calibration_yaml(s.family, s.settings.model, domain, s.contexts.front()->noise());
+    s.calibration_source = (o.out / "calibration.yaml").string();
+  } else {
+    s.calibration_text = config_text(o.calibration);
+    s.calibration_source = o.calibration;
+  }
+  s.calibration = calibration_request_from_config(o.calibration.empty() ? ConfigNode::parse(s.calibration_text, s.calibration_source)
+                                                                        : ConfigNode::load(o.calibration));
+}
+
+// Per flight, over the members with weight: the weighted mean, least and largest predicted criterion of fit.
+nlohmann::json band_json(const std::vector<design::Prediction>& predictions, const std::vector<double>& weights) {
+  nlohmann::json j = nlohmann::json::object();
+  for (std::size_t f = 0; f < predictions.front().flights.size(); ++f) {
+    double mean = 0.0, lo = INFINITY, hi = 0.0, total = 0.0;
+    for (std::size_t m = 0; m < predictions.size(); ++m) {
+      const double c = predictions[m].flights[f].cof_m;
+      mean += weights[m] * c, total += weights[m], lo = std::min(lo, c), hi = std::max(hi, c);
+    }
+    j[predictions.front().flights[f].flight] = {{"cof_mean_m", mean / total}, {"cof_min_m", lo}, {"cof_max_m", hi}};
+  }
+  return j;
+}
+
+// Rows [first, rows) of a recording, the time counted from the first of them.
+Recording tail_rows(const Recording& r, std::size_t first, const std::string& source) {
+  Recording out(source);
+  for (const auto& [key, value] : r.metadata()) out.set_meta(key, value);
+  const double t0 = r.column("t_s")[first];
+  for (const auto& name : r.names()) {
+    std::vector<double> v(r.column(name).begin() + static_cast<std::ptrdiff_t>(first), r.column(name).end());
+    if (name == "t_s") std::for_each(v.begin(), v.end(), [&](double& t) { t -= t0; });
+    out.set_column(name, std::move(v));
+  }
+  return out;
+}
+
+// One recording of the session: the segments' rows in order, each segment's time shifted by its start.
+Recording joined(const std::vector<Recording>& segments, const std::vector<double>& start_s) {
+  Recording all("<session recording>");
+  for (const auto& [key, value] : segments.front().metadata()) all.set_meta(key, value);
+  all.set_meta("description", str_cat("gyrosid session: ", segments.size(), " segments"));
+  for (const auto& name : segments.front().names()) {
+    std::vector<double> v;
+    for (std::size_t k = 0; k < segments.size(); ++k) {
+      if (!segments[k].has(name)) fail(segments[k].source(), ": no column ", name, " (segment 1 has it; the segments must record the same columns)");
+      for (double x : segments[k].column(name)) v.push_back(name == "t_s" ? x + start_s[k] : x);
+    }
+    all.set_column(name, std::move(v));
+  }
+  return all;
+}
+
+class SessionRun {
+ public:
+  SessionRun(const SessionOptions& o, const SessionSetup& s) : o_(o), s_(s) {
+    for (const auto& m : s_.prior.members) weights_.push_back(m.weight / s_.prior.total_weight());
+    boundaries_ = o_.boundaries_min();
+    checkpoint_ = Checkpoint(o_.out / ".session_checkpoint.json", o_.fingerprint, o_.resume);
+    json_ = {{"format", "gyrosid-session/1"},
+             {"prior", {{"file", o_.prior}, {"name", s_.prior.name}, {"members", members_json(weights_)}}},
+             {"truth", o_.truth}, {"budget_min", o_.budget_min}, {"seed", o_.seed}, {"model", o_.model},
+             {"calibration", s_.calibration_source}, {"fingerprint", o_.fingerprint}, {"segments", nlohmann::json::array()}};
+  }
+
+  SessionResult run() {
+    SessionResult result;
+    result.segments = static_cast<int>(boundaries_.size());
+    for (std::size_t k = 0; k < boundaries_.size(); ++k) {
+      design_segment(k);
+      const auto recording = o_.out / segment_dir(k) / "recording.csv";
+      if (!record_segment(k, recording)) {
+        result.waiting_for = recording;
+        json_["status"] = str_cat("waiting for ", recording.string());
+        write_file_atomic(o_.out / "session.json", json_.dump(2) + "\n");
+        return result;
+      }
+      update(k);
+      result.segments_done = static_cast<int>(k) + 1;
+    }
+    finish();
+    result.model = o_.out / "model.json";
+    return result;
+  }
+
+ private:
+  static std::string segment_dir(std::size_t k) { return str_cat("segment_", k + 1); }
+  double start_min(std::size_t k) const { return k == 0 ? 0.0 : boundaries_[k - 1]; }
+  void step(const std::string& what) const {
+    if (o_.on_step) o_.on_step(what);
+  }
+
+  nlohmann::json members_json(const std::vector<double>& w) const {
+    nlohmann::json j = nlohmann::json::array();
+    for (std::size_t m = 0; m < w.size(); ++m) j.push_back({{"name", s_.prior.members[m].name}, {"weight", w[m]}});
+    return j;
+  }
+
+  // The members a design is for: those holding at least drop_share of the current weight.
+  std::vector<std::size_t> active() const {
+    std::vector<std::size_t> a;
+    const double top = *std::max_element(weights_.begin(), weights_.end());
+    for (std::size_t m = 0; m < weights_.size(); ++m) {
+      if (weights_[m] >= o_.drop_share || weights_[m] == top) a.push_back(m);
+    }
+    return a;
+  }
+
+  TrajectorySpec spec_of(const TableProfile& profile) const {
+    TrajectorySpec t;
+    t.profile = profile;
+    t.sampling.rate_hz = s_.settings.space.rate_hz;
+    return t;
+  }
+
+  // The segment's programme: designed for the current weights as the continuation of the recorded ones, or taken
+  // from a resumed session's file. Its record in session.json says what it was designed for and predicted.
+  void design_segment(std::size_t k) {
+    const auto dir = o_.out / segment_dir(k);
+    const auto file = dir / "trajectory.yaml";
+    const std::string key = str_cat("segment_", k + 1);
+    nlohmann::json record = checkpoint_.record(key);
+    if (record.is_null() || !std::filesystem::exists(file)) {
+      const std::vector<std::size_t> members = active();
+      const double minutes = boundaries_[k] - start_min(k);
+      step(str_cat("session: segment ", k + 1, "/", boundaries_.size(), ": designing ", format_significant(minutes, 4), " min for ",
+                   members.size(), " of ", weights_.size(), " members"));
+      std::vector<design::WeightedContext> contexts;
+      std::vector<double> w;
+      for (std::size_t m : members) contexts.push_back({s_.contexts[m].get(), weights_[m]}), w.push_back(weights_[m]);
+      design::DesignRequest request;
+      request.space = s_.settings.space;
+      request.space.budget_min = minutes;
+      request.quadrature = s_.settings.quadrature;
+      request.prior = s_.settings.prior;
+      request.solver_options = s_.solver_options;
+      request.seed = o_.seed;
+      request.recorded = recorded_;
+      std::filesystem::create_directories(dir);
+      Checkpoint stages(dir / ".design_checkpoint.json", str_cat(o_.fingerprint, "/", key), o_.resume);
+      request.checkpoint = &stages;
+      design::DesignResult r = design::design_trajectory(contexts, request);
+      r.trajectory.profile.name = str_cat("session segment ", k + 1);
+      std::vector<design::Prediction> predicted = r.member_predictions.empty() ? std::vector<design::Prediction>{r.predicted} : r.member_predictions;
+      nlohmann::json designed_for = nlohmann::json::array();
+      for (std::size_t i = 0; i < members.size(); ++i) designed_for.push_back({{"name", s_.prior.members[members[i]].name}, {"weight", w[i]}});
+      record = {{"segment", k + 1}, {"start_min", start_min(k)}, {"duration_min", minutes}, {"trajectory", (segment_dir(k) + "/trajectory.yaml")},
+                {"designed_for", designed_for}, {"predicted_before", band_json(predicted, w)},
+                {"design", {{"evaluations", r.summary.evaluations}, {"time_s", r.summary.time_s}, {"objective", r.summary.final_cost}}}};
+      write_file_atomic(file, programme_yaml(r.trajectory));
+      write_file_atomic(dir / "setpoints.csv", setpoint_table_csv(r.trajectory.profile));
+      write_file_atomic(dir / "design.json", design_json(r, {{"session", o_.out.string()}, {"segment", k + 1}}).dump(2) + "\n");
+      stages.finish();
+      checkpoint_.save_record(key, record);
+    }
+    json_["segments"].push_back(record);
+    // Always the file's programme, so that a fresh and a resumed session continue from the same numbers.
+    recorded_ = concatenate(recorded_, load_trajectory_file(file.string()).profile);
+  }
+
+  // The segment's recording: the lab's file, or the truth simulated on the programme so far and cut at the
+  // segment's start. False when the lab has yet to record it.
+  bool record_segment(std::size_t k, const std::filesystem::path& file) {
+    const double start_s = start_min(k) * 60.0;
+    if (std::filesystem::exists(file) && (o_.resume || !s_.truth)) {
+      Recording r = read_recording(file);
+      for (const char* c : {"t_s", "ref_rate_dps", "gyro_dps"}) require_column(r, c, "a session calibrates one gyro");
+      segments_.push_back(std::move(r));
+    } else if (s_.truth) {
+      step(str_cat("session: segment ", k + 1, ": simulating the true sensor"));
+      const Simulation sim = simulate(*s_.truth, spec_of(recorded_), o_.seed);
+      const std::vector<double>& t = sim.recording.column("t_s");
+      const auto first = static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), start_s - 1e-6) - t.begin());
+      segments_.push_back(tail_rows(sim.recording, first, file.string()));
+      write_recording(segments_.back(), file);
+    } else {
+      return false;
+    }
+    starts_s_.push_back(start_s);
+    return true;
+  }
+
+  // The posterior after segment k: every member's likelihood of all that is recorded, tempered; the programme so
+  // far predicted on it; an interim calibration (but after the last segment: the final one follows).
+  void update(std::size_t k) {
+    step(str_cat("session: segment ", k + 1, ": updating the prior by the recording (", weights_.size(), " members)"));
+    const Recording all = joined(segments_, starts_s_);
+    std::vector<double> log_l;
+    for (const auto& m : s_.prior.members) {
+      log_l.push_back(design::recording_log_likelihood(std::get<GyroSensor>(m.sensor), recorded_, all.column("t_s"), all.column("gyro_dps")));
+    }
+    std::vector<double> prior_w;
+    for (const auto& m : s_.prior.members) prior_w.push_back(m.weight);
+    const design::SensorPosterior post = design::tempered_posterior(prior_w, log_l, o_.min_effective_members);
+    weights_ = post.weights;
+    std::vector<design::Prediction> predicted;
+    std::vector<double> w;
+    for (std::size_t m : active()) predicted.push_back(design::evaluate_trajectory(*s_.contexts[m], spec_of(recorded_))), w.push_back(weights_[m]);
+    nlohmann::json& seg = json_["segments"].back();
+    seg["recording"] = segment_dir(k) + "/recording.csv";
+    seg["samples"] = segments_.back().rows();
+    seg["posterior"] = {{"learning_rate", post.learning_rate}, {"effective_members", post.effective_members}, {"members", members_json(weights_)}};
+    for (std::size_t m = 0; m < log_l.size(); ++m) seg["posterior"]["members"][m]["log_likelihood"] = log_l[m];
+    seg["predicted_after"] = band_json(predicted, w);
+    if (k + 1 < boundaries_.size()) {
+      step(str_cat("session: segment ", k + 1, ": interim calibration on ", all.rows(), " samples"));
+      const CalibrationResult fit = calibrate(all, s_.calibration);
+      save_model(o_.out / segment_dir(k) / "model.json", *fit.model, {{"training", fit.training}, {"summary", fit.summary}});
+      seg["interim_model"] = segment_dir(k) + "/model.json";
+    }
+  }
+
+  void finish() {
+    const Recording all = joined(segments_, starts_s_);
+    step(str_cat("session: the final calibration on ", all.rows(), " samples"));
+    write_recording(all, o_.out / "recording.csv");
+    write_file_atomic(o_.out / "trajectory.yaml", programme_yaml(spec_of(recorded_)));
+    const CalibrationResult fit = calibrate(all, s_.calibration);
+    save_model(o_.out / "model.json", *fit.model, {{"training", fit.training}, {"summary", fit.summary}});
+    json_["status"] = "complete";
+    json_["final"] = {{"model", "model.json"}, {"recording", "recording.csv"}, {"trajectory", "trajectory.yaml"}, {"samples", all.rows()},
+                      {"predicted", json_["segments"].back()["predicted_after"]}, {"calibration", {{"termination", to_string(fit.summary.termination)},
+                                                                                                     {"time_s", fit.summary.time_s}}}};
+    write_file_atomic(o_.out / "session.json", json_.dump(2) + "\n");
+    checkpoint_.finish();
+  }
+
+  const SessionOptions& o_;
+  const SessionSetup& s_;
+  Checkpoint checkpoint_;
+  nlohmann::json json_;
+  std::vector<double> weights_, boundaries_, starts_s_;
+  TableProfile recorded_;
+  std::vector<Recording> segments_;
+};
+
+}  // namespace
+
+SessionResult run_session(const SessionOptions& o) {
+  if (auto p = o.validate(); !p.empty()) fail(p);
+  if (std::filesystem::exists(o.out / "session.json")) {
+    if (!o.resume) fail(o.out.string(), " holds a session (session.json): continue it with --resume, or choose another --out");
+    const nlohmann::json j = nlohmann::json::parse(config_text((o.out / "session.json").string()), nullptr, false);
+    if (!j.is_object() || j.value("fingerprint", "") != o.fingerprint) {
+      fail(o.out.string(), "/session.json: the session there was started with other inputs, options or seed (another fingerprint); "
+           "--resume continues a session with the same ones");
+    }
+    if (j.value("status", "") == "complete") {
+      return {static_cast<int>(j["segments"].size()), static_cast<int>(j["segments"].size()), std::nullopt, o.out / "model.json"};
+    }
+  }
+  std::filesystem::create_directories(o.out);
+  SessionSetup setup;
+  prepare(o, setup);
+  if (o.calibration.empty()) write_file_atomic(o.out / "calibration.yaml", setup.calibration_text);
+  return SessionRun(o, setup).run();
+}
+
+}  // namespace gyrosid
