@@ -41,7 +41,24 @@ void run(SessionCommand& c) {
               << " (gyrosid-recording/1, times from the segment's start), then run the same command with --resume\n";
     return;
   }
-  std::cout << "wrote " << c.out << "/session.json, report of " << r.segments << " segments; recording.csv, trajectory.yaml, model.json\n";
+  for (const auto& seg : r.session["segments"]) {
+    const auto& post = seg["posterior"];
+    std::size_t top = 0;
+    for (std::size_t m = 0; m < post["members"].size(); ++m) {
+      if (post["members"][m]["weight"] > post["members"][top]["weight"]) top = m;
+    }
+    std::cout << "segment " << seg["segment"] << " (" << format_significant(seg["start_min"], 4) << "-"
+              << format_significant(seg["start_min"].get<double>() + seg["duration_min"].get<double>(), 4) << " min): designed for "
+              << seg["designed_for"].size() << " members; then " << format_significant(post["effective_members"], 3)
+              << " effective (likelihood power " << format_significant(post["learning_rate"], 3) << "), most likely "
+              << post["members"][top]["name"].get<std::string>() << " (" << format_significant(post["members"][top]["weight"], 3) << ")\n";
+  }
+  std::cout << "predicted criterion of fit (weighted mean [least, largest] over the posterior's members):";
+  for (const auto& [flight, band] : r.session["final"]["predicted"].items()) {
+    std::cout << " " << flight << " " << format_significant(band["cof_mean_m"], 3) << " m [" << format_significant(band["cof_min_m"], 3) << ", "
+              << format_significant(band["cof_max_m"], 3) << "]";
+  }
+  std::cout << "\nwrote " << c.out << "/session.json (" << r.segments << " segments), recording.csv, trajectory.yaml, model.json\n";
 }
 
 }  // namespace

@@ -166,6 +166,7 @@ class SessionRun {
         result.waiting_for = recording;
         json_["status"] = str_cat("waiting for ", recording.string());
         write_file_atomic(o_.out / "session.json", json_.dump(2) + "\n");
+        result.session = json_;
         return result;
       }
       update(k);
@@ -173,6 +174,7 @@ class SessionRun {
     }
     finish();
     result.model = o_.out / "model.json";
+    result.session = json_;
     return result;
   }
 
@@ -339,7 +341,8 @@ SessionResult run_session(const SessionOptions& o) {
            "--resume continues a session with the same ones");
     }
     if (j.value("status", "") == "complete") {
-      return {static_cast<int>(j["segments"].size()), static_cast<int>(j["segments"].size()), std::nullopt, o.out / "model.json"};
+      const int n = static_cast<int>(j["segments"].size());
+      return {n, n, std::nullopt, o.out / "model.json", j};
     }
   }
   std::filesystem::create_directories(o.out);

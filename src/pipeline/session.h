@@ -24,6 +24,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "solvers/common/options.h"
 
 namespace gyrosid {
@@ -56,6 +58,7 @@ struct SessionResult {
   int segments_done = 0, segments = 0;
   std::optional<std::filesystem::path> waiting_for;  // the recording the lab must provide next
   std::filesystem::path model;                       // the final model (empty while waiting)
+  nlohmann::json session;                            // what session.json holds
 };
 
 // Runs (or resumes) the session; writes under options.out (session.json, report.md, segment_k/..., and at
