@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <sstream>
 
 #include "core/config.h"
 #include "core/random.h"
@@ -13,10 +15,12 @@
 #include "explain/explain.h"
 #include "explain/linear_fit.h"
 #include "noise/state_space.h"
+#include "read_file.h"
 #include "model/dataset.h"
 #include "model/explained_model.h"
 #include "model/terms/term_kinds.h"
 #include "report/explain_json.h"
+#include "report/explain_report.h"
 #include "sensor/sensor_config.h"
 #include "sensor/spline_surface.h"
 #include "sim/simulate.h"
@@ -361,6 +365,38 @@ TEST(Explain, AThermalLagIsJudgedOnTheCoverageOfTheLaggedModel) {
   // Most of the held-out cycle is outside the lagged model's support; the rest is at the noise floor.
   EXPECT_GT(r.summary.recording.heldout_outside_support, (r.summary.recording.samples - r.summary.recording.training_samples) / 2);
   EXPECT_LT(r.summary.fit.heldout_rms_after_dph, 10.5);
+
+  // residuals.csv says which rows the held-out proof scored (issue 34, class 6): heldout_scored is 1 exactly
+  // on the held-out rows inside the support (heldout 1), 0 on those the tool excluded as extrapolation
+  // (heldout 2) and on every training row; their count is the held-out samples less explain.json's
+  // heldout_outside_support, and their rms its held-out rms.
+  using testing_support::read_json, testing_support::read_text;
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "gyrosid_explain_heldout_scored";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  write_explain_outputs(r, dir);
+  const nlohmann::json rec = read_json(dir / "explain.json")["recording"];
+  const std::string csv = read_text(dir / "residuals.csv");
+  ASSERT_EQ(csv.substr(0, csv.find('\n')), "t_s,residual_before_dph,residual_after_dph,heldout,heldout_scored");
+  std::istringstream rows(csv.substr(csv.find('\n') + 1));
+  double t = 0.0, before = 0.0, after = 0.0, ss = 0.0;
+  int held = 0, scored = 0;
+  long n_rows = 0, n_held = 0, n_scored = 0, n_held_unscored = 0;
+  char comma = 0;
+  while (rows >> t >> comma >> before >> comma >> after >> comma >> held >> comma >> scored) {
+    ASSERT_EQ(scored, held == 1 ? 1 : 0) << "t_s " << t << " heldout " << held;
+    EXPECT_EQ(held != 0, r.input.heldout[static_cast<std::size_t>(n_rows)] != 0) << "t_s " << t;
+    ++n_rows, n_held += held != 0, n_scored += scored, n_held_unscored += held != 0 && scored == 0;
+    if (scored) ss += after * after;
+  }
+  EXPECT_TRUE(rows.eof());
+  EXPECT_EQ(n_rows, rec["samples"].get<long>());
+  EXPECT_EQ(n_held, rec["samples"].get<long>() - rec["training_samples"].get<long>());
+  EXPECT_EQ(n_scored, n_held - rec["heldout_outside_support"].get<long>());
+  EXPECT_GT(n_held_unscored, 0);
+  EXPECT_GT(n_scored, 0);
+  EXPECT_NEAR(std::sqrt(ss / static_cast<double>(n_scored)), r.summary.fit.heldout_rms_after_dph, 1e-6 * r.summary.fit.heldout_rms_after_dph);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Explain, AnAuxiliaryChannelOutsideTheLibraryIsReportedAsUnexplained) {
