@@ -589,6 +589,44 @@ TEST(Explain, AnAgeingTrendBesideAWarmupIsStillNamed) {
   EXPECT_NEAR(parameter(*a, "k_dph_per_h").value, 4.0, 1.0);
 }
 
+// The test recording (128 min, 8 blocks of 16 min; blocks 2 and 6 held out) with a warm-up of `amplitude_dph`
+// decaying with `tau_s` from the first sample added to the gyro output.
+Recording with_warmup(std::uint64_t seed, double amplitude_dph, double tau_s) {
+  Recording rec = simulate_with("", seed);
+  const auto& t = rec.column("t_s");
+  std::vector<double> gyro = rec.column("gyro_dps");
+  for (std::size_t i = 0; i < rec.rows(); ++i) gyro[i] += amplitude_dph * std::exp(-(t[i] - t.front()) / tau_s) / 3600.0;
+  rec.set_column("gyro_dps", gyro);
+  return rec;
+}
+
+// A warm-up confined to the start of the run (issue 34, class 3): 40 deg/h settling with tau 300 s, under
+// 1 % of it left after 1,400 s, 18 % of the record; the first held-out block starts at 1,920 s. The
+// held-out blocks hold none of it, so their test measured only the refit's side effects: on this seed the
+// effect was demoted at held-out z 1.73 despite dBIC 193 (surface baseline). It is now tested on its own
+// support (the first ~700 s) by blocked cross-validation: confirmed (z 6.5), named at its amplitude and time
+// constant, with no held-out z (the blocks do not test it). The same recording without it names nothing.
+TEST(Explain, AWarmupAtTheStartOfTheRunIsConfirmedOnItsOwnSupport) {
+  ExplainOptions o;
+  o.selection.bootstrap = 199;
+  const ExplainResult r = explain_recording(with_warmup(6, 40.0, 300.0), o);
+  const FoundEffect* w = effect(r.summary, "warmup_transient");
+  ASSERT_NE(w, nullptr) << ids(r.summary) << (r.summary.demoted.empty() ? "" : " demoted " + r.summary.demoted.front().reason);
+  EXPECT_EQ(r.summary.effects.size(), 1u) << ids(r.summary);
+  EXPECT_NEAR(parameter(*w, "amplitude_dph").value, 40.0, 6.0);
+  const PhysicalParameter& tau = parameter(*w, "tau_s");
+  EXPECT_NEAR(tau.value, 300.0, 45.0);
+  EXPECT_LT(tau.low, 300.0);
+  EXPECT_GT(tau.high, 300.0);
+  ASSERT_TRUE(w->support_z.has_value());
+  EXPECT_GT(*w->support_z, 2.0);
+  EXPECT_FALSE(w->heldout_z.has_value());
+
+  const ExplainResult control = explain_recording(simulate_with("", 6), o);
+  EXPECT_EQ(control.summary.verdict, Verdict::no_missing_physics) << ids(control.summary);
+  EXPECT_EQ(effect(control.summary, "warmup_transient"), nullptr);
+}
+
 TEST(Explain, ShupeFromOneRampRateWithoutLagIsReportedWithItsAmbiguity) {
   // No thermal lag and a zig-zag at one ramp rate: dT/dt is +-5 C/min on every sample but the few at each
   // turnaround, so a Shupe bias (k dT/dt; here 2.5 deg/h, a quarter of the noise) and a heating/cooling offset
