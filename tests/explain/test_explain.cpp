@@ -621,6 +621,10 @@ TEST(Explain, AWarmupAtTheStartOfTheRunIsConfirmedOnItsOwnSupport) {
   ASSERT_TRUE(w->support_z.has_value());
   EXPECT_GT(*w->support_z, 2.0);
   EXPECT_FALSE(w->heldout_z.has_value());
+  // explain.json carries it and reads back to the same effects.
+  const nlohmann::json written = to_json(r.summary);
+  EXPECT_EQ(written["effects"][0]["support_z"].get<double>(), *w->support_z);
+  EXPECT_EQ(to_json(explain_summary_from_json(nlohmann::json::parse(written.dump())))["effects"], written["effects"]);
 
   const ExplainResult control = explain_recording(simulate_with("", 6), o);
   EXPECT_EQ(control.summary.verdict, Verdict::no_missing_physics) << ids(control.summary);
