@@ -13,8 +13,9 @@
 // sample; the fold's residuals are whitened by the same noise model over the fold alone, and the gains
 // add up to one z as in the held-out test: z = sum(|d|^2 + 2 r'd) / (2 sigma_h sqrt(sum |d|^2)), r the
 // whitened residual with the effect, d the change without it, sigma_h the rms of r (Arlot & Celisse 2010,
-// A survey of cross-validation procedures, s8.1: blocked folds for dependent data). The effect's nonlinear
-// parameter (a time constant) stays at the selection's value.
+// A survey of cross-validation procedures for model selection: blocked folds for dependent data). The
+// effect's nonlinear parameter (a time constant) stays at the selection's value, chosen on every training
+// sample - the folds included.
 #pragma once
 
 #include <Eigen/Core>
