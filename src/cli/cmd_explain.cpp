@@ -112,6 +112,8 @@ void register_explain(CLI::App& app, Action& action) {
       effects_help(),
       "Blocks: whole thermal cycles when the recording has four or more, else eight spans of time; every\n"
       "--heldout-every-th block (default ", explain::InputOptions{}.heldout_every, ") from the third is held out and only confirms.\n"
+      "An effect the held-out blocks do not hold (a warm-up at the start, an onset after the last of them) is\n"
+      "confirmed instead by blocked cross-validation on its own support (explain.json: support_z).\n"
       "Example: gyrosid explain --recording lab.csv --model sim.json --out why/"));
   cmd->callback([c, &action] { action = [c] { run_explain(*c); }; });
 }

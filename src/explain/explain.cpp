@@ -24,6 +24,7 @@ std::string ExplainOptions::validate() const {
   if (!(min_stability >= 0 && min_stability <= 1)) return "min_stability must be in [0, 1]";
   if (!(heldout_leverage >= 1)) return str_cat("heldout_leverage = ", heldout_leverage, " must be at least 1 (a multiple of the mean training leverage)");
   if (auto p = input.validate(); !p.empty()) return p;
+  if (auto p = support_check.validate(); !p.empty()) return p;
   return selection.validate();
 }
 
@@ -72,6 +73,11 @@ struct Accepted {
   std::vector<DemotedEffect> demoted;
 };
 
+// Its predictive z on its own support, when the held-out blocks do not hold it and the check could test it.
+std::optional<double> support_z(const Judged& j) {
+  return !j.heldout_holds && j.support && j.support->testable ? std::optional<double>(j.support->z) : std::nullopt;
+}
+
 // Why a judged effect is not accepted.
 std::string demotion_reason(const Judged& j, double min_stability, double untested_bic) {
   if (j.stability < min_stability) return "unstable across training blocks";
@@ -85,8 +91,14 @@ std::string demotion_reason(const Judged& j, double min_stability, double untest
                    format_significant(*j.profiled_delta_bic, 3), ")");
   }
   if (j.weak_and_untested(untested_bic)) {
-    return str_cat("the held-out blocks cannot test it and its evidence against the coloured noise re-estimated with it is weak (dBIC ",
+    return str_cat("the held-out blocks ", j.heldout_holds ? "cannot test it" : "do not hold it",
+                   " and its evidence against the coloured noise re-estimated with it is weak (dBIC ",
                    format_significant(j.effect.score.ml_delta_bic, 3), " < ", format_significant(untested_bic, 3), ")");
+  }
+  if (!j.heldout_holds) {
+    return str_cat("not confirmed on its own support (the held-out blocks do not hold it): predictive z ", format_significant(j.support->z, 3),
+                   " over ", j.support->samples, " training samples, t ", format_significant(j.support->t_start_s, 4), "-",
+                   format_significant(j.support->t_end_s, 4), " s");
   }
   return "not confirmed on the held-out blocks";
 }
@@ -95,13 +107,13 @@ Accepted accept(const std::vector<Judged>& judged, const ModelSpec& base, const 
   Accepted a{base, false, {}, {}};
   for (const auto& j : judged) {
     if (!j.accepted(min_stability, untested_bic)) {
-      const auto z = j.heldout_testable ? std::optional<double>(j.heldout_z) : std::nullopt;
+      const auto z = j.heldout_testable && j.heldout_holds ? std::optional<double>(j.heldout_z) : std::nullopt;
       if (j.stability >= min_stability && j.rivalled_by_further_component(untested_bic)) {
         for (Judged& other : a.effects) {
           if (other.effect.score.id == j.further->of) other.effect.alternatives.push_back(j.effect.score.id);
         }
       }
-      a.demoted.push_back({j.effect.score.id, j.effect.score.delta_bic, j.stability, j.heldout_gain, z, demotion_reason(j, min_stability, untested_bic)});
+      a.demoted.push_back({j.effect.score.id, j.effect.score.delta_bic, j.stability, j.heldout_gain, z, support_z(j), demotion_reason(j, min_stability, untested_bic)});
       continue;
     }
     if (j.term) a.model.terms.push_back(*j.term);
@@ -190,11 +202,12 @@ void report_effects(const Accepted& accepted, std::size_t base_terms, const Refi
       continue;
     }
     FoundEffect f{std::string(effect.id()), std::string(effect.description()), params, s.score.delta_bic, s.score.p_value,
-                  s.alternatives, s.weaker_alternatives, {}, j.stability, std::nullopt, 0.0, std::nullopt};
+                  s.alternatives, s.weaker_alternatives, {}, j.stability, std::nullopt, 0.0, std::nullopt, std::nullopt};
     for (const auto* group : {&s.alternatives, &s.weaker_alternatives}) {
       for (const auto& a : *group) f.separating.push_back({a, separating_experiment(effect, find_effect(a))});
     }
-    if (j.heldout_testable) f.heldout_z = j.heldout_z;
+    if (j.heldout_testable && j.heldout_holds) f.heldout_z = j.heldout_z;
+    f.support_z = support_z(j);
     heldout_excess(j, floor_dph, f);
     out.effects.push_back(f);
   }
@@ -315,7 +328,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   clock.lap("candidates and selection");
 
   // 3. Stability and held-out confirmation of every selected effect; 4. the joint refit with intervals.
-  const Judgement judgement = judge_effects(in, y, base, sel, scaling, w, support, candidates);
+  const Judgement judgement = judge_effects(in, y, base, sel, scaling, w, support, candidates, o.support_check);
   const Accepted accepted = accept(judgement.effects, base, sel, o.min_stability, o.selection.ambiguity_bic);
   clock.lap("judging (stability, held-out, profiles)");
   const std::optional<ProfiledFit> profile = profiled_start(judgement, accepted);

@@ -28,6 +28,7 @@
 #include "explain/baseline.h"
 #include "explain/explain_input.h"
 #include "explain/explain_result.h"
+#include "explain/support_check.h"
 #include "model/explained_model.h"
 
 namespace gyrosid::explain {
@@ -43,6 +44,8 @@ struct ExplainOptions {
   // Held-out samples whose leverage under the training fit of the simulation or of a model judged exceeds this
   // multiple of the mean training leverage are outside the training support (heldout_support.h) and confirm nothing.
   double heldout_leverage = 10.0;
+  // An effect the held-out blocks do not hold (confined to part of the record) is checked on its own support.
+  SupportCheckOptions support_check;
   std::string validate() const;
 };
 

@@ -69,6 +69,9 @@ struct FoundEffect {
   // floor^2), that the effect removes; none when the held-out excess is within 5 % of the floor's variance.
   double heldout_rms_without_dph = 0.0;
   std::optional<double> heldout_excess_removed;
+  // When the held-out blocks do not hold it (it lives in part of the record), its predictive z on its own
+  // support (explain/support_check.h), in place of heldout_z; none otherwise.
+  std::optional<double> support_z;
 };
 
 // A named effect the simulation's own flexible structure (its scale-factor surface) absorbs: against the
@@ -103,11 +106,12 @@ struct Unexplained {
 };
 
 // An effect the selection added but judging demoted, and why (unstable, not confirmed on the held-out
-// blocks, or weak evidence the held-out blocks cannot test).
+// blocks or on its own support, or weak evidence the held-out blocks cannot test).
 struct DemotedEffect {
   std::string id;
   double delta_bic = 0.0, stability = 0.0, heldout_gain_dph2 = 0.0;
   std::optional<double> heldout_z;
+  std::optional<double> support_z;  // its predictive z on its own support, when the held-out blocks do not hold it
   std::string reason;
 };
 

@@ -41,10 +41,19 @@ void heldout_test(const ExplainInput& in, const NoiseModel& noise, const std::ve
   for (Eigen::Index i = 0; i < in.size(); ++i) j.heldout_samples += in.confirms(i, outside);
   if (j.heldout_samples == 0) return;
   const Whitener heldout_w = rows_whitener(in, noise, [&](Eigen::Index i) { return in.confirms(i, outside); });
-  const Eigen::VectorXd r = heldout_w.apply(residual_full), d = heldout_w.apply(residual_minus - residual_full);
-  const double sigma_h = std::sqrt(r.squaredNorm() / std::max<double>(1.0, static_cast<double>(r.size())));
-  j.heldout_testable = d.norm() / std::sqrt(static_cast<double>(std::max<Eigen::Index>(1, d.size()))) > 0.05 * sigma;
-  j.heldout_z = d.norm() > 0 ? (d.squaredNorm() + 2.0 * r.dot(d)) / (2.0 * sigma_h * d.norm()) : 0.0;
+  WhitenedGain gain;
+  gain.add(heldout_w.apply(residual_full), heldout_w.apply(residual_minus - residual_full));
+  j.heldout_testable = gain.testable(sigma);
+  j.heldout_z = gain.z();
+}
+
+// The effect's own contribution X_e beta_e (deg/h, every sample): its columns in the selected model's, from
+// the first column of its term `term`.
+Eigen::VectorXd contribution(const ModelSpec& model, std::size_t term, const Eigen::MatrixXd& x_full, const Eigen::VectorXd& beta) {
+  Eigen::Index at = 0;
+  for (std::size_t k = 0; k < term; ++k) at += model.terms[k].size();
+  const Eigen::Index size = model.terms[term].size();
+  return x_full.middleCols(at, size) * beta.segment(at, size);
 }
 
 std::vector<int> training_blocks(const ExplainInput& in) {
@@ -134,7 +143,8 @@ RowFit gls(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Whitener& w
 }
 
 Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const SelectionResult& sel,
-                        const TermScaling& scaling, const Whitener& w, HeldoutSupport& support, const std::vector<Candidate>& candidates) {
+                        const TermScaling& scaling, const Whitener& w, HeldoutSupport& support, const std::vector<Candidate>& candidates,
+                        const SupportCheckOptions& support_options) {
   const Eigen::MatrixXd x_full = model_columns(sel.model, in.signals, scaling);
   const RowFit fit_full = gls(x_full, y, w);
   const Eigen::VectorXd residual_full = y - x_full * fit_full.beta;
@@ -176,7 +186,13 @@ Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const 
     }
     const Eigen::MatrixXd x_minus = model_columns(minus, in.signals, scaling);
     const Eigen::VectorXd residual_minus = y - x_minus * gls(x_minus, y, w).beta;
-    heldout_test(in, sel.noise, support.outside({&sel.model, &minus}), residual_full, residual_minus, sigma, j);
+    const std::vector<char> outside = support.outside({&sel.model, &minus});
+    heldout_test(in, sel.noise, outside, residual_full, residual_minus, sigma, j);
+    if (!lag) {
+      const Eigen::VectorXd c = contribution(sel.model, this_term, x_full, fit_full.beta);
+      j.heldout_holds = heldout_blocks_hold(in, outside, c, support_options.held_share);
+      if (!j.heldout_holds) j.support = support_check(in, y, sel.noise, x_full, x_minus, c, sigma, support_options);
+    }
     j.stability = stability(blocks, x_minus, lag ? 0 : selected.candidate.nonlinear_parameters());
     const ProfiledFit without = profiled_fit(in, y, minus, lag_selected && !lag, scaling, w);
     j.profiled_without = without;

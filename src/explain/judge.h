@@ -2,6 +2,8 @@
 // is left out (stability) and, where the held-out blocks see it, improve them significantly - the gain
 // |d|^2 + 2 r'd in the whitened held-out residual (d the change the effect makes, r the residual with it)
 // against its noise 2 sigma |d|, on the held-out samples where neither model extrapolates (heldout_support.h).
+// An effect confined to part of the record that the held-out blocks do not hold is tested by the same gain
+// on its own support, in blocked cross-validation (support_check.h).
 #pragma once
 
 #include <optional>
@@ -10,6 +12,7 @@
 #include "explain/heldout_support.h"
 #include "explain/refit.h"
 #include "explain/selection.h"
+#include "explain/support_check.h"
 
 namespace gyrosid::explain {
 
@@ -35,6 +38,10 @@ struct Judged {
   std::size_t heldout_samples = 0;  // the held-out samples scored: inside the support of the baseline and of both models
   double heldout_z = 0.0;        // that gain in the whitened held-out samples over its standard error
   bool heldout_testable = false; // the held-out blocks see the effect (the two predictions differ there)
+  // Whether the held-out blocks hold the effect's own signal and, when they do not, its predictive check on
+  // its own support (support_check.h): the held-out test above then measures only the refit's side effects.
+  bool heldout_holds = true;
+  std::optional<SupportCheck> support;
   // Its dBIC against the selected model without it when the others' nonlinear parameters (a lag, a
   // warm-up's tau) are re-optimised without it (a profile likelihood): a lag refitted may explain what a
   // Shupe term took at the lag's old value. None when no other nonlinear parameter is left to refit.
@@ -50,9 +57,15 @@ struct Judged {
   // The held-out blocks cannot test it and its evidence against the coloured noise re-estimated by maximum
   // likelihood (the selection's gate) is below `untested_bic`: with no confirmation out of sample, in-sample
   // evidence must be very strong - a slow wander the noise model misplaced passes a weak gate.
-  bool weak_and_untested(double untested_bic) const { return !heldout_testable && !(effect.score.ml_delta_bic >= untested_bic); }
+  // An effect the held-out blocks do not hold needs it too, besides its check on its own support.
+  bool weak_and_untested(double untested_bic) const {
+    return (!heldout_testable || !heldout_holds) && !(effect.score.ml_delta_bic >= untested_bic);
+  }
+  // Tested out of sample: on the held-out blocks when they hold it, else on its own support; its z there.
+  bool tested() const { return heldout_holds ? heldout_testable : support && support->testable; }
+  double tested_z() const { return heldout_holds ? heldout_z : support ? support->z : 0.0; }
   bool accepted(double min_stability, double untested_bic) const {
-    return stability >= min_stability && (!heldout_testable || heldout_z > 2.0) && !explained_by_others() && !weak_and_untested(untested_bic) &&
+    return stability >= min_stability && (!tested() || tested_z() > 2.0) && !explained_by_others() && !weak_and_untested(untested_bic) &&
            !rivalled_by_further_component(untested_bic);
   }
 };
@@ -65,9 +78,11 @@ struct Judgement {
 // `y` in deg/h on every sample; `w` the training whitener of the selection's noise model; `support` the
 // recording's held-out support (each effect is scored held out on the rows inside the support of the
 // baseline, the selected model and the selected model without it); `candidates` the selection's (their
-// further components are the rivals above).
+// further components are the rivals above); `support_check` how an effect the held-out blocks do not hold
+// is checked on its own support.
 Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const SelectionResult& sel,
-                        const TermScaling& scaling, const Whitener& w, HeldoutSupport& support, const std::vector<Candidate>& candidates = {});
+                        const TermScaling& scaling, const Whitener& w, HeldoutSupport& support, const std::vector<Candidate>& candidates = {},
+                        const SupportCheckOptions& support_check = {});
 
 // Generalised least squares on the rows a whitener covers: coefficients, RSS, count and rank.
 struct RowFit {

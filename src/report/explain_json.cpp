@@ -49,7 +49,8 @@ json effect_json(const FoundEffect& e) {
             {"heldout_z", e.heldout_z ? json(*e.heldout_z) : json()},
             {"heldout_confirmed", e.heldout_z ? json(e.heldout_confirmed()) : json()},
             {"heldout_rms_without_dph", e.heldout_rms_without_dph},
-            {"heldout_excess_removed", e.heldout_excess_removed ? json(*e.heldout_excess_removed) : json()}};
+            {"heldout_excess_removed", e.heldout_excess_removed ? json(*e.heldout_excess_removed) : json()},
+            {"support_z", e.support_z ? json(*e.support_z) : json()}};
   put_parameters(e.parameters, j);
   return j;
 }
@@ -66,6 +67,7 @@ FoundEffect effect_of(const json& j) {
   if (!j.at("heldout_z").is_null()) e.heldout_z = j["heldout_z"].get<double>();
   e.heldout_rms_without_dph = j.at("heldout_rms_without_dph").get<double>();
   if (!j.at("heldout_excess_removed").is_null()) e.heldout_excess_removed = j["heldout_excess_removed"].get<double>();
+  if (j.contains("support_z") && !j["support_z"].is_null()) e.support_z = j["support_z"].get<double>();
   return e;
 }
 
@@ -207,12 +209,13 @@ AbsorbedAlternative absorbed_of(const json& j) {
 
 json demoted_json(const DemotedEffect& d) {
   return {{"id", d.id}, {"delta_bic", d.delta_bic}, {"stability", d.stability}, {"heldout_gain_dph2", d.heldout_gain_dph2},
-          {"heldout_z", d.heldout_z ? json(*d.heldout_z) : json()}, {"reason", d.reason}};
+          {"heldout_z", d.heldout_z ? json(*d.heldout_z) : json()}, {"support_z", d.support_z ? json(*d.support_z) : json()}, {"reason", d.reason}};
 }
 
 DemotedEffect demoted_of(const json& j) {
-  DemotedEffect d{j.at("id"), j.at("delta_bic"), j.at("stability"), j.at("heldout_gain_dph2"), std::nullopt, j.at("reason")};
+  DemotedEffect d{j.at("id"), j.at("delta_bic"), j.at("stability"), j.at("heldout_gain_dph2"), std::nullopt, std::nullopt, j.at("reason")};
   if (!j.at("heldout_z").is_null()) d.heldout_z = j["heldout_z"].get<double>();
+  if (j.contains("support_z") && !j["support_z"].is_null()) d.support_z = j["support_z"].get<double>();
   return d;
 }
 

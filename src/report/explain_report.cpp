@@ -132,7 +132,10 @@ void effects_markdown(const explain::ExplainSummary& j, std::ostringstream& md) 
        << "- parameters (95 % intervals): " << parameters_text(e.parameters) << "\n"
        << "- dBIC " << format_significant(e.delta_bic, 4) << ", bootstrap p " << format_significant(e.p_value, 3) << ", stability "
        << format_significant(e.stability, 2) << ", held-out: "
-       << (!e.heldout_z ? "not testable there" : e.heldout_confirmed() ? "confirmed" : "not confirmed");
+       << (e.support_z ? str_cat("the blocks do not hold it; on its own support (predictive z ", format_significant(*e.support_z, 3), ") confirmed")
+           : !e.heldout_z ? "not testable there"
+           : e.heldout_confirmed() ? "confirmed"
+                                   : "not confirmed");
     if (e.heldout_excess_removed) md << ", " << format_significant(100.0 * *e.heldout_excess_removed, 3) << " % of the held-out excess over the noise floor removed";
     md << "\n";
     for (const auto& s : e.separating) {

@@ -1,7 +1,8 @@
 // The parts of explain that keep it from reporting what the data do not show (issue 12, on recordings of
 // an independent generator): held-out samples where the simulation extrapolates (its surface undetermined
 // by the training blocks) confirm nothing; the likelihood gate finds a slow Gauss-Markov wander's time
-// constant when the Allan fit misplaced it; an effect the held-out blocks cannot test needs strong evidence.
+// constant when the Allan fit misplaced it; an effect the held-out blocks cannot test needs strong evidence;
+// an effect they do not hold is checked on its own support (issue 34, class 3).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,7 @@
 #include "explain/heldout_support.h"
 #include "explain/judge.h"
 #include "explain/noise_likelihood.h"
+#include "explain/support_check.h"
 #include "model/terms/term_kinds.h"
 
 namespace gyrosid::explain {
@@ -180,6 +182,81 @@ TEST(Judge, AnEffectTheHeldOutBlocksCannotTestNeedsStrongEvidenceAgainstTheNoise
   EXPECT_FALSE(j.accepted(0.5, 10.0));
   j.heldout_z = 2.5;
   EXPECT_TRUE(j.accepted(0.5, 10.0));
+  // Held-out blocks that do not hold the effect: their z (side effects of the refit) no longer decides; its
+  // own support's does, and the strength gate still applies.
+  j.heldout_holds = false, j.heldout_z = 0.2, j.effect.score.ml_delta_bic = 40.4;
+  j.support = SupportCheck{700, 0.0, 699.0, true, 6.5};
+  EXPECT_TRUE(j.accepted(0.5, 10.0));
+  j.support->z = 1.9;
+  EXPECT_FALSE(j.accepted(0.5, 10.0));
+  j.support->z = 6.5, j.effect.score.ml_delta_bic = 5.0;
+  EXPECT_FALSE(j.accepted(0.5, 10.0));
+  EXPECT_TRUE(j.weak_and_untested(10.0));
+}
+
+// 800 samples at 1 Hz in 8 blocks of 100, blocks 2 and 6 held out (as load_input splits a recording without
+// thermal cycles), white noise of unit variance in `error`.
+ExplainInput eight_blocks(std::uint64_t seed) {
+  ExplainInput in;
+  const Eigen::Index n = 800;
+  RandomStream rng(seed, "eight blocks");
+  in.signals.t_s.resize(n);
+  in.error.resize(n);
+  in.block.resize(n), in.heldout.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    in.signals.t_s[k] = static_cast<double>(i), in.error(i) = rng.normal();
+    in.block[k] = static_cast<int>(i / 100), in.heldout[k] = in.block[k] % 4 == 2;
+  }
+  in.blocks = 8;
+  return in;
+}
+
+// The held-out blocks hold an effect when their share of its signal is at least held_share (0.1) of their
+// share of the rows (1/4): c = 1 on block 0 and a on block 2 gives a share a^2 / (1 + a^2) against 0.025.
+TEST(SupportCheck, TheHeldOutBlocksHoldAnEffectByTheirShareOfItsSignal) {
+  const ExplainInput in = eight_blocks(1);
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(in.size());
+  c.head(100).setOnes();
+  EXPECT_FALSE(heldout_blocks_hold(in, {}, c, 0.1));
+  c.segment(200, 100).setConstant(0.15);  // share 0.0220
+  EXPECT_FALSE(heldout_blocks_hold(in, {}, c, 0.1));
+  c.segment(200, 100).setConstant(0.17);  // share 0.0281
+  EXPECT_TRUE(heldout_blocks_hold(in, {}, c, 0.1));
+  EXPECT_TRUE(heldout_blocks_hold(in, {}, Eigen::VectorXd::Ones(in.size()), 0.1));
+  // Rows outside the training support do not count as held: with block 2 outside, the share is 0.
+  std::vector<char> outside(static_cast<std::size_t>(in.size()), 0);
+  for (std::size_t i = 200; i < 300; ++i) outside[i] = 1;
+  EXPECT_FALSE(heldout_blocks_hold(in, outside, c, 0.1));
+}
+
+// An onset late in the record, after the last held-out block: a bias step of 1.5 (the noise's sigma) from
+// sample 740. Its support is the 60 training samples from there; cross-validated over 4 folds of 15, the
+// model with the step predicts each fold from the others (z well over 2). The same columns on the noise
+// alone confirm nothing.
+TEST(SupportCheck, ALateOnsetIsConfirmedOnItsOwnSupportAndNoiseIsNot) {
+  const ExplainInput in = eight_blocks(3);
+  Eigen::MatrixXd x_full(in.size(), 2);
+  for (Eigen::Index i = 0; i < in.size(); ++i) x_full.row(i) << 1.0, i >= 740 ? 1.0 : 0.0;
+  const Eigen::MatrixXd x_minus = x_full.leftCols(1);
+  NoiseModel white;  // unit variance
+  const Eigen::VectorXd y = in.error + 1.5 * x_full.col(1);
+  const Eigen::VectorXd c = 1.5 * x_full.col(1);
+  EXPECT_FALSE(heldout_blocks_hold(in, {}, c, 0.1));
+  const std::optional<SupportCheck> planted = support_check(in, y, white, x_full, x_minus, c, 1.0, {});
+  ASSERT_TRUE(planted.has_value());
+  EXPECT_EQ(planted->samples, 60u);
+  EXPECT_EQ(planted->t_start_s, 740.0);
+  EXPECT_EQ(planted->t_end_s, 799.0);
+  EXPECT_TRUE(planted->testable);
+  EXPECT_GT(planted->z, 4.0);
+  const std::optional<SupportCheck> noise = support_check(in, in.error, white, x_full, x_minus, c, 1.0, {});
+  ASSERT_TRUE(noise.has_value());
+  EXPECT_LT(noise->z, 2.0);
+  // A support too small to fold (fewer than 4 x 10 training samples) is not checked.
+  Eigen::VectorXd narrow = Eigen::VectorXd::Zero(in.size());
+  narrow.tail(30).setOnes();
+  EXPECT_FALSE(support_check(in, y, white, x_full, x_minus, narrow, 1.0, {}).has_value());
 }
 
 }  // namespace
