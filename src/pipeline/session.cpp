@@ -16,7 +16,9 @@
 #include "report/design_report.h"
 #include "sensor/sensor_prior.h"
 #include "sim/simulate.h"
+#include "core/units.h"
 #include "solvers/calibrate.h"
+#include "solvers/preset_choice.h"
 #include "trajectory/equipment.h"
 #include "trajectory/programme.h"
 
@@ -25,7 +27,9 @@ namespace gyrosid {
 void SessionOptions::bind(OptionTable& t) {
   t.real("session.min_effective_members", &min_effective_members, 1.0, 1e6, "the posterior's tempering floor: at least this many "
                                                                           "effective members (at most half the prior's)")
-      .real("session.drop_share", &drop_share, 0.0, 0.5, "members below this posterior weight are left out of a redesign");
+      .real("session.drop_share", &drop_share, 0.0, 0.5, "members below this posterior weight are left out of a redesign")
+      .flag("session.measured_white_noise", &measured_white_noise, "after each segment the white noise the recording shows replaces "
+                                                                   "every member's (their coloured noise stays)");
 }
 
 std::string SessionOptions::validate() const {
@@ -57,14 +61,16 @@ const GyroSensor& one_gyro(const SensorSpec& spec, const std::string& what) {
   fail(what, " is a triad: a session calibrates one gyro");
 }
 
-// What every segment shares: the prior, its members' design contexts, the design's settings and the calibration.
+// What every segment shares: the prior, the envelope and model domain of its members' design contexts, the
+// design's settings and the calibration.
 struct SessionSetup {
   SensorPrior prior;
   std::optional<SensorSpec> truth;
   design::DesignSettings settings;
   OptionMap solver_options;
   design::ModelFamily family = design::ModelFamily::rbf;
-  std::vector<std::unique_ptr<design::DesignContext>> contexts;  // one per member
+  std::shared_ptr<const design::Envelope> envelope;
+  design::Domain domain;
   std::string calibration_text, calibration_source;
   CalibrationRequest calibration;
 };
@@ -82,16 +88,12 @@ void prepare(const SessionOptions& o, SessionSetup& s) {
     b = std::min(o.envelope.find(',', a), o.envelope.size());
     if (b > a) s.settings.envelope.flights.push_back(o.envelope.substr(a, b - a));
   }
-  auto envelope = std::make_shared<const design::Envelope>(design::load_envelope(s.settings.envelope, as_triad(s.prior.members.front().sensor)));
+  s.envelope = std::make_shared<const design::Envelope>(design::load_envelope(s.settings.envelope, as_triad(s.prior.members.front().sensor)));
   s.settings.space.budget_min = o.budget_min;
-  const design::Domain domain = design::model_domain(design::design_space(*envelope, s.settings.space));
-  for (std::size_t k = 0; k < s.prior.members.size(); ++k) {
-    if (o.on_step) o.on_step(str_cat("session: the design context of member ", k + 1, "/", s.prior.members.size()));
-    s.contexts.push_back(std::make_unique<design::DesignContext>(s.prior.members[k].sensor, envelope, s.family, s.settings.model,
-                                                                 design::Criterion::cof, domain));
-  }
+  s.domain = design::model_domain(design::design_space(*s.envelope, s.settings.space));
   if (o.calibration.empty()) {
-    s.calibration_text = design::calibration_yaml(s.family, s.settings.model, domain, s.contexts.front()->noise());
+    const design::NoiseSpec noise = design::NoiseSpec::of(std::get<GyroSensor>(s.prior.members.front().sensor).noise);
+    s.calibration_text = design::calibration_yaml(s.family, s.settings.model, s.domain, noise);
     s.calibration_source = (o.out / "calibration.yaml").string();
   } else {
     s.calibration_text = config_text(o.calibration);
@@ -147,7 +149,11 @@ Recording joined(const std::vector<Recording>& segments, const std::vector<doubl
 class SessionRun {
  public:
   SessionRun(const SessionOptions& o, const SessionSetup& s) : o_(o), s_(s) {
-    for (const auto& m : s_.prior.members) weights_.push_back(m.weight / s_.prior.total_weight());
+    for (const auto& m : s_.prior.members) {
+      weights_.push_back(m.weight / s_.prior.total_weight());
+      sensors_.push_back(std::get<GyroSensor>(m.sensor));
+    }
+    contexts_.resize(sensors_.size());
     boundaries_ = o_.boundaries_min();
     checkpoint_ = Checkpoint(o_.out / ".session_checkpoint.json", o_.fingerprint, o_.resume);
     json_ = {{"format", "gyrosid-session/1"},
@@ -201,6 +207,29 @@ class SessionRun {
     return a;
   }
 
+  // Member m's design context, for its sensor as the session now knows it (built when first needed).
+  const design::DesignContext& context(std::size_t m) {
+    if (!contexts_[m]) {
+      step(str_cat("session: the design context of member ", m + 1, "/", sensors_.size()));
+      contexts_[m] = std::make_unique<design::DesignContext>(sensors_[m], s_.envelope, s_.family, s_.settings.model, design::Criterion::cof, s_.domain);
+    }
+    return *contexts_[m];
+  }
+
+  // The white noise the recording shows (5th differences of the rate error, solvers/preset_choice.h: robust to
+  // the error surface) in place of every member's own: an empirical-Bayes step - it is identified to about
+  // 1/sqrt(2n) of itself, far better than any member's guess - after which the members differ by their error
+  // laws and coloured noise only.
+  nlohmann::json measure_white_noise(const Recording& all) {
+    const double sigma_dph = choose_preset(all).noise_sigma_dph;
+    const double arw = units::dph_to_radps(sigma_dph) * std::sqrt(median_sample_interval(all.column("t_s")));
+    for (std::size_t m = 0; m < sensors_.size(); ++m) {
+      sensors_[m].noise.arw_rad_rt_s = arw;
+      contexts_[m].reset();
+    }
+    return {{"white_dph_per_sample", sigma_dph}, {"arw_dph_rt_h", units::radps_to_dph(arw) / 60.0}};
+  }
+
   TrajectorySpec spec_of(const TableProfile& profile) const {
     TrajectorySpec t;
     t.profile = profile;
@@ -222,7 +251,7 @@ class SessionRun {
                    members.size(), " of ", weights_.size(), " members"));
       std::vector<design::WeightedContext> contexts;
       std::vector<double> w;
-      for (std::size_t m : members) contexts.push_back({s_.contexts[m].get(), weights_[m]}), w.push_back(weights_[m]);
+      for (std::size_t m : members) contexts.push_back({&context(m), weights_[m]}), w.push_back(weights_[m]);
       design::DesignRequest request;
       request.space = s_.settings.space;
       request.space.budget_min = minutes;
@@ -280,18 +309,17 @@ class SessionRun {
   void update(std::size_t k) {
     step(str_cat("session: segment ", k + 1, ": updating the prior by the recording (", weights_.size(), " members)"));
     const Recording all = joined(segments_, starts_s_);
+    nlohmann::json& seg = json_["segments"].back();
+    if (o_.measured_white_noise) seg["measured_noise"] = measure_white_noise(all);
     std::vector<double> log_l;
-    for (const auto& m : s_.prior.members) {
-      log_l.push_back(design::recording_log_likelihood(std::get<GyroSensor>(m.sensor), recorded_, all.column("t_s"), all.column("gyro_dps")));
-    }
+    for (const auto& g : sensors_) log_l.push_back(design::recording_log_likelihood(g, recorded_, all.column("t_s"), all.column("gyro_dps")));
     std::vector<double> prior_w;
     for (const auto& m : s_.prior.members) prior_w.push_back(m.weight);
     const design::SensorPosterior post = design::tempered_posterior(prior_w, log_l, o_.min_effective_members);
     weights_ = post.weights;
     std::vector<design::Prediction> predicted;
     std::vector<double> w;
-    for (std::size_t m : active()) predicted.push_back(design::evaluate_trajectory(*s_.contexts[m], spec_of(recorded_))), w.push_back(weights_[m]);
-    nlohmann::json& seg = json_["segments"].back();
+    for (std::size_t m : active()) predicted.push_back(design::evaluate_trajectory(context(m), spec_of(recorded_))), w.push_back(weights_[m]);
     seg["recording"] = segment_dir(k) + "/recording.csv";
     seg["samples"] = segments_.back().rows();
     seg["posterior"] = {{"learning_rate", post.learning_rate}, {"effective_members", post.effective_members}, {"members", members_json(weights_)}};
@@ -325,6 +353,8 @@ class SessionRun {
   Checkpoint checkpoint_;
   nlohmann::json json_;
   std::vector<double> weights_, boundaries_, starts_s_;
+  std::vector<GyroSensor> sensors_;  // the members, with the measured white noise once it is known
+  std::vector<std::unique_ptr<design::DesignContext>> contexts_;
   TableProfile recorded_;
   std::vector<Recording> segments_;
 };

@@ -3,8 +3,9 @@
 // stated checkpoints, then the final calibration on everything recorded.
 //
 //   segment 1   the design for the prior (sensor/sensor_prior.h) with the pilot's budget
-//   update      every member's likelihood of everything recorded so far (design/sensor_posterior.h): the
-//               tempered posterior; an interim calibration on the recording so far
+//   update      the white noise the recording shows replaces every member's; every member's likelihood of
+//               everything recorded so far (design/sensor_posterior.h): the tempered posterior; an interim
+//               calibration on the recording so far
 //   segment k   the design for the posterior that continues the recorded segments from where the chamber is:
 //               judged on recorded + new, the information the final calibration will have (design_problem.h)
 //   final       the calibration on all segments, one recording
@@ -44,12 +45,13 @@ struct SessionOptions {
   OptionMap settings;                 // design settings and nlopt options (gyrosid design --set)
   double min_effective_members = 2.0; // the posterior's tempering floor (design/sensor_posterior.h)
   double drop_share = 1e-3;           // members below this posterior share are left out of a redesign
+  bool measured_white_noise = true;   // after each segment the recording's white noise replaces the members'
   std::uint64_t seed = 1;             // the designs' and the truth's
   std::string fingerprint;            // of the inputs: a resume with others is refused
   bool resume = false;
   std::function<void(const std::string&)> on_step;  // "segment 2/2: designing 45 min for 3 members"
 
-  void bind(OptionTable& table);  // keys session.min_effective_members, session.drop_share
+  void bind(OptionTable& table);  // keys session.min_effective_members, session.drop_share, session.measured_white_noise
   std::string validate() const;
   std::vector<double> boundaries_min() const;  // each segment's end, minutes from the start
 };
