@@ -217,9 +217,9 @@ class SessionRun {
   }
 
   // The white noise the recording shows (5th differences of the rate error, solvers/preset_choice.h: robust to
-  // the error surface) in place of every member's own: an empirical-Bayes step - it is identified to about
-  // 1/sqrt(2n) of itself, far better than any member's guess - after which the members differ by their error
-  // laws and coloured noise only.
+  // the error surface) in place of every member's own: an empirical-Bayes step - a pilot's thousands of samples
+  // identify it to a few per cent, far better than any member's guess - after which the members differ by their
+  // error laws and coloured noise only.
   nlohmann::json measure_white_noise(const Recording& all) {
     const double sigma_dph = choose_preset(all).noise_sigma_dph;
     const double arw = units::dph_to_radps(sigma_dph) * std::sqrt(median_sample_interval(all.column("t_s")));
