@@ -29,7 +29,7 @@ void SessionOptions::bind(OptionTable& t) {
                                                                           "effective members (at most half the prior's)")
       .real("session.drop_share", &drop_share, 0.0, 0.5, "members below this posterior weight are left out of a redesign")
       .flag("session.measured_white_noise", &measured_white_noise, "after each segment the white noise the recording shows replaces "
-                                                                   "every member's (their coloured noise stays)");
+                                                                   "every member's (their coloured noise stays); default off: measured worse in experiments/adaptive_session");
 }
 
 std::string SessionOptions::validate() const {

@@ -3,9 +3,9 @@
 // stated checkpoints, then the final calibration on everything recorded.
 //
 //   segment 1   the design for the prior (sensor/sensor_prior.h) with the pilot's budget
-//   update      the white noise the recording shows replaces every member's; every member's likelihood of
-//               everything recorded so far (design/sensor_posterior.h): the tempered posterior; an interim
-//               calibration on the recording so far
+//   update      every member's likelihood of everything recorded so far (design/sensor_posterior.h): the
+//               tempered posterior; an interim calibration on the recording so far (with
+//               session.measured_white_noise, the white noise the recording shows replaces every member's first)
 //   segment k   the design for the posterior that continues the recorded segments from where the chamber is:
 //               judged on recorded + new, the information the final calibration will have (design_problem.h)
 //   final       the calibration on all segments, one recording
@@ -45,7 +45,8 @@ struct SessionOptions {
   OptionMap settings;                 // design settings and nlopt options (gyrosid design --set)
   double min_effective_members = 2.0; // the posterior's tempering floor (design/sensor_posterior.h)
   double drop_share = 1e-3;           // members below this posterior share are left out of a redesign
-  bool measured_white_noise = true;   // after each segment the recording's white noise replaces the members'
+  bool measured_white_noise = false;  // after each segment the recording's white noise replaces the members'
+                                      // (measured worse on the five test sensors: experiments/adaptive_session)
   std::uint64_t seed = 1;             // the designs' and the truth's
   std::string fingerprint;            // of the inputs: a resume with others is refused
   bool resume = false;

@@ -626,13 +626,14 @@ TEST_F(Cli, SessionAdaptsToTheUnitAndWaitsForTheLab) {
   const std::string truth = "builtin:priors/open_loop_fog_drift.yaml";
   const std::string options = " --prior " + path("two.yaml") + " --budget-min 12 --pilot-min 4 --envelope short --model classical "
                               "--set space.segments=2 --set global_evaluations=30 --set local_evaluations=20 --seed 4";
-  // By default the white noise the pilot shows replaces the members': 8 deg/h at 1 Hz is 8 sqrt(3) per sample at 3 Hz.
-  ASSERT_EQ(run("session" + options + " --out " + path("measured") + " --truth " + truth).status, 0);
+  // session.measured_white_noise: the white noise the pilot shows replaces the members': 8 deg/h at 1 Hz is 8 sqrt(3)
+  // per sample at 3 Hz.
+  ASSERT_EQ(run("session" + options + " --set session.measured_white_noise=true --out " + path("measured") + " --truth " + truth).status, 0);
   const nlohmann::json measured = read_json(dir_ / "measured" / "session.json")["segments"][0]["measured_noise"];
   EXPECT_NEAR(measured["white_dph_per_sample"].get<double>(), 8.0 * std::sqrt(3.0), 0.12 * 8.0 * std::sqrt(3.0));
   EXPECT_NEAR(measured["arw_dph_rt_h"].get<double>(), 8.0 / 60.0, 0.12 * 8.0 / 60.0);
   // With the members' own noise the pilot tells the drifting member from the reference.
-  const std::string quick = options + " --set session.measured_white_noise=false --out ";
+  const std::string quick = options + " --out ";
   const Result r = run("session" + quick + path("sim") + " --truth " + truth);
   ASSERT_EQ(r.status, 0) << r.output;
   const nlohmann::json j = read_json(dir_ / "sim" / "session.json");
