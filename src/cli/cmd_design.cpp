@@ -3,7 +3,6 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <sstream>
 
 #include "cli/app.h"
 #include "cli/common.h"
@@ -55,16 +54,6 @@ struct DesignCommand {
     return out;
   }
 };
-
-std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
 
 std::string describe(const design::Prediction& p) {
   std::string out;
@@ -164,11 +153,11 @@ void run_design(DesignCommand c) {
   }
   settings.space.take(load_equipment(c.equipment));  // what the hardware can do; --set space.* overrides it
   const OptionMap solver_options = settings.apply(options);
-  const auto envelope_names = split(c.envelope);
+  const auto envelope_names = split_list(c.envelope);
   if (envelope_names.size() == 1 && envelope_names.front() == "uniform") {
     settings.envelope.uniform = true;
     settings.envelope.flights.clear();
-    const auto d = split(c.uniform_domain);
+    const auto d = split_list(c.uniform_domain);
     if (d.size() != 3) fail("--uniform-domain: expected T_MIN_C,T_MAX_C,RATE_DPS, got '", c.uniform_domain, "'");
     settings.envelope.uniform_domain.temp_min_c = std::stod(d[0]);
     settings.envelope.uniform_domain.temp_max_c = std::stod(d[1]);
@@ -241,7 +230,7 @@ void run_design(DesignCommand c) {
   }
   if (evaluating) return write_evaluation(c, context, report, provenance);
   // The solver's finished stages are saved as it goes; --resume continues a killed design to the same result.
-  std::vector<std::string> inputs = split(c.envelope);
+  std::vector<std::string> inputs = split_list(c.envelope);
   inputs.insert(inputs.end(), {c.sensor, c.prior, c.equipment, c.reference});
   inputs.insert(inputs.end(), c.compare.begin(), c.compare.end());
   Checkpoint checkpoint = run_checkpoint(c.out, "design", run_fingerprint(*c.command, inputs), c.resume);

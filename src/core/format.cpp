@@ -2,6 +2,7 @@
 
 #include <locale.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -30,6 +31,15 @@ double parse_c_double(const char* begin, char** end) {
 std::string join(const std::vector<std::string>& items, std::string_view separator) {
   std::string out;
   for (std::size_t i = 0; i < items.size(); ++i) (out += i ? separator : std::string_view{}) += items[i];
+  return out;
+}
+
+std::vector<std::string> split_list(const std::string& text, char separator) {
+  std::vector<std::string> out;
+  for (std::size_t a = 0, b; a <= text.size(); a = b + 1) {
+    b = std::min(text.find(separator, a), text.size());
+    if (b > a) out.push_back(text.substr(a, b - a));
+  }
   return out;
 }
 

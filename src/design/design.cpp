@@ -114,9 +114,9 @@ DesignResult design_trajectory(const std::vector<WeightedContext>& members, cons
   const DesignSpace space = design_space(context.envelope(), space_options);
   DesignProblem problem(members, space, request.quadrature, request.prior);
   problem.set_recorded(request.recorded);
-  if (continuing) problem.continued(space.initial());  // a recording that cannot be continued fails here, by name
   DesignResult r;
   r.initial = space.initial();
+  if (continuing) problem.continued(r.initial);  // a recording that cannot be continued fails here, by name
   TableProfile best = r.initial;
   r.summary = run_design_solver(*solver, problem, best);
   if (!r.summary.usable()) fail("design: the ", request.solver, " solver failed: ", r.summary.message);

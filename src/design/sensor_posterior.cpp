@@ -20,9 +20,7 @@ double recording_log_likelihood(const GyroSensor& member, const TableProfile& pr
   // Angle quantization Q: the rate error (e_{k-1} - e_k) Q / dt with e uniform on [0, 1), taken as white.
   noise.white_psd += member.quantization_rad * member.quantization_rad / (6.0 * dt);
   if (!noise.any()) fail("prior member '", member.name, "' has no noise: the likelihood of a recording under it is undefined");
-  GyroSensor exact = member;
-  exact.noise = NoiseOptions{};
-  exact.quantization_rad = 0.0;
+  const GyroSensor exact = std::get<GyroSensor>(without_noise(member));
   const Excitation excitation = excite(programme, t_s, member.thermal.lag_options());
   const GyroOutput predicted = simulate_single(exact, excitation, 0);
   Eigen::MatrixXd a(n, 2);

@@ -83,11 +83,7 @@ void prepare(const SessionOptions& o, SessionSetup& s) {
   s.solver_options = s.settings.apply(o.settings);
   design::make_design_solver("nlopt", s.solver_options, o.seed);  // bad options fail before any work
   s.family = parse_enum<design::ModelFamily>(o.model, "--model");
-  s.settings.envelope.flights.clear();
-  for (std::size_t a = 0, b; a <= o.envelope.size(); a = b + 1) {
-    b = std::min(o.envelope.find(',', a), o.envelope.size());
-    if (b > a) s.settings.envelope.flights.push_back(o.envelope.substr(a, b - a));
-  }
+  s.settings.envelope.flights = split_list(o.envelope);
   s.envelope = std::make_shared<const design::Envelope>(design::load_envelope(s.settings.envelope, as_triad(s.prior.members.front().sensor)));
   s.settings.space.budget_min = o.budget_min;
   s.domain = design::model_domain(design::design_space(*s.envelope, s.settings.space));
@@ -308,7 +304,8 @@ class SessionRun {
   // far predicted on it; an interim calibration (but after the last segment: the final one follows).
   void update(std::size_t k) {
     step(str_cat("session: segment ", k + 1, ": updating the prior by the recording (", weights_.size(), " members)"));
-    const Recording all = joined(segments_, starts_s_);
+    all_ = joined(segments_, starts_s_);
+    const Recording& all = all_;
     nlohmann::json& seg = json_["segments"].back();
     if (o_.measured_white_noise) seg["measured_noise"] = measure_white_noise(all);
     std::vector<double> log_l;
@@ -334,7 +331,7 @@ class SessionRun {
   }
 
   void finish() {
-    const Recording all = joined(segments_, starts_s_);
+    const Recording& all = all_;  // the last update's
     step(str_cat("session: the final calibration on ", all.rows(), " samples"));
     write_recording(all, o_.out / "recording.csv");
     write_file_atomic(o_.out / "trajectory.yaml", programme_yaml(spec_of(recorded_)));
@@ -357,6 +354,7 @@ class SessionRun {
   std::vector<std::unique_ptr<design::DesignContext>> contexts_;
   TableProfile recorded_;
   std::vector<Recording> segments_;
+  Recording all_;  // the segments joined, as of the last update
 };
 
 }  // namespace

@@ -48,7 +48,7 @@ GyroSensor white_only(GyroSensor g, double arw_rad_rt_s) {
 
 // The member's noise-free output on the programme (the simulator's, with the noise stripped).
 std::vector<double> exact_output_dps(const GyroSensor& g, const TableProfile& p, const std::vector<double>& t) {
-  GyroSensor exact = white_only(g, 0.0);
+  const GyroSensor exact = std::get<GyroSensor>(without_noise(g));
   const GyroOutput out = simulate_single(exact, excite(p, t, g.thermal.lag_options()), 0);
   std::vector<double> dps;
   for (double w : out.rate_radps) dps.push_back(units::radps_to_dps(w));
