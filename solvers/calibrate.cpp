@@ -48,16 +48,6 @@ OptionTable greybox_table(GreyboxOptions& o, GreyboxText& text) {
   return t;
 }
 
-GreyboxOptions greybox_options(const OptionMap& map) {
-  GreyboxOptions o;
-  GreyboxText text;
-  greybox_table(o, text).apply(map);
-  o.scale_factor = parse_enum<ScaleFactorForm>(text.scale_factor);
-  if (!text.temperatures.empty()) o.surface_temperatures_c = parse_list(text.temperatures, "greybox surface_temperatures_c");
-  if (!text.rates.empty()) o.surface_rates_dps = parse_list(text.rates, "greybox surface_rates_dps");
-  if (auto p = o.validate(); !p.empty()) fail("greybox: ", p);
-  return o;
-}
 
 nlohmann::json request_json(const CalibrationRequest& r, const std::vector<std::string>& features) {
   return {{"model", r.model}, {"solver", r.model == "rbf" ? r.solver : r.model}, {"options", r.options},
@@ -92,7 +82,8 @@ std::unique_ptr<ModelFitter> classical_fitter(const CalibrationRequest& r) {
 
 std::unique_ptr<ModelFitter> greybox_fitter(const CalibrationRequest& r) {
   const GreyboxOptions o = greybox_options(r.options);
-  return std::make_unique<DatasetFitter>(greybox_features(o), ModelTarget::error, [o](const Dataset& d, SolveSummary& s) {
+  return std::make_unique<DatasetFitter>(greybox_features(o), ModelTarget::error, [o, prior = r.greybox_prior](const Dataset& d, SolveSummary& s) {
+    if (prior) return std::unique_ptr<CalibrationModel>(estimate_greybox(d, o, prior.get(), &s).model);
     return std::unique_ptr<CalibrationModel>(fit_greybox(d, o, &s));
   });
 }
@@ -148,6 +139,17 @@ std::unique_ptr<ModelFitter> hybrid_fitter(const CalibrationRequest& r) {
 
 }  // namespace
 
+GreyboxOptions greybox_options(const OptionMap& map) {
+  GreyboxOptions o;
+  GreyboxText text;
+  greybox_table(o, text).apply(map);
+  o.scale_factor = parse_enum<ScaleFactorForm>(text.scale_factor);
+  if (!text.temperatures.empty()) o.surface_temperatures_c = parse_list(text.temperatures, "greybox surface_temperatures_c");
+  if (!text.rates.empty()) o.surface_rates_dps = parse_list(text.rates, "greybox surface_rates_dps");
+  if (auto p = o.validate(); !p.empty()) fail("greybox: ", p);
+  return o;
+}
+
 const ModelFitterRegistry& model_fitters() {
   static const ModelFitterRegistry registry = [] {
     ModelFitterRegistry r("model");
@@ -186,11 +188,13 @@ CalibrationResult calibrate(const Recording& recording, const CalibrationRequest
   if (r.model != "rbf" && r.solver != CalibrationRequest{}.solver) {
     fail("solver '", r.solver, "' applies to --model rbf only; --model ", r.model, " has its own fit (its options: --options-of ", r.model, ")");
   }
+  if (r.greybox_prior && r.model != "greybox") fail("a lot prior (--prior) calibrates the greybox model; --model ", r.model, " takes none");
   CalibrationResult result;
   const std::unique_ptr<ModelFitter> fitter = model_fitters().make(r.model, r);
   const std::vector<std::string> features = r.features.empty() ? fitter->default_features() : r.features;
   result.model = fitter->fit(recording, features, result.summary);
   result.training = request_json(r, features);
+  if (r.greybox_prior) result.training["prior"] = r.greybox_prior->source;
   // The domain the model was trained on, per input (surface comparisons default to it).
   if (recording.kind() == RecordingKind::single) {
     const Dataset d = make_dataset(recording, result.model->features(), result.model->target());

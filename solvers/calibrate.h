@@ -13,6 +13,8 @@
 #include "core/registry.h"
 #include "core/solve_summary.h"
 #include "model/calibration_model.h"
+#include "model/greybox_fit.h"
+#include "model/greybox_prior.h"
 #include "model/normalizer.h"
 #include "solvers/common/options.h"
 
@@ -25,6 +27,7 @@ struct CalibrationRequest {
   std::vector<std::string> features;  // empty: the model's defaults
   ModelTarget target = ModelTarget::error;
   NormalizationKind normalization = NormalizationKind::range;
+  std::shared_ptr<const GreyboxPrior> greybox_prior;  // greybox: the maximum a posteriori under it (a lot's prior)
 };
 
 struct CalibrationResult {
@@ -47,6 +50,9 @@ using ModelFitterRegistry = Registry<ModelFitter, const CalibrationRequest&>;
 const ModelFitterRegistry& model_fitters();
 
 CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& request);
+
+// The grey-box options of `--set` keys (calibrate --options-of greybox); Error naming a bad key or value.
+GreyboxOptions greybox_options(const OptionMap& options);
 
 // A result fitted to block means (core/decimation.h) says so: summary.details["decimation"] holds the
 // decimation, the fitted model's averaging bias on `recording` (the block means it was fitted to;

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   register_design(app, action);
   register_import(app, action);
   register_session(app, action);
+  register_lot(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

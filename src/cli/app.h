@@ -26,5 +26,6 @@ void register_explain(CLI::App& app, Action& action);
 void register_design(CLI::App& app, Action& action);
 void register_import(CLI::App& app, Action& action);
 void register_session(CLI::App& app, Action& action);
+void register_lot(CLI::App& app, Action& action);
 
 }  // namespace gyrosid::cli

@@ -13,6 +13,7 @@
 #include "core/progress.h"
 #include "core/recording.h"
 #include "core/recording_reader.h"
+#include "lot/lot_model.h"
 #include "model/calibration_model.h"
 #include "solvers/calibrate.h"
 #include "solvers/preset_choice.h"
@@ -22,7 +23,7 @@ namespace gyrosid::cli {
 namespace {
 
 struct CalibrateOptions {
-  std::string config, recording, model, solver, out, features, target, normalization, help_for, surfaces, axis, decimate;
+  std::string config, recording, model, solver, out, features, target, normalization, help_for, surfaces, axis, decimate, prior;
   bool joint = false, sequential = false, auto_estimation = false;
   std::vector<std::string> set;
 };
@@ -65,6 +66,7 @@ void run_calibrate(CalibrateOptions o) {
   if (o.model == "triad") {
     if (int(o.joint) + int(o.sequential) + int(o.auto_estimation) > 1) fail("--joint, --sequential and --auto exclude each other");
     if (o.recording.empty() || o.out.empty()) fail("--recording and --out are required");
+    if (!o.prior.empty()) fail("--prior (a lot file) calibrates a single gyro's greybox model, not --model triad");
     if (!o.axis.empty() || !o.decimate.empty()) fail("--axis and --decimate apply to single-gyro models (a triad model calibrates all three gyros at the recorded rate)");
     calibrate_triad({o.recording, o.out, o.solver, o.surfaces, o.joint ? "joint" : o.sequential ? "sequential" : o.auto_estimation ? "auto" : "", o.set});
     return;
@@ -89,9 +91,17 @@ void run_calibrate(CalibrateOptions o) {
     const auto [key, value] = split_option(kv);
     request.options[key] = value;
   }
+  if (!o.prior.empty()) {  // a lot's prior: its grey-box structure, the MAP under its population
+    if (!o.model.empty() && o.model != "greybox") fail("--prior (a lot file) calibrates the greybox model, not --model ", o.model);
+    if (!o.set.empty() || !o.config.empty()) fail("--prior fixes the model's structure to the lot's: --set and --config do not apply");
+    const LotModel lot = load_lot(o.prior);
+    request.model = "greybox";
+    request.options = lot.greybox_options;
+    request.greybox_prior = std::make_shared<const GreyboxPrior>(lot.prior());
+  }
   // Nothing chosen: characterise the noise and pick the preset for it, saying why.
   const bool choose = o.config.empty() && o.model.empty() && o.solver.empty() && o.set.empty() && o.features.empty() &&
-                      o.target.empty() && o.normalization.empty();
+                      o.target.empty() && o.normalization.empty() && o.prior.empty();
   const DecimatedRecording read = read_gyro(o.recording, o.axis, DecimationRequest::parse(o.decimate.empty() ? (choose ? "auto" : "none") : o.decimate, "--decimate"),
                                             request.features);
   const Recording& rec = read.recording;
@@ -112,6 +122,11 @@ void run_calibrate(CalibrateOptions o) {
   }
   const nlohmann::json& details = result.summary.details;
   if (details.contains("physics_left_out")) std::cout << "physics: " << details["physics_left_out"]["note"].get<std::string>() << "\n";
+  if (details.contains("data_share")) {
+    std::cout << "share of each term's information from the recording (1) or the lot's prior (0):";
+    for (const auto& [group, share] : details["data_share"].items()) std::cout << " " << group << " " << format_significant(share.get<double>(), 2);
+    std::cout << "\n";
+  }
   if (details.contains("physics_note")) std::cout << "physics: " << details["physics_note"].get<std::string>() << "\n";
   if (details.contains("noise_choice")) std::cout << "noise model: " << details["noise_choice"].get<std::string>() << "\n";
   if (details.contains("noise_identification")) {
@@ -149,6 +164,9 @@ void register_calibrate(CLI::App& app, Action& action) {
                           " samples; the default without --model, --solver, --set or --config), none (the default otherwise), or b; "
                           "never across a gap; the factor, the new interval, each input's within-block spread and the fitted "
                           "model's averaging bias are stated"));
+  cmd->add_option("--prior", o->prior,
+                  "A lot file (gyrosid lot learn): the greybox model with the lot's structure, fitted as the maximum a posteriori under "
+                  "the lot's population - the recording decides what it determines, the lot the rest; the share of each is printed");
   cmd->add_option("--config", o->config, "YAML with any of: recording, model, solver, features, target, normalization, options, out");
   cmd->add_option("--options-of", o->help_for, "Print the options of a solver or model and exit");
   cmd->add_option("--out", o->out, "Model file to write (JSON)");
@@ -159,6 +177,7 @@ void register_calibrate(CLI::App& app, Action& action) {
       "  gyrosid calibrate --options-of ceres\n"
       "  gyrosid calibrate --model triad --recording triad.csv --surfaces classical --solver ceres --joint --out triad.json\n"
       "  gyrosid calibrate --options-of triad      (triad options, nls back-ends)\n"
+      "  gyrosid calibrate --recording unit_15min.csv --prior lot.json --out unit.json   (a new unit of a lot)\n"
       "Without --model, --solver, --set or --config the recording's noise is characterised and a preset chosen\n"
       "(builtin:calibration/rbf_noise_free.yaml or rbf_noisy.yaml); what was measured and why is printed.\n"
       "The thesis's configuration: --solver ols --normalization units --set width=17.5 --set criterion=bic\n"

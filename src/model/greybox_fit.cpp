@@ -1,14 +1,18 @@
 #include "model/greybox_fit.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/QR>
 
 #include <cmath>
+#include <algorithm>
 #include <functional>
+#include <map>
 
 #include "core/bounded_search.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/units.h"
+#include "model/greybox_prior.h"
 #include "model/held_inputs.h"
 #include "model/terms/term_kinds.h"
 
@@ -81,6 +85,49 @@ Eigen::VectorXd ridge_solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& y, 
   return coeff;
 }
 
+// (S'S)^-1 of a full-rank stacked matrix S = [rows] D^-1 on unit-norm columns, back in unscaled coefficients.
+Eigen::MatrixXd inverse_gram(const Eigen::MatrixXd& scaled, const Eigen::VectorXd& norm) {
+  const Eigen::Index p = scaled.cols();
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(scaled);
+  const Eigen::MatrixXd r = qr.matrixQR().topRows(p).triangularView<Eigen::Upper>();
+  const Eigen::MatrixXd r_inv = r.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(p, p));
+  const Eigen::MatrixXd d_inv = norm.cwiseInverse().asDiagonal();
+  return d_inv * (r_inv * r_inv.transpose()) * d_inv;
+}
+
+// The prior as rows on the coefficients, L^-1 M c ~ L^-1 mu_c (Sigma_c = L L'), and the lag's marginal.
+struct PriorRows {
+  Eigen::MatrixXd rows;
+  Eigen::VectorXd rhs;
+  double lag_mean = 0.0, lag_variance = 0.0;
+};
+
+PriorRows prior_rows(const GreyboxPrior& prior, const Eigen::MatrixXd& m, bool lag) {
+  const Eigen::Index q = m.rows();
+  const Eigen::LLT<Eigen::MatrixXd> llt(prior.covariance.topLeftCorner(q, q));
+  if (llt.info() != Eigen::Success) fail("grey-box prior", prior.source.empty() ? "" : " (" + prior.source + ")", ": the covariance is not positive definite");
+  PriorRows r{llt.matrixL().solve(m), llt.matrixL().solve(prior.mean.head(q))};
+  if (lag) r.lag_mean = prior.mean(q), r.lag_variance = prior.covariance(q, q);
+  return r;
+}
+
+// The MAP of the linear part: [a / s; B] c = [y / s; b] by pivoted QR on unit-norm columns. Returns the
+// objective |a c - y|^2 / s^2 + |B c - b|^2; the coefficients into *c, their posterior covariance on request.
+double map_solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& y, double s, const PriorRows& prior, Eigen::VectorXd* c,
+                 Eigen::MatrixXd* covariance = nullptr) {
+  const Eigen::Index n = a.rows(), p = a.cols(), q = prior.rows.rows();
+  const Eigen::VectorXd norm = (a.colwise().squaredNorm() / (s * s) + prior.rows.colwise().squaredNorm()).cwiseSqrt().transpose().cwiseMax(1e-300);
+  Eigen::MatrixXd stacked(n + q, p);
+  stacked.topRows(n) = a * (norm.cwiseInverse() / s).asDiagonal();
+  stacked.bottomRows(q) = prior.rows * norm.cwiseInverse().asDiagonal();
+  Eigen::VectorXd rhs(n + q);
+  rhs.head(n) = y / s;
+  rhs.tail(q) = prior.rhs;
+  *c = Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(stacked).solve(rhs).cwiseQuotient(norm);
+  if (covariance) *covariance = inverse_gram(stacked, norm);
+  return (a * *c - y).squaredNorm() / (s * s) + (prior.rows * *c - prior.rhs).squaredNorm();
+}
+
 // The coefficients, in greybox_terms' order, as the sensor layer's error model (SI, unscaled).
 GyroErrorModel error_model_of(const GreyboxOptions& o, const TermScaling& sc, const Eigen::VectorXd& c) {
   GyroErrorModel e;
@@ -141,46 +188,131 @@ LagSearch search_lag(const std::function<double(double)>& rss_at, const GreyboxO
   return s;
 }
 
+// theta's linear part (greybox_prior.h) as a matrix on the coefficients scaled by `sc`: theta_c = M c.
+Eigen::MatrixXd theta_map(const GreyboxOptions& o, const TermScaling& sc, Eigen::Index p) {
+  GreyboxOptions linear = o;
+  linear.thermal_lag = false;
+  Eigen::MatrixXd m(static_cast<Eigen::Index>(greybox_coordinates(linear).size()), p);
+  for (Eigen::Index j = 0; j < p; ++j) m.col(j) = greybox_theta(error_model_of(o, sc, Eigen::VectorXd::Unit(p, j)), 0.0, linear);
+  return m;
+}
+
+// 1 - posterior / prior variance, averaged over each group of coordinates.
+nlohmann::json data_share(const GreyboxOptions& o, const Eigen::MatrixXd& posterior, const GreyboxPrior& prior) {
+  std::map<std::string, std::pair<double, int>> sum;
+  const auto coordinates = greybox_coordinates(o);
+  for (Eigen::Index i = 0; i < posterior.rows(); ++i) {
+    auto& [share, count] = sum[coordinates[static_cast<std::size_t>(i)].group];
+    share += std::clamp(1.0 - posterior(i, i) / prior.covariance(i, i), 0.0, 1.0);
+    ++count;
+  }
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [group, sc] : sum) out[group] = sc.first / sc.second;
+  return out;
+}
+
 }  // namespace
 
-std::unique_ptr<GreyboxModel> fit_greybox(const Dataset& data, const GreyboxOptions& o, SolveSummary* summary) {
+namespace {
+
+GreyboxEstimate estimate(const Dataset& data, const GreyboxOptions& o, const GreyboxPrior* prior, SolveSummary* summary, bool want_covariance) {
   if (auto p = o.validate(); !p.empty()) fail("greybox model: ", p);
   if (data.features != greybox_features(o)) {
     fail("greybox model: features must be ", join(greybox_features(o)));
   }
   if (!data.target.allFinite()) fail("greybox model: the recording has no reference rate (ref_rate_dps) to fit against");
+  if (prior) {
+    if (auto p = prior->validate(o); !p.empty()) fail("greybox model with a prior", prior->source.empty() ? "" : " (" + prior->source + ")", ": ", p);
+  }
   const Signals s = signals_of(data);
   const TermScaling scaling = TermScaling::of(s);
   const std::vector<Term> terms = greybox_terms(o);
   const int p = total_columns(terms);
   if (data.size() < 2 * p) fail("greybox model: ", data.size(), " samples for ", p, " coefficients");
+  const auto a_at = [&](double tau) { return design_matrix(terms, s, coil_temperature(s, tau), scaling); };
 
-  std::unique_ptr<GreyboxModel> model;
-  const SolveSummary result = timed_solve("greybox", [&](SolveMonitor& monitor) {
-    auto rss_at = [&](double tau) {
+  GreyboxEstimate out;
+  const SolveSummary result = timed_solve(prior ? "greybox (prior)" : "greybox", [&](SolveMonitor& monitor) {
+    // Without a prior: least squares with a ridge. With one: the noise level of that fit at the prior's lag, then the MAP.
+    const Eigen::MatrixXd m = prior || want_covariance ? theta_map(o, scaling, p) : Eigen::MatrixXd();
+    const PriorRows rows = prior ? prior_rows(*prior, m, o.thermal_lag) : PriorRows{};
+    const auto sd_of = [&](double rss) { return std::sqrt(rss / static_cast<double>(data.size() - p)); };
+    double sd = 0.0;
+    if (prior) {
       double rss = 0.0;
-      ridge_solve(design_matrix(terms, s, coil_temperature(s, tau), scaling), data.target, o.ridge, &rss);
-      monitor.iteration(0.5 * rss);
+      ridge_solve(a_at(o.thermal_lag ? std::max(0.0, rows.lag_mean) : 0.0), data.target, o.ridge, &rss);
+      sd = sd_of(rss);
+    }
+    auto cost_at = [&](double tau) {
+      double cost = 0.0;
+      Eigen::VectorXd c;
+      if (prior) {
+        cost = map_solve(a_at(tau), data.target, sd, rows, &c) + (o.thermal_lag ? std::pow(tau - rows.lag_mean, 2) / rows.lag_variance : 0.0);
+      } else {
+        ridge_solve(a_at(tau), data.target, o.ridge, &cost);
+      }
+      monitor.iteration(0.5 * cost);
       monitor.evaluation();
-      return rss;
+      return cost;
     };
     LagSearch lag;
-    if (o.thermal_lag) lag = search_lag(rss_at, o);
+    if (o.thermal_lag) lag = search_lag(cost_at, o);
+    const Eigen::MatrixXd a = a_at(lag.tau_s);
+    Eigen::VectorXd c;
+    Eigen::MatrixXd covariance;
     double rss = 0.0;
-    const Eigen::VectorXd c = ridge_solve(design_matrix(terms, s, coil_temperature(s, lag.tau_s), scaling), data.target, o.ridge, &rss);
-    if (!o.thermal_lag) monitor.iteration(0.5 * rss), monitor.evaluation();
+    if (prior) {
+      const double cost = map_solve(a, data.target, sd, rows, &c, &covariance);
+      rss = (a * c - data.target).squaredNorm();
+      if (!o.thermal_lag) monitor.iteration(0.5 * cost), monitor.evaluation();
+      lag.outcome.message = "maximum a posteriori under the prior " + prior->source + ": linear least squares by column-pivoted QR";
+    } else {
+      c = ridge_solve(a, data.target, o.ridge, &rss);
+      sd = sd_of(rss);
+      if (!o.thermal_lag) monitor.iteration(0.5 * rss), monitor.evaluation();
+      if (want_covariance) {
+        const Eigen::VectorXd norm = a.colwise().norm().transpose().cwiseMax(1e-300);
+        Eigen::MatrixXd scaled(a.rows() + p, p);
+        scaled.topRows(a.rows()) = a * norm.cwiseInverse().asDiagonal();
+        scaled.bottomRows(p) = std::sqrt(o.ridge) * Eigen::MatrixXd::Identity(p, p);
+        covariance = sd * sd * inverse_gram(scaled, norm);
+      }
+    }
     if (!c.allFinite()) lag.outcome = {Termination::failed, "the linear solve gave non-finite coefficients", {}};
-    model = std::make_unique<GreyboxModel>(data.features, error_model_of(o, scaling, c), lag.tau_s);
+    out.model = std::make_unique<GreyboxModel>(data.features, error_model_of(o, scaling, c), lag.tau_s);
+    out.residual_sd_radps = sd;
     lag.outcome.details = {{"samples", data.size()},
                            {"parameters", p + (o.thermal_lag ? 1 : 0)},
                            {"rms_residual_dph", units::radps_to_dph(std::sqrt(rss / static_cast<double>(data.size())))},
                            {"lag_tau_s", lag.tau_s},
                            {"lag_evaluations", o.thermal_lag ? lag.evaluations : 0}};
+    if (covariance.size() > 0) {
+      const Eigen::Index q = m.rows();
+      Eigen::MatrixXd theta_covariance = Eigen::MatrixXd::Zero(q + (o.thermal_lag ? 1 : 0), q + (o.thermal_lag ? 1 : 0));
+      theta_covariance.topLeftCorner(q, q) = m * covariance * m.transpose();
+      if (prior) {
+        lag.outcome.details["prior"] = prior->source;
+        lag.outcome.details["data_share"] = data_share(o, theta_covariance.topLeftCorner(q, q), *prior);
+      }
+      covariance = std::move(theta_covariance);
+    }
     if (const HeldInputs held = held_inputs(s.rate, s.temp_c); held.temperature || held.rate) lag.outcome.details["physics_note"] = held.ridge_note();
+    out.theta_covariance = std::move(covariance);
     return lag.outcome;
   });
+  if (want_covariance) out.theta = greybox_theta(out.model->errors(), out.model->lag_tau_s(), o);
   if (summary) *summary = result;
-  return model;
+  return out;
+}
+
+}  // namespace
+
+GreyboxEstimate estimate_greybox(const Dataset& data, const GreyboxOptions& o, const GreyboxPrior* prior, SolveSummary* summary) {
+  return estimate(data, o, prior, summary, true);
+}
+
+std::unique_ptr<GreyboxModel> fit_greybox(const Dataset& data, const GreyboxOptions& o, SolveSummary* summary) {
+  return estimate(data, o, nullptr, summary, false).model;
 }
 
 }  // namespace gyrosid

@@ -53,4 +53,26 @@ std::vector<Term> greybox_terms(const GreyboxOptions& options);
 // point); a fit without a lag is one linear solve (converged).
 std::unique_ptr<GreyboxModel> fit_greybox(const Dataset& data, const GreyboxOptions& options, SolveSummary* summary = nullptr);
 
+struct GreyboxPrior;  // greybox_prior.h
+
+// A fit with what a lot needs of it: the unit's coordinates theta (greybox_prior.h) and their covariance.
+struct GreyboxEstimate {
+  std::unique_ptr<GreyboxModel> model;
+  Eigen::VectorXd theta;             // greybox_theta of the model
+  Eigen::MatrixXd theta_covariance;  // of the estimate, from the linear solve at the found lag (the lag's row: 0)
+  double residual_sd_radps = 0.0;    // per sample: sqrt(RSS / (n - p)) of the fit without a prior
+};
+
+// With a prior N(mu, Sigma) over theta, the maximum a posteriori: with Sigma_c = L L' the prior of theta's
+// linear part (theta_c = M c),
+//   c = argmin |A c - y|^2 / s^2 + |L^-1 (M c - mu_c)|^2,   + (tau - mu_tau)^2 / var_tau in the lag search,
+// solved by Householder QR of the stacked rows [A / s; L^-1 M] on unit-norm columns (no ridge: the prior
+// makes it full rank). s is the residual sd of the fit without the prior at the prior's mean lag: the
+// recording's noise as white (coloured noise makes it trust the data more than it should, never less).
+// Where the recording determines a coordinate the data win; where it does not, the prior fills in. The
+// summary adds data_share per group: 1 - (posterior variance / prior variance), averaged over the group's
+// coordinates (1: the recording alone, 0: the prior alone). Without a prior: fit_greybox's solve.
+GreyboxEstimate estimate_greybox(const Dataset& data, const GreyboxOptions& options, const GreyboxPrior* prior,
+                                 SolveSummary* summary = nullptr);
+
 }  // namespace gyrosid

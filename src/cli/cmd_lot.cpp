@@ -1,0 +1,174 @@
+// gyrosid lot: a production lot - learn the population of a gyro type from calibrated units (lot/lot_model.h)
+// and screen a unit against it (lot/screen.h). `gyrosid calibrate --prior lot.json` fits a new unit with it.
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "cli/app.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/format.h"
+#include "core/parallel.h"
+#include "core/progress.h"
+#include "core/recording.h"
+#include "core/units.h"
+#include "lot/lot_unit.h"
+#include "lot/screen.h"
+#include "model/calibration_model.h"
+#include "model/greybox_model.h"
+#include "solvers/calibrate.h"
+
+namespace gyrosid::cli {
+namespace {
+
+struct LotLearnCommand {
+  std::vector<std::string> recordings, models, set;
+  std::string name, out;
+};
+
+struct LotScreenCommand {
+  std::string prior, recording, out;
+  double alpha = ScreenOptions{}.alpha;
+};
+
+// Every unit's recording calibrated with the structure, in parallel (each unit on its own: the result does
+// not depend on the thread count).
+std::vector<LotUnit> units_of_recordings(const std::vector<std::string>& paths, const GreyboxOptions& structure) {
+  std::vector<LotUnit> units(paths.size());
+  std::vector<std::string> errors(paths.size());
+  Progress progress("lot learn: calibrating the units", paths.size());
+  std::atomic<std::size_t> done{0};
+  parallel_for(static_cast<std::ptrdiff_t>(paths.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (std::ptrdiff_t i = begin; i < end; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      try {
+        units[k] = calibrate_unit(read_recording(paths[k]), paths[k], structure);
+      } catch (const std::exception& e) {
+        errors[k] = e.what();
+      }
+      progress.update(++done);
+    }
+  });
+  progress.finish();
+  for (std::size_t k = 0; k < paths.size(); ++k) {
+    if (!errors[k].empty()) fail(paths[k], ": ", errors[k]);
+  }
+  return units;
+}
+
+// Already-calibrated grey-box units: the structure from the first (its bias order and surface grid, and a
+// term wherever some unit has it).
+std::vector<LotUnit> units_of_models(const std::vector<std::string>& paths, OptionMap& structure) {
+  std::vector<std::unique_ptr<GreyboxModel>> models;
+  for (const auto& path : paths) {
+    std::unique_ptr<CalibrationModel> m = load_model(path);
+    auto* g = dynamic_cast<GreyboxModel*>(m.get());
+    if (!g) fail(path, ": a lot learns from greybox models; this is a ", m->kind(), " model");
+    m.release();
+    models.emplace_back(g);
+  }
+  const GyroErrorModel& first = models.front()->errors();
+  if (!first.scale_factor_surface) fail(paths.front(), ": a lot needs the scale-factor surface form");
+  std::vector<std::string> temps, rates;
+  for (double t : first.scale_factor_surface->x()) temps.push_back(format_number(t));
+  for (double w : first.scale_factor_surface->y()) rates.push_back(format_number(std::round(units::radps_to_dps(w) * 1e9) / 1e9));
+  structure["bias_order"] = std::to_string(std::max<int>(0, static_cast<int>(first.bias_temperature_radps.coefficients.size()) - 1));
+  structure["surface_temperatures_c"] = join(temps, ",");
+  structure["surface_rates_dps"] = join(rates, ",");
+  for (const auto& m : models) {
+    if (m->errors().shupe_rad_per_c != 0.0) structure["shupe"] = "true";
+    if (m->errors().scale_factor_asymmetry != 0.0) structure["asymmetry"] = "true";
+    if (m->errors().g_sensitivity.any()) structure["g_sensitivity"] = "true";
+    if (m->lag_tau_s() > 0.0) structure["thermal_lag"] = "true";
+  }
+  const GreyboxOptions o = greybox_options(structure);
+  std::vector<LotUnit> units;
+  for (std::size_t i = 0; i < paths.size(); ++i) units.push_back(unit_of_model(*models[i], paths[i], o));
+  return units;
+}
+
+void run_learn(const LotLearnCommand& c) {
+  if (c.recordings.empty() == c.models.empty()) fail("give exactly one of --recordings (each unit calibrated here) or --models (greybox model files)");
+  OptionMap greybox, lot_settings;
+  for (const auto& kv : c.set) {
+    const auto [key, value] = split_option(kv);
+    (key.rfind("lot.", 0) == 0 ? lot_settings[key.substr(4)] : greybox[key]) = value;
+  }
+  if (!c.models.empty() && !greybox.empty()) fail("--set greybox options apply to --recordings; --models keep the structure they were calibrated with");
+  LotOptions options;
+  options.table().apply(lot_settings);
+  const std::vector<LotUnit> units =
+      c.models.empty() ? units_of_recordings(c.recordings, greybox_options(greybox)) : units_of_models(c.models, greybox);
+  progress_note(str_cat("lot learn: the population of ", units.size(), " units"));
+  const LotModel lot = learn_lot(units, greybox, options);
+  const nlohmann::json file = {{"format", "gyrosid-prior/1"},
+                               {"name", c.name.empty() ? str_cat("lot of ", lot.unit_names.size(), " units") : c.name},
+                               {"population", lot.to_json()}};
+  write_file_atomic(c.out, file.dump(1) + "\n");
+  std::cout << "wrote " << c.out << ": " << lot.unit_names.size() << " units, " << lot.coordinates.size() << " coordinates, " << lot.modes.cols()
+            << " modes (";
+  double total = lot.mode_variance.sum() + lot.residual_variance * static_cast<double>(lot.coordinates.size() - lot.modes.cols());
+  std::cout << format_significant(100.0 * lot.mode_variance.sum() / total, 3) << " % of the standardised variance)";
+  if (lot.noise_units > 0) std::cout << ", white noise " << format_significant(std::exp(lot.log_noise_mean), 3) << " dph at 1 Hz x/ " << format_significant(std::exp(lot.log_noise_sd), 3);
+  std::cout << "\n";
+  if (!lot.left_out.empty()) std::cout << "left out as out of family (leave-one-out p < " << options.trim_alpha << "): " << join(lot.left_out) << "\n";
+}
+
+void run_screen(const LotScreenCommand& c) {
+  const LotModel lot = load_lot(c.prior);
+  progress_note(str_cat("lot screen: calibrating ", c.recording, " with the lot's structure"));
+  const LotUnit unit = calibrate_unit(read_recording(c.recording), c.recording, lot.structure);
+  const ScreenResult r = screen_unit(lot, unit, {c.alpha});
+  nlohmann::json j = r.to_json();
+  j["recording"] = c.recording;
+  j["prior"] = c.prior;
+  j["alpha"] = c.alpha;
+  j["white_dph_at_1hz"] = unit.white_dph_at_1hz;
+  const std::filesystem::path dir(c.out);
+  std::filesystem::create_directories(dir);
+  write_file_atomic(dir / "screen.json", j.dump(2) + "\n");
+  std::cout << c.recording << ": " << (r.out_of_family ? "OUT OF FAMILY" : "in family") << " (p = " << format_significant(r.p_value, 3)
+            << "; physics " << format_significant(r.p_physics, 3) << ", noise " << format_significant(r.p_noise, 3) << "; alpha " << c.alpha << ")\n";
+  for (const auto& reason : r.reasons) std::cout << "  " << reason << "\n";
+  std::cout << "wrote " << (dir / "screen.json").string() << "\n";
+}
+
+}  // namespace
+
+void register_lot(CLI::App& app, Action& action) {
+  CLI::App* lot = app.add_subcommand("lot", "A production lot: learn a gyro type's population from its units, screen a unit against it");
+  lot->require_subcommand(1);
+  auto l = std::make_shared<LotLearnCommand>();
+  CLI::App* learn = lot->add_subcommand("learn", "Learn the lot's population (physics terms' mean and low-rank covariance, noise) from N units");
+  learn->add_option("--recordings", l->recordings, "Each unit's recording (single gyro, with ref_rate_dps); each is calibrated with the greybox model");
+  learn->add_option("--models", l->models, "Or: each unit's calibrated greybox model file (no covariance, no noise: screening is then less exact)");
+  learn->add_option("--set", l->set,
+                    "greybox option key=value for the units' structure (calibrate --options-of greybox), or lot.KEY=value: "
+                    "lot.variance_kept (0.99), lot.max_modes (12), lot.trim_alpha (0.0001), lot.max_loo_units (200)");
+  learn->add_option("--name", l->name, "The lot's name in the file");
+  learn->add_option("--out", l->out, "Lot file to write (JSON, format gyrosid-prior/1 with a population)")->required();
+  learn->footer(
+      "Example: gyrosid lot learn --recordings units/*.csv --set shupe=true --out lot.json\n"
+      "The population: each unit's grey-box coordinates (bias values, the scale-factor surface's nodes, Shupe, ...)\n"
+      "as a Gaussian whose covariance is a few principal modes plus an isotropic rest (probabilistic PCA); the white\n"
+      "noise log-normal across units; the leave-one-out distances of the units calibrate the screening's null. Units the\n"
+      "others do not hold are left out (lot.trim_alpha) and named.");
+  learn->callback([l, &action] { action = [l] { run_learn(*l); }; });
+
+  auto s = std::make_shared<LotScreenCommand>();
+  CLI::App* screen = lot->add_subcommand("screen", "Does a unit belong to the lot? p-value, verdict and what is out of family");
+  screen->add_option("--prior", s->prior, "Lot file (gyrosid lot learn)")->required();
+  screen->add_option("--recording", s->recording, "The unit's recording, calibrated here with the lot's structure")->required();
+  screen->add_option("--alpha", s->alpha, "False-alarm rate: out of family when p < alpha")->capture_default_str()->check(CLI::Range(1e-12, 0.5));
+  screen->add_option("--out", s->out, "Output directory: screen.json (out_of_family, p_value, reasons, contributions)")->required();
+  screen->footer(
+      "Example: gyrosid lot screen --prior lot.json --recording unit_0042.csv --out screen_0042/\n"
+      "The statistic: the unit's Mahalanobis distance from the lot (with its own estimation covariance), referred to\n"
+      "the lot's leave-one-out null; and its white noise against the lot's. Bonferroni over the two: the false-alarm\n"
+      "rate is at most alpha. Reasons split the distance over terms and surface regions.");
+  screen->callback([s, &action] { action = [s] { run_screen(*s); }; });
+}
+
+}  // namespace gyrosid::cli

@@ -1,0 +1,300 @@
+#include "lot/lot_model.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+
+#include "core/error.h"
+#include "core/format.h"
+#include "core/stats.h"
+#include "solvers/calibrate.h"
+
+namespace gyrosid {
+namespace {
+
+constexpr const char* kPriorFormat = "gyrosid-prior/1";
+
+// The Gaussian of a set of units (rows of theta), before screening.
+struct Population {
+  Eigen::VectorXd mean, scale, mode_variance;
+  Eigen::MatrixXd modes;
+  double residual_variance = 0.0;
+
+  Eigen::MatrixXd covariance() const {
+    const Eigen::Index p = mean.size();
+    const Eigen::MatrixXd z = modes * modes.transpose() + residual_variance * Eigen::MatrixXd::Identity(p, p);
+    return scale.asDiagonal() * z * scale.asDiagonal();
+  }
+};
+
+// Per-coordinate scale: the units' sd, floored within its group (a coordinate no unit moves, e.g. a lag all
+// units fit as 0, is held by its group's typical spread, or 1 of its unit when the whole group is still).
+Eigen::VectorXd coordinate_scale(const Eigen::VectorXd& sd, const std::vector<GreyboxCoordinate>& coordinates) {
+  std::map<std::string, std::vector<double>> by_group;
+  for (std::size_t i = 0; i < coordinates.size(); ++i) by_group[coordinates[i].group].push_back(sd(static_cast<Eigen::Index>(i)));
+  Eigen::VectorXd scale = sd;
+  for (std::size_t i = 0; i < coordinates.size(); ++i) {
+    std::vector<double> g = by_group[coordinates[i].group];
+    std::nth_element(g.begin(), g.begin() + static_cast<std::ptrdiff_t>(g.size() / 2), g.end());
+    const double typical = g[g.size() / 2];
+    const auto k = static_cast<Eigen::Index>(i);
+    scale(k) = std::max(sd(k), typical > 0.0 ? 1e-3 * typical : 1.0);
+  }
+  return scale;
+}
+
+// Probabilistic PCA of the units (rows of theta, N x p). With the units' estimation sd known (`noise_sd`,
+// non-empty), the coordinates are scaled by it: the estimation noise is then about white with variance 1,
+// and a mode is kept where its variance clears the largest that noise alone shows in a sample of N units,
+// the Marchenko-Pastur edge (1 + sqrt(p / (N - 1)))^2. (The rest's own mean is no noise level: a model's
+// misfit and the modes below the edge sit in it.) Without it, by the units' sd, the fewest modes holding
+// variance_kept.
+Population fit_population(const Eigen::MatrixXd& theta, const Eigen::VectorXd& noise_sd, const std::vector<GreyboxCoordinate>& coordinates,
+                          const LotOptions& o) {
+  const Eigen::Index n = theta.rows(), p = theta.cols();
+  Population pop;
+  pop.mean = theta.colwise().mean().transpose();
+  const Eigen::MatrixXd centred = theta.rowwise() - pop.mean.transpose();
+  const Eigen::VectorXd sd = (centred.colwise().squaredNorm() / static_cast<double>(n - 1)).cwiseSqrt().transpose();
+  pop.scale = coordinate_scale(noise_sd.size() > 0 ? noise_sd : sd, coordinates);
+  const Eigen::MatrixXd z = centred * pop.scale.cwiseInverse().asDiagonal();
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(z, Eigen::ComputeThinV);
+  const Eigen::VectorXd lambda = svd.singularValues().array().square() / static_cast<double>(n - 1);
+  const Eigen::Index spanned = std::min(n - 1, p), cap = std::min<Eigen::Index>({static_cast<Eigen::Index>(o.max_modes), n - 2, spanned - 1});
+  const double total = lambda.sum();
+  // psi: the mean variance of the directions the sample spans beyond the k modes.
+  auto rest = [&](Eigen::Index k) { return std::max((total - lambda.head(k).sum()) / static_cast<double>(spanned - k), 1e-9 * std::max(total, 1e-300) / static_cast<double>(p)); };
+  Eigen::Index k = 0;
+  if (noise_sd.size() > 0) {
+    const double edge = std::pow(1.0 + std::sqrt(static_cast<double>(p) / static_cast<double>(n - 1)), 2);
+    while (k < cap && lambda(k) > edge) ++k;
+  } else {
+    for (double kept = 0.0; k < cap && kept < o.variance_kept * total; ++k) kept += lambda(k);
+  }
+  // The modes are lambda - psi over the isotropic rest. With the estimation noise known (variance 1 in these
+  // coordinates), the rest is the population's psi - 1 (deconvolved: the units' estimates scatter by their
+  // own noise too), floored at a tenth of psi.
+  const double psi = rest(k);
+  pop.residual_variance = noise_sd.size() > 0 ? std::max(psi - 1.0, 0.1 * psi) : psi;
+  pop.mode_variance = lambda.head(k);
+  pop.modes = svd.matrixV().leftCols(k) * (lambda.head(k).array() - psi).cwiseMax(0.0).sqrt().matrix().asDiagonal();
+  return pop;
+}
+
+// r' (Sigma + C)^-1 r, by Cholesky.
+double mahalanobis2(const Eigen::VectorXd& r, const Eigen::MatrixXd& sigma, const Eigen::MatrixXd& c) {
+  const Eigen::LLT<Eigen::MatrixXd> llt(c.size() > 0 ? Eigen::MatrixXd(sigma + c) : sigma);
+  if (llt.info() != Eigen::Success) fail("lot: a covariance is not positive definite");
+  return llt.matrixL().solve(r).squaredNorm();
+}
+
+Eigen::MatrixXd rows_of(const std::vector<LotUnit>& units, const std::vector<std::size_t>& keep, std::size_t except = SIZE_MAX) {
+  Eigen::MatrixXd theta(static_cast<Eigen::Index>(keep.size() - (except == SIZE_MAX ? 0 : 1)), units[keep.front()].theta.size());
+  Eigen::Index r = 0;
+  for (std::size_t i : keep) {
+    if (i != except) theta.row(r++) = units[i].theta.transpose();
+  }
+  return theta;
+}
+
+// The units' mean estimation sd per coordinate (empty when some unit's covariance is unknown).
+Eigen::VectorXd estimation_sd(const std::vector<LotUnit>& units, const std::vector<std::size_t>& keep, std::size_t except = SIZE_MAX) {
+  Eigen::VectorXd var = Eigen::VectorXd::Zero(units[keep.front()].theta.size());
+  double count = 0.0;
+  for (std::size_t i : keep) {
+    if (i == except) continue;
+    if (units[i].theta_covariance.size() == 0) return Eigen::VectorXd();
+    var += units[i].theta_covariance.diagonal();
+    count += 1.0;
+  }
+  return (var / count).cwiseSqrt();
+}
+
+// Leave-one-out distances of (at most max_loo_units, evenly spaced) units in `keep`, index -> d^2.
+std::map<std::size_t, double> leave_one_out(const std::vector<LotUnit>& units, const std::vector<std::size_t>& keep,
+                                            const std::vector<GreyboxCoordinate>& coordinates, const LotOptions& o) {
+  std::map<std::size_t, double> d2;
+  const std::size_t m = std::min<std::size_t>(keep.size(), static_cast<std::size_t>(o.max_loo_units));
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::size_t u = keep[j * keep.size() / m];
+    const Population pop = fit_population(rows_of(units, keep, u), estimation_sd(units, keep, u), coordinates, o);
+    d2[u] = mahalanobis2(units[u].theta - pop.mean, pop.covariance(), units[u].theta_covariance);
+  }
+  return d2;
+}
+
+// Sample mean and variance (n - 1).
+std::pair<double, double> moments(const std::vector<double>& x) {
+  double m = 0.0, v = 0.0;
+  for (double e : x) m += e;
+  m /= static_cast<double>(x.size());
+  for (double e : x) v += (e - m) * (e - m);
+  return {m, x.size() > 1 ? v / static_cast<double>(x.size() - 1) : 0.0};
+}
+
+// a chi^2_nu with the mean and variance of the distances.
+std::pair<double, double> matched_chi2(const std::vector<double>& d2) {
+  const auto [m, var] = moments(d2);
+  const double v = std::max(var, 1e-12 * m * m);
+  return {v / (2.0 * m), 2.0 * m * m / v};
+}
+
+void check_units(const std::vector<LotUnit>& units, Eigen::Index p) {
+  if (units.size() < 5) fail("lot: ", units.size(), " units; a lot needs at least 5");
+  for (const LotUnit& u : units) {
+    if (u.theta.size() != p) fail("lot: unit '", u.name, "' has ", u.theta.size(), " coordinates where the structure has ", p);
+    if (!u.theta.allFinite()) fail("lot: unit '", u.name, "' has non-finite coordinates");
+    if (u.theta_covariance.size() != 0 && (u.theta_covariance.rows() != p || u.theta_covariance.cols() != p)) {
+      fail("lot: unit '", u.name, "' has a covariance of the wrong size");
+    }
+  }
+}
+
+}  // namespace
+
+OptionTable LotOptions::table() {
+  OptionTable t("lot");
+  t.real("variance_kept", &variance_kept, 0.5, 1.0, "share of the units' standardised variance the modes hold")
+      .integer("max_modes", &max_modes, 0, 100, "most modes of the population's covariance")
+      .real("trim_alpha", &trim_alpha, 0.0, 0.5, "a training unit whose leave-one-out p-value is below this is left out")
+      .integer("max_loo_units", &max_loo_units, 5, 100000, "leave-one-out distances of the null from at most this many units");
+  return t;
+}
+
+std::string LotOptions::validate() const {
+  if (!(variance_kept > 0.0 && variance_kept <= 1.0)) return "variance_kept must be in (0, 1]";
+  if (max_modes < 0) return "max_modes must be >= 0";
+  if (!(trim_alpha >= 0.0 && trim_alpha < 0.5)) return "trim_alpha must be in [0, 0.5)";
+  if (max_loo_units < 5) return "max_loo_units must be >= 5";
+  return "";
+}
+
+Eigen::MatrixXd LotModel::covariance() const {
+  return Population{mean, scale, mode_variance, modes, residual_variance}.covariance();
+}
+
+GreyboxPrior LotModel::prior() const { return {mean, covariance(), source}; }
+
+LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_options_map, const LotOptions& o) {
+  if (auto p = o.validate(); !p.empty()) fail("lot: ", p);
+  LotModel lot;
+  lot.greybox_options = greybox_options_map;
+  lot.structure = gyrosid::greybox_options(greybox_options_map);
+  lot.coordinates = greybox_coordinates(lot.structure);
+  check_units(units, static_cast<Eigen::Index>(lot.coordinates.size()));
+
+  std::vector<std::size_t> keep(units.size());
+  for (std::size_t i = 0; i < units.size(); ++i) keep[i] = i;
+  std::map<std::size_t, double> d2 = leave_one_out(units, keep, lot.coordinates, o);
+  if (o.trim_alpha > 0.0) {  // leave out the units the others do not hold (each against the others' null), then learn again
+    std::vector<std::size_t> kept;
+    for (std::size_t i : keep) {
+      const auto it = d2.find(i);
+      std::vector<double> others;
+      for (const auto& [u, d] : d2) {
+        if (u != i) others.push_back(d);
+      }
+      const auto [a, nu] = matched_chi2(others);
+      if (it != d2.end() && 1.0 - stats::chi2_cdf(it->second / a, nu) < o.trim_alpha) lot.left_out.push_back(units[i].name);
+      else kept.push_back(i);
+    }
+    if (kept.size() < 5) fail("lot: only ", kept.size(), " units remain after leaving out those out of family; a lot needs at least 5");
+    if (kept.size() != keep.size()) keep = kept, d2 = leave_one_out(units, keep, lot.coordinates, o);
+  }
+  const Population pop = fit_population(rows_of(units, keep), estimation_sd(units, keep), lot.coordinates, o);
+  lot.mean = pop.mean, lot.scale = pop.scale, lot.modes = pop.modes, lot.mode_variance = pop.mode_variance;
+  lot.residual_variance = pop.residual_variance;
+  for (std::size_t i : keep) lot.unit_names.push_back(units[i].name);
+  for (const auto& [u, d] : d2) lot.loo_distance.push_back(d);
+  std::tie(lot.null_scale, lot.null_dof) = matched_chi2(lot.loo_distance);
+
+  std::vector<double> log_noise;
+  for (std::size_t i : keep) {
+    if (units[i].white_dph_at_1hz > 0.0) log_noise.push_back(std::log(units[i].white_dph_at_1hz));
+  }
+  lot.noise_units = static_cast<int>(log_noise.size());
+  if (log_noise.size() >= 2) {
+    const auto [m, v] = moments(log_noise);
+    lot.log_noise_mean = m, lot.log_noise_sd = std::max(std::sqrt(v), 0.01);
+  }
+  return lot;
+}
+
+nlohmann::json LotModel::to_json() const {
+  nlohmann::json coords = nlohmann::json::array(), mode_rows = nlohmann::json::array();
+  for (const auto& c : coordinates) coords.push_back({{"name", c.name}, {"group", c.group}, {"unit", c.unit}});
+  for (Eigen::Index k = 0; k < modes.cols(); ++k) mode_rows.push_back(std::vector<double>(modes.col(k).data(), modes.col(k).data() + modes.rows()));
+  const Eigen::VectorXd sd = covariance().diagonal().cwiseSqrt();
+  auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+  return {{"model", "greybox"},
+          {"greybox_options", greybox_options},
+          {"units", unit_names.size()},
+          {"unit_names", unit_names},
+          {"left_out", left_out},
+          {"coordinates", coords},
+          {"mean", vec(mean)},
+          {"sd", vec(sd)},
+          {"scale", vec(scale)},
+          {"modes", mode_rows},
+          {"mode_variance", vec(mode_variance)},
+          {"residual_variance", residual_variance},
+          {"noise", {{"white_dph_at_1hz", {{"log_mean", log_noise_mean}, {"log_sd", log_noise_sd}, {"units", noise_units}}}}},
+          {"screening", {{"null", "scaled chi-square matched to the leave-one-out distances"}, {"scale", null_scale}, {"dof", null_dof},
+                         {"leave_one_out_d2", loo_distance}}}};
+}
+
+LotModel LotModel::from_json(const nlohmann::json& j, const std::string& source) {
+  LotModel lot;
+  lot.source = source;
+  try {
+    if (j.at("model") != "greybox") fail(source, ": population.model must be greybox");
+    lot.greybox_options = j.at("greybox_options").get<OptionMap>();
+    lot.structure = gyrosid::greybox_options(lot.greybox_options);
+    lot.coordinates = greybox_coordinates(lot.structure);
+    const auto p = static_cast<Eigen::Index>(lot.coordinates.size());
+    auto vec = [&](const char* key) {
+      const auto v = j.at(key).get<std::vector<double>>();
+      return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
+    };
+    lot.mean = vec("mean"), lot.scale = vec("scale"), lot.mode_variance = vec("mode_variance");
+    const auto rows = j.at("modes").get<std::vector<std::vector<double>>>();
+    lot.modes.resize(p, static_cast<Eigen::Index>(rows.size()));
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      if (static_cast<Eigen::Index>(rows[k].size()) != p) fail(source, ": population.modes[", k, "] has ", rows[k].size(), " numbers, expected ", p);
+      lot.modes.col(static_cast<Eigen::Index>(k)) = Eigen::Map<const Eigen::VectorXd>(rows[k].data(), p);
+    }
+    if (lot.mean.size() != p || lot.scale.size() != p) fail(source, ": population.mean and scale need ", p, " numbers (the greybox structure's coordinates)");
+    lot.residual_variance = j.at("residual_variance").get<double>();
+    lot.unit_names = j.at("unit_names").get<std::vector<std::string>>();
+    lot.left_out = j.at("left_out").get<std::vector<std::string>>();
+    const auto& noise = j.at("noise").at("white_dph_at_1hz");
+    lot.log_noise_mean = noise.at("log_mean"), lot.log_noise_sd = noise.at("log_sd"), lot.noise_units = noise.at("units");
+    const auto& s = j.at("screening");
+    lot.null_scale = s.at("scale"), lot.null_dof = s.at("dof");
+    lot.loo_distance = s.at("leave_one_out_d2").get<std::vector<double>>();
+  } catch (const nlohmann::json::exception& e) {
+    fail(source, ": population: ", e.what());
+  }
+  if (!(lot.residual_variance > 0.0) || !(lot.null_scale > 0.0) || !(lot.null_dof > 0.0)) fail(source, ": population: residual_variance, screening.scale and dof must be positive");
+  return lot;
+}
+
+LotModel load_lot(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) fail(path, ": cannot open the lot file");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    fail(path, ": not a JSON lot file (", e.what(), ")");
+  }
+  if (j.value("format", "") != kPriorFormat) fail(path, ": format must be '", kPriorFormat, "'");
+  if (!j.contains("population")) fail(path, ": no 'population': a prior over sensors that was not learned from a lot (gyrosid lot learn writes one)");
+  return LotModel::from_json(j["population"], path);
+}
+
+}  // namespace gyrosid

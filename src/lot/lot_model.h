@@ -1,0 +1,76 @@
+// A production lot: the population of grey-box units of one gyro type, learned from N calibrated units
+// (empirical Bayes), as the prior a new unit is calibrated with and the family it is screened against.
+//
+// Physics: each unit u is a point theta_u in the grey-box coordinates (model/greybox_prior.h: bias values,
+// the scale-factor surface's nodes, Shupe, ...). The population is a Gaussian N(mu, Sigma) with a low-rank
+// covariance - probabilistic PCA (Tipping & Bishop 1999) of the standardised coordinates
+//   z = S^-1 (theta - mu),  S = diag(sd),   Sigma_z = W W' + psi I,
+// W the k leading principal directions of the units' z scaled by sqrt(lambda_i - psi), psi the mean
+// variance left outside them: the modes a production process varies in (a surface's magnitude, a bias
+// law's tilt) and an isotropic rest. k is the fewest modes holding `variance_kept` of the variance.
+// The units' own estimation error is left inside Sigma (no deconvolution): a prior a little wider than the
+// population, never narrower.
+// Noise: the log of each unit's white noise (noise/identify.h on the fit's residual), normal across units.
+// Screening: the leave-one-out Mahalanobis distances d_u^2 = r' (Sigma_-u + C_u)^-1 r of the training units
+// (C_u a unit's estimation covariance), matched by moments to a scaled chi-square a chi^2_nu - the
+// calibrated null of lot/screen.h.
+// Robustness: units whose leave-one-out p-value is below trim_alpha are left out and the lot learned again
+// (once): a defective unit in the training sample must not widen the family.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "model/greybox_prior.h"
+#include "solvers/common/options.h"
+
+namespace gyrosid {
+
+// One calibrated unit, as the lot sees it.
+struct LotUnit {
+  std::string name;
+  Eigen::VectorXd theta;             // greybox coordinates
+  Eigen::MatrixXd theta_covariance;  // its estimate's covariance; empty when unknown (a model file)
+  double white_dph_at_1hz = 0.0;     // 0 when unknown
+};
+
+struct LotOptions {
+  double variance_kept = 0.99;  // of the standardised variance, by the modes
+  int max_modes = 12;
+  double trim_alpha = 1e-4;     // leave-one-out p-value below which a training unit is left out
+  int max_loo_units = 200;      // the null's leave-one-out distances from at most this many units (evenly spaced)
+  OptionTable table();
+  std::string validate() const;
+};
+
+struct LotModel {
+  OptionMap greybox_options;  // the units' structure, as `calibrate --set` keys
+  GreyboxOptions structure;
+  std::vector<GreyboxCoordinate> coordinates;
+  std::vector<std::string> unit_names, left_out;  // learned from / left out as out of family
+  Eigen::VectorXd mean, scale;                    // mu, diag(S)
+  Eigen::MatrixXd modes;                          // W: p x k, standardised
+  Eigen::VectorXd mode_variance;                  // lambda_1..k (standardised)
+  double residual_variance = 0.0;                 // psi
+  double log_noise_mean = 0.0, log_noise_sd = 0.0;  // of ln(white dph at 1 Hz); sd 0: no noise known
+  int noise_units = 0;
+  std::vector<double> loo_distance;               // d_u^2 of the null
+  double null_scale = 1.0, null_dof = 1.0;        // d^2 ~ a chi^2_nu
+  std::string source;                             // the file it was read from
+
+  Eigen::MatrixXd covariance() const;             // Sigma = S (W W' + psi I) S
+  GreyboxPrior prior() const;
+  nlohmann::json to_json() const;                 // the "population" of a gyrosid-prior/1 file
+  static LotModel from_json(const nlohmann::json& population, const std::string& source);
+};
+
+LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_options, const LotOptions& options = {});
+
+// The lot in a gyrosid-prior/1 file (`population`); Error naming the file when it has none.
+LotModel load_lot(const std::string& path);
+
+}  // namespace gyrosid

@@ -1,0 +1,88 @@
+#include "lot/screen.h"
+
+#include <Eigen/Cholesky>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "core/error.h"
+#include "core/format.h"
+#include "core/stats.h"
+
+namespace gyrosid {
+namespace {
+
+// Where a coordinate's contribution is counted: its group, or a surface region (grid temperature, rate sign).
+std::string region_of(const GreyboxCoordinate& c) {
+  if (c.group != "surface") return c.group;
+  return str_cat("surface at ", format_number(c.temp_c), " C, ", c.rate_dps > 0 ? "positive" : "negative", " rates");
+}
+
+// The unit's largest departure within a region, for the reason's text.
+std::string largest_departure(const LotModel& lot, const Eigen::VectorXd& r, const Eigen::VectorXd& sd, const std::string& region) {
+  Eigen::Index best = -1;
+  for (Eigen::Index j = 0; j < r.size(); ++j) {
+    if (region_of(lot.coordinates[static_cast<std::size_t>(j)]) != region) continue;
+    if (best < 0 || std::abs(r(j) / sd(j)) > std::abs(r(best) / sd(best))) best = j;
+  }
+  const GreyboxCoordinate& c = lot.coordinates[static_cast<std::size_t>(best)];
+  return str_cat(c.name, " ", format_significant(lot.mean(best) + r(best), 3), " ", c.unit, " against the lot's ", format_significant(lot.mean(best), 3),
+                 " +- ", format_significant(sd(best), 3));
+}
+
+}  // namespace
+
+std::string ScreenOptions::validate() const {
+  if (!(alpha > 0.0 && alpha < 1.0)) return "alpha must be in (0, 1)";
+  return "";
+}
+
+ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenOptions& o) {
+  if (auto p = o.validate(); !p.empty()) fail("lot screen: ", p);
+  const auto p = static_cast<Eigen::Index>(lot.coordinates.size());
+  if (unit.theta.size() != p) fail("lot screen: unit '", unit.name, "' has ", unit.theta.size(), " coordinates where the lot has ", p);
+  ScreenResult out;
+  const Eigen::MatrixXd sigma = lot.covariance();
+  const Eigen::MatrixXd total = unit.theta_covariance.size() > 0 ? Eigen::MatrixXd(sigma + unit.theta_covariance) : sigma;
+  const Eigen::LLT<Eigen::MatrixXd> llt(total);
+  if (llt.info() != Eigen::Success) fail("lot screen: the lot's covariance plus the unit's is not positive definite");
+  const Eigen::VectorXd r = unit.theta - lot.mean;
+  const Eigen::VectorXd w = llt.solve(r);
+  out.distance2 = r.dot(w);
+  out.p_physics = 1.0 - stats::chi2_cdf(out.distance2 / lot.null_scale, lot.null_dof);
+
+  double noise_z = 0.0;
+  if (lot.noise_units >= 2 && unit.white_dph_at_1hz > 0.0) {
+    noise_z = (std::log(unit.white_dph_at_1hz) - lot.log_noise_mean) / (lot.log_noise_sd * std::sqrt(1.0 + 1.0 / lot.noise_units));
+    out.p_noise = 2.0 * (1.0 - stats::normal_cdf(std::abs(noise_z)));
+  }
+  out.p_value = std::min(1.0, 2.0 * std::min(out.p_physics, out.p_noise));
+  out.out_of_family = out.p_value < o.alpha;
+
+  std::map<std::string, double> share;
+  for (Eigen::Index j = 0; j < p; ++j) share[region_of(lot.coordinates[static_cast<std::size_t>(j)])] += r(j) * w(j) / std::max(out.distance2, 1e-300);
+  out.contributions = share;
+  if (out.out_of_family && 2.0 * out.p_physics < o.alpha) {
+    std::vector<std::pair<double, std::string>> ranked;
+    for (const auto& [region, s] : share) ranked.push_back({-s, region});
+    std::sort(ranked.begin(), ranked.end());
+    const Eigen::VectorXd sd = total.diagonal().cwiseSqrt();
+    for (const auto& [minus, region] : ranked) {
+      if (-minus < 0.2) break;
+      out.reasons.push_back(str_cat(region, ": ", format_significant(100.0 * -minus, 3), " % of the distance (", largest_departure(lot, r, sd, region), ")"));
+    }
+  }
+  if (out.out_of_family && 2.0 * out.p_noise < o.alpha) {
+    out.reasons.push_back(str_cat("noise: white ", format_significant(unit.white_dph_at_1hz, 3), " dph at 1 Hz, ",
+                                  format_significant(unit.white_dph_at_1hz / std::exp(lot.log_noise_mean), 3), "x the lot's median (z = ", format_significant(noise_z, 3), ")"));
+  }
+  return out;
+}
+
+nlohmann::json ScreenResult::to_json() const {
+  return {{"out_of_family", out_of_family}, {"p_value", p_value}, {"p_physics", p_physics}, {"p_noise", p_noise},
+          {"distance2", distance2}, {"reasons", reasons}, {"contributions", contributions}};
+}
+
+}  // namespace gyrosid

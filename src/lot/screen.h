@@ -1,0 +1,40 @@
+// Screening a unit against its lot (lot_model.h): does it belong to the family the lot was learned from?
+//
+// Physics: the Mahalanobis distance of the unit's coordinates from the lot,
+//   d^2 = r' (Sigma + C)^-1 r,   r = theta - mu,  C the unit's own estimation covariance,
+// referred to the lot's calibrated null a chi^2_nu (the training units' leave-one-out distances, matched by
+// moments): p_physics = 1 - F_chi2(d^2 / a; nu). Noise: z = (ln N - m) / (s sqrt(1 + 1/n)) of the unit's white
+// noise against the lot's log-normal, two-sided p_noise. The unit's p-value is the Bonferroni
+// min(1, 2 min(p_physics, p_noise)), so the false-alarm rate is at most alpha.
+// Reasons name what is out of family: d^2 splits exactly into the contributions r_j [(Sigma + C)^-1 r]_j,
+// summed over a coordinate group (bias, Shupe, ...) or, for the scale-factor surface, over a region (a grid
+// temperature and the sign of the rate); groups holding at least a fifth of d^2 are named, largest first,
+// and the noise when its own test fails.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "lot/lot_model.h"
+
+namespace gyrosid {
+
+struct ScreenOptions {
+  double alpha = 0.01;  // false-alarm rate
+  std::string validate() const;
+};
+
+struct ScreenResult {
+  bool out_of_family = false;
+  double p_value = 1.0, p_physics = 1.0, p_noise = 1.0;
+  double distance2 = 0.0;  // d^2
+  std::vector<std::string> reasons;
+  nlohmann::json contributions;  // share of d^2 per group or surface region
+  nlohmann::json to_json() const;
+};
+
+ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenOptions& options = {});
+
+}  // namespace gyrosid

@@ -1,0 +1,185 @@
+// A production lot (lot/): the grey-box MAP under a prior against its analytic limits, the population's
+// planted modes recovered, the screening null calibrated, planted defects found and named.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/random.h"
+#include "lot/lot_model.h"
+#include "lot/screen.h"
+#include "model/dataset.h"
+#include "model/greybox_fit.h"
+#include "model/greybox_prior.h"
+#include "sensor/sensor_config.h"
+#include "sim/simulate.h"
+#include "trajectory/trajectory_config.h"
+
+namespace gyrosid {
+namespace {
+
+using ::testing::HasSubstr;
+
+Dataset noisy_dual_scan(int samples, std::uint64_t seed) {
+  TrajectorySpec t = load_trajectory_file("builtin:trajectories/dual_scan.yaml");
+  t.sampling = Sampling{samples, 0.0};
+  const Recording rec = simulate(load_sensor_file("builtin:sensors/open_loop_fog.yaml"), t, seed).recording;
+  return make_dataset(rec, greybox_features(GreyboxOptions{}), ModelTarget::error);
+}
+
+// The linear-Gaussian identities: a prior equal to the data's own information halves the covariance and
+// lands halfway between the least-squares estimate and the prior's mean; a vague prior is the least
+// squares; a tight one is its mean.
+TEST(GreyboxPrior, TheMapIsThePrecisionWeightedMeanOfDataAndPrior) {
+  const Dataset d = noisy_dual_scan(3000, 3);
+  const GreyboxOptions o;
+  const GreyboxEstimate plain = estimate_greybox(d, o, nullptr);
+  const Eigen::MatrixXd c = plain.theta_covariance;
+  const Eigen::VectorXd sd = c.diagonal().cwiseSqrt();
+  ASSERT_TRUE(sd.allFinite());
+  Eigen::VectorXd shift(sd.size());
+  RandomStream r(1, "shift");
+  for (Eigen::Index j = 0; j < shift.size(); ++j) shift(j) = 3.0 * sd(j) * r.normal();
+  const Eigen::VectorXd mu = plain.theta + shift;
+
+  SolveSummary s;
+  const GreyboxPrior equal{mu, c, "equal"};
+  const GreyboxEstimate half = estimate_greybox(d, o, &equal, &s);
+  for (Eigen::Index j = 0; j < sd.size(); ++j) {
+    EXPECT_NEAR(half.theta(j), plain.theta(j) + 0.5 * shift(j), 0.02 * sd(j)) << j;
+    EXPECT_NEAR(half.theta_covariance(j, j) / c(j, j), 0.5, 0.01) << j;
+  }
+  EXPECT_NEAR(s.details["data_share"]["surface"].get<double>(), 0.5, 0.01);
+  EXPECT_NEAR(s.details["data_share"]["bias"].get<double>(), 0.5, 0.01);
+
+  const GreyboxPrior vague{mu, 1e8 * c, "vague"}, tight{mu, 1e-8 * c, "tight"};
+  const GreyboxEstimate v = estimate_greybox(d, o, &vague, &s);
+  EXPECT_GT(s.details["data_share"]["surface"].get<double>(), 0.999);
+  const GreyboxEstimate t = estimate_greybox(d, o, &tight);
+  for (Eigen::Index j = 0; j < sd.size(); ++j) {
+    EXPECT_NEAR(v.theta(j), plain.theta(j), 0.01 * sd(j)) << j;
+    EXPECT_NEAR(t.theta(j), mu(j), 0.01 * sd(j)) << j;
+  }
+  const GreyboxPrior wrong_size{mu.head(5), c.topLeftCorner(5, 5), "lot.json"};
+  try {
+    estimate_greybox(d, o, &wrong_size);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("lot.json"));
+    EXPECT_THAT(e.what(), HasSubstr("5 coordinates where the grey-box structure has 76"));
+  }
+}
+
+// A synthetic lot in the default structure's 76 coordinates: estimation noise sd s (0.05 deg/h on the bias
+// values, 5 ppm on the surface), two planted modes of 20 s and 8 s (a surface magnitude, a bias tilt),
+// log-normal white noise 10 deg/h x/ exp(0.2).
+struct SyntheticLot {
+  GreyboxOptions structure;
+  std::vector<GreyboxCoordinate> coordinates = greybox_coordinates(structure);
+  Eigen::Index p = static_cast<Eigen::Index>(coordinates.size());
+  Eigen::VectorXd s = Eigen::VectorXd::Constant(p, 5.0), mu = Eigen::VectorXd::Zero(p), a1 = Eigen::VectorXd::Zero(p),
+                  a2 = Eigen::VectorXd::Zero(p);
+  SyntheticLot() {
+    for (Eigen::Index j = 0; j < p; ++j) {
+      const auto& c = coordinates[static_cast<std::size_t>(j)];
+      if (c.group == "bias") s(j) = 0.05, a2(j) = (c.temp_c - 20.0) / 40.0, mu(j) = -15.0 + 0.1 * (c.temp_c - 25.0);
+      else a1(j) = -std::pow(c.rate_dps / 100.0, 2) * (1.0 + 0.005 * (c.temp_c - 25.0)), mu(j) = -600.0 * std::pow(c.rate_dps / 100.0, 2);
+    }
+    a1.normalize(), a2.normalize();
+  }
+  LotUnit unit(const std::string& name, std::uint64_t seed) const {
+    RandomStream r(seed, "unit");
+    LotUnit u;
+    u.name = name;
+    const double z1 = r.normal(), z2 = r.normal();
+    u.theta = mu + s.cwiseProduct(20.0 * std::sqrt(static_cast<double>(p)) * z1 * a1 + 8.0 * std::sqrt(static_cast<double>(p)) * z2 * a2);
+    for (Eigen::Index j = 0; j < p; ++j) u.theta(j) += s(j) * r.normal();
+    u.theta_covariance = s.cwiseAbs2().asDiagonal();
+    u.white_dph_at_1hz = 10.0 * std::exp(0.2 * r.normal());
+    return u;
+  }
+  std::vector<LotUnit> units(int n, std::uint64_t first_seed) const {
+    std::vector<LotUnit> out;
+    for (int i = 0; i < n; ++i) out.push_back(unit("unit " + std::to_string(i), first_seed + static_cast<std::uint64_t>(i)));
+    return out;
+  }
+};
+
+// cos of the angle between a (standardised by s) and the span of the lot's modes.
+double cos_to_modes(const LotModel& lot, const Eigen::VectorXd& a, const Eigen::VectorXd& s) {
+  const Eigen::VectorXd z = a.cwiseQuotient(s).cwiseProduct(lot.scale).normalized();
+  const Eigen::MatrixXd q = Eigen::HouseholderQR<Eigen::MatrixXd>(lot.modes).householderQ() * Eigen::MatrixXd::Identity(lot.modes.rows(), lot.modes.cols());
+  return (q.transpose() * z).norm();
+}
+
+TEST(LotModel, RecoversThePlantedModesAndTheNoise) {
+  const SyntheticLot g;
+  const LotModel lot = learn_lot(g.units(80, 1), {});
+  EXPECT_EQ(lot.unit_names.size(), 80u);
+  EXPECT_TRUE(lot.left_out.empty());
+  ASSERT_EQ(lot.modes.cols(), 2);
+  EXPECT_GT(cos_to_modes(lot, g.s.cwiseProduct(g.a1), g.s), 0.99);
+  EXPECT_GT(cos_to_modes(lot, g.s.cwiseProduct(g.a2), g.s), 0.99);
+  // The scale is the estimation sd; the rest is deconvolved to near zero (floored at a tenth of psi ~ 1).
+  EXPECT_NEAR(lot.scale(10), 5.0, 1e-9);
+  EXPECT_LT(lot.residual_variance, 0.2);
+  // Mean within 4 standard errors per coordinate (the mode's sd 20 s sqrt(p) |a1_j| plus the noise).
+  const Eigen::VectorXd sd = lot.covariance().diagonal().cwiseSqrt();
+  for (Eigen::Index j = 0; j < g.p; ++j) EXPECT_NEAR(lot.mean(j), g.mu(j), 4.0 * std::max(sd(j), g.s(j)) / std::sqrt(80.0)) << j;
+  EXPECT_NEAR(std::exp(lot.log_noise_mean), 10.0, 10.0 * 4.0 * 0.2 / std::sqrt(80.0));
+  EXPECT_NEAR(lot.log_noise_sd, 0.2, 0.06);
+  // The file's population reads back to the same lot.
+  const LotModel back = LotModel::from_json(lot.to_json(), "back");
+  EXPECT_EQ(back.covariance(), lot.covariance());
+  EXPECT_EQ(back.null_dof, lot.null_dof);
+}
+
+// Fresh units of the lot are flagged at about the nominal rate; planted defects are flagged and named.
+TEST(LotScreen, TheNullIsCalibratedAndDefectsAreNamed) {
+  const SyntheticLot g;
+  const LotModel lot = learn_lot(g.units(60, 1), {});
+  int alarms = 0;
+  const int fresh = 400;
+  for (int i = 0; i < fresh; ++i) alarms += screen_unit(lot, g.unit("fresh", 10000 + static_cast<std::uint64_t>(i)), {0.05}).out_of_family;
+  EXPECT_GE(alarms, static_cast<int>(0.015 * fresh));
+  EXPECT_LE(alarms, static_cast<int>(0.09 * fresh));
+
+  LotUnit ripple = g.unit("ripple", 777);  // +6 sd on the 40 C row's positive rates
+  for (Eigen::Index j = 0; j < g.p; ++j) {
+    const auto& c = g.coordinates[static_cast<std::size_t>(j)];
+    if (c.group == "surface" && c.temp_c == 40.0 && c.rate_dps > 0) ripple.theta(j) += 6.0 * g.s(j);
+  }
+  const ScreenResult r = screen_unit(lot, ripple);
+  EXPECT_TRUE(r.out_of_family);
+  EXPECT_LT(r.p_physics, 1e-4);
+  ASSERT_FALSE(r.reasons.empty());
+  EXPECT_THAT(r.reasons.front(), HasSubstr("surface at 40 C, positive rates"));
+
+  LotUnit noisy = g.unit("noisy", 778);
+  noisy.white_dph_at_1hz *= 3.0;
+  const ScreenResult n = screen_unit(lot, noisy);
+  EXPECT_LT(n.p_noise, 1e-3);
+  EXPECT_TRUE(n.out_of_family);
+  ASSERT_FALSE(n.reasons.empty());
+  EXPECT_THAT(n.reasons.back(), HasSubstr("noise: white"));
+}
+
+TEST(LotModel, AUnitTheOthersDoNotHoldIsLeftOut) {
+  const SyntheticLot g;
+  std::vector<LotUnit> units = g.units(40, 1);
+  units[7].theta(30) += 40.0 * g.s(30);
+  const LotModel lot = learn_lot(units, {});
+  ASSERT_EQ(lot.left_out.size(), 1u);
+  EXPECT_EQ(lot.left_out[0], "unit 7");
+  EXPECT_EQ(lot.unit_names.size(), 39u);
+  try {
+    learn_lot(g.units(4, 1), {});
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("at least 5"));
+  }
+}
+
+}  // namespace
+}  // namespace gyrosid
