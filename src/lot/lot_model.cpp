@@ -5,9 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
 
+#include "core/config.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/stats.h"
@@ -284,15 +284,13 @@ LotModel LotModel::from_json(const nlohmann::json& j, const std::string& source)
 }
 
 LotModel load_lot(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) fail(path, ": cannot open the lot file");
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(in);
+    j = nlohmann::json::parse(config_text(path));
   } catch (const nlohmann::json::parse_error& e) {
     fail(path, ": not a JSON lot file (", e.what(), ")");
   }
-  if (j.value("format", "") != kPriorFormat) fail(path, ": format must be '", kPriorFormat, "'");
+  if (!j.is_object() || j.value("format", "") != kPriorFormat) fail(path, ": format must be '", kPriorFormat, "'");
   if (!j.contains("population")) fail(path, ": no 'population': a prior over sensors that was not learned from a lot (gyrosid lot learn writes one)");
   return LotModel::from_json(j["population"], path);
 }
