@@ -14,6 +14,7 @@
 #include "core/progress.h"
 #include "core/recording.h"
 #include "core/units.h"
+#include "lot/lot_members.h"
 #include "lot/lot_unit.h"
 #include "lot/screen.h"
 #include "model/calibration_model.h"
@@ -26,6 +27,7 @@ namespace {
 struct LotLearnCommand {
   std::vector<std::string> recordings, models, set;
   std::string name, out;
+  double package_tau_s = LotMemberOptions{}.package_tau_s;
 };
 
 struct LotScreenCommand {
@@ -105,6 +107,7 @@ void run_learn(const LotLearnCommand& c) {
   const LotModel lot = learn_lot(units, greybox, options);
   const nlohmann::json file = {{"format", "gyrosid-prior/1"},
                                {"name", c.name.empty() ? str_cat("lot of ", lot.unit_names.size(), " units") : c.name},
+                               {"members", lot_members(lot, {c.package_tau_s})},
                                {"population", lot.to_json()}};
   write_file_atomic(c.out, file.dump(1) + "\n");
   std::cout << "wrote " << c.out << ": " << lot.unit_names.size() << " units, " << lot.coordinates.size() << " coordinates, " << lot.modes.cols()
@@ -148,13 +151,19 @@ void register_lot(CLI::App& app, Action& action) {
                     "greybox option key=value for the units' structure (calibrate --options-of greybox), or lot.KEY=value: "
                     "lot.variance_kept (0.99), lot.max_modes (12), lot.trim_alpha (0.0001), lot.max_loo_units (200)");
   learn->add_option("--name", l->name, "The lot's name in the file");
+  learn->add_option("--package-tau-s", l->package_tau_s,
+                    "The members' chamber-to-probe lag, s (a calibration sees the probe only; the design's programme is in chamber temperatures)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e5));
   learn->add_option("--out", l->out, "Lot file to write (JSON, format gyrosid-prior/1 with a population)")->required();
   learn->footer(
       "Example: gyrosid lot learn --recordings units/*.csv --set shupe=true --out lot.json\n"
+      "         gyrosid design --prior lot.json --budget-min 15 --out d/      (the shortest programme for a unit of the lot)\n"
       "The population: each unit's grey-box coordinates (bias values, the scale-factor surface's nodes, Shupe, ...)\n"
       "as a Gaussian whose covariance is a few principal modes plus an isotropic rest (probabilistic PCA); the white\n"
       "noise log-normal across units; the leave-one-out distances of the units calibrate the screening's null. Units the\n"
-      "others do not hold are left out (lot.trim_alpha) and named.");
+      "others do not hold are left out (lot.trim_alpha) and named. The file is a prior over sensors (docs/prior_format.md):\n"
+      "its members are the population's unscented points in its modes, for design --prior.");
   learn->callback([l, &action] { action = [l] { run_learn(*l); }; });
 
   auto s = std::make_shared<LotScreenCommand>();

@@ -107,7 +107,7 @@ void add_draws(const ConfigNode& draws, const SensorPriorMember& parent, const s
 }
 
 SensorPrior load_prior_node(const ConfigNode& root) {
-  root.allow_only({"format", "name", "members"});
+  root.allow_only({"format", "name", "members", "population"});  // population: a lot's (lot/lot_model.h), read by the lot's commands
   if (const std::string f = root.text("format"); f != kFormat) fail(root.where("format"), ": expected '", kFormat, "', got '", f, "'");
   SensorPrior prior;
   prior.source = root.source();
@@ -118,9 +118,17 @@ SensorPrior load_prior_node(const ConfigNode& root) {
     const ConfigNode item = list.at(i);
     item.allow_only({"sensor", "weight", "draws"});
     SensorPriorMember m;
-    m.origin = item.resolve(item.text("sensor"));
     m.weight = item.number("weight", 1.0);
     if (!(m.weight > 0.0) || !std::isfinite(m.weight)) fail(item.where("weight"), ": a member's weight must be positive");
+    if (item["sensor"].is_map()) {  // an inline sensor config (a lot's members)
+      if (item.has("draws")) fail(item.where("draws"), ": draws need the member's sensor config in a file");
+      m.origin = item.where("sensor");
+      m.sensor = load_sensor(item["sensor"]);
+      m.name = sensor_name(m.sensor);
+      prior.members.push_back(m);
+      continue;
+    }
+    m.origin = item.resolve(item.text("sensor"));
     const std::string text = config_text(m.origin);
     m.sensor = load_sensor(ConfigNode::parse(text, m.origin));
     m.name = sensor_name(m.sensor);

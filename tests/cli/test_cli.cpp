@@ -19,6 +19,7 @@
 #include "core/random.h"
 #include "core/recording.h"
 #include "core/units.h"
+#include "sensor/sensor_prior.h"
 #include "trajectory/trajectory_config.h"
 #include "solvers/hand_turn_session.h"
 #include "read_file.h"
@@ -862,6 +863,11 @@ TEST_F(Cli, LotLearnsScreensAndCalibratesWithItsPrior) {
   const nlohmann::json lot = read_json(path("lot.json"));
   EXPECT_EQ(lot["format"], "gyrosid-prior/1");
   EXPECT_NEAR(std::exp(lot["population"]["noise"]["white_dph_at_1hz"]["log_mean"].get<double>()), 10.0, 1.0);
+  // The lot file is a prior over sensors for `design --prior`: its members, the mean first.
+  const SensorPrior as_prior = load_sensor_prior(path("lot.json"));
+  EXPECT_EQ(as_prior.members.size(), 2 * lot["population"]["modes"].size() + 1);
+  EXPECT_EQ(as_prior.members.front().name, "lot mean");
+  EXPECT_NEAR(as_prior.total_weight(), 1.0, 1e-12);
 
   const Result in = run("lot screen --prior " + path("lot.json") + " --recording " + path("unit9.csv") + " --out " + path("s9"));
   ASSERT_EQ(in.status, 0) << in.output;

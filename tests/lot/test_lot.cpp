@@ -7,6 +7,9 @@
 
 #include "core/error.h"
 #include "core/random.h"
+#include "core/units.h"
+#include "core/config.h"
+#include "lot/lot_members.h"
 #include "lot/lot_model.h"
 #include "lot/screen.h"
 #include "model/dataset.h"
@@ -179,6 +182,35 @@ TEST(LotModel, AUnitTheOthersDoNotHoldIsLeftOut) {
   } catch (const Error& e) {
     EXPECT_THAT(e.what(), HasSubstr("at least 5"));
   }
+}
+
+// The lot's members (lot_members.h) read back as sensor configs to the coordinates they were written from,
+// and their weighted mean and covariance are the population's mean and its covariance within the modes.
+TEST(LotMembers, TheUnscentedPointsReadBackToThePopulationsModes) {
+  const SyntheticLot g;
+  const LotModel lot = learn_lot(g.units(60, 1), {});
+  const nlohmann::json members = lot_members(lot);
+  const Eigen::Index k = lot.modes.cols();
+  ASSERT_EQ(members.size(), static_cast<std::size_t>(2 * k + 1));
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(g.p);
+  Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(g.p, g.p);
+  double total = 0.0;
+  std::vector<std::pair<double, Eigen::VectorXd>> points;
+  for (const auto& m : members) {
+    const GyroSensor sensor = load_gyro(ConfigNode::parse(m["sensor"].dump(), "member"));
+    points.push_back({m["weight"].get<double>(), greybox_theta(sensor.errors, 0.0, g.structure)});
+    total += points.back().first;
+    EXPECT_NEAR(units::radps_to_dph(sensor.noise.arw_rad_rt_s), std::exp(lot.log_noise_mean), 1e-9);
+  }
+  EXPECT_NEAR(total, 1.0, 1e-12);
+  for (const auto& [w, theta] : points) mean += w * theta;
+  for (const auto& [w, theta] : points) cov += w * (theta - mean) * (theta - mean).transpose();
+  const Eigen::MatrixXd in_modes = lot.scale.asDiagonal() * lot.modes * lot.modes.transpose() * lot.scale.asDiagonal();
+  for (Eigen::Index j = 0; j < g.p; ++j) {
+    EXPECT_NEAR(points.front().second(j), lot.mean(j), 1e-6 * (1.0 + std::abs(lot.mean(j)))) << j;  // the mean member is mu
+    EXPECT_NEAR(mean(j), lot.mean(j), 1e-6 * (1.0 + std::abs(lot.mean(j)))) << j;
+  }
+  EXPECT_LT((cov - in_modes).norm(), 1e-6 * in_modes.norm());
 }
 
 }  // namespace
