@@ -65,7 +65,10 @@ def pages(gyrosid):
     commands = subcommands(top)
     out = {"README.md": index_page(commands, top)}
     for name, description in commands:
-        out[name + ".md"] = command_page(name, description, help_text(gyrosid, name))
+        text = help_text(gyrosid, name)
+        if "Subcommands:\n" in text:  # a command of commands (`lot learn`, `lot screen`): each one's help follows
+            text += "".join("\n" + help_text(gyrosid, name, sub) for sub, _ in subcommands(text))
+        out[name + ".md"] = command_page(name, description, text)
     return out
 
 
