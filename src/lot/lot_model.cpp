@@ -85,12 +85,18 @@ Population fit_population(const Eigen::MatrixXd& theta, const Eigen::VectorXd& n
   return pop;
 }
 
-// r' (Sigma + C)^-1 r, by Cholesky.
-double mahalanobis2(const Eigen::VectorXd& r, const Eigen::MatrixXd& sigma, const Eigen::MatrixXd& c) {
-  const Eigen::LLT<Eigen::MatrixXd> llt(c.size() > 0 ? Eigen::MatrixXd(sigma + c) : sigma);
+}  // namespace
+
+// r' (Sigma + diag(v))^-1 r, by Cholesky.
+double mahalanobis2(const Eigen::VectorXd& r, const Eigen::MatrixXd& sigma, const Eigen::VectorXd& v) {
+  Eigen::MatrixXd total = sigma;
+  if (v.size() > 0) total.diagonal() += v;
+  const Eigen::LLT<Eigen::MatrixXd> llt(total);
   if (llt.info() != Eigen::Success) fail("lot: a covariance is not positive definite");
   return llt.matrixL().solve(r).squaredNorm();
 }
+
+namespace {
 
 Eigen::MatrixXd rows_of(const std::vector<LotUnit>& units, const std::vector<std::size_t>& keep, std::size_t except = SIZE_MAX) {
   Eigen::MatrixXd theta(static_cast<Eigen::Index>(keep.size() - (except == SIZE_MAX ? 0 : 1)), units[keep.front()].theta.size());
@@ -107,8 +113,8 @@ Eigen::VectorXd estimation_sd(const std::vector<LotUnit>& units, const std::vect
   double count = 0.0;
   for (std::size_t i : keep) {
     if (i == except) continue;
-    if (units[i].theta_covariance.size() == 0) return Eigen::VectorXd();
-    var += units[i].theta_covariance.diagonal();
+    if (units[i].theta_variance.size() == 0) return Eigen::VectorXd();
+    var += units[i].theta_variance;
     count += 1.0;
   }
   return (var / count).cwiseSqrt();
@@ -122,7 +128,7 @@ std::map<std::size_t, double> leave_one_out(const std::vector<LotUnit>& units, c
   for (std::size_t j = 0; j < m; ++j) {
     const std::size_t u = keep[j * keep.size() / m];
     const Population pop = fit_population(rows_of(units, keep, u), estimation_sd(units, keep, u), coordinates, o);
-    d2[u] = mahalanobis2(units[u].theta - pop.mean, pop.covariance(), units[u].theta_covariance);
+    d2[u] = mahalanobis2(units[u].theta - pop.mean, pop.covariance(), units[u].theta_variance);
   }
   return d2;
 }
@@ -148,8 +154,8 @@ void check_units(const std::vector<LotUnit>& units, Eigen::Index p) {
   for (const LotUnit& u : units) {
     if (u.theta.size() != p) fail("lot: unit '", u.name, "' has ", u.theta.size(), " coordinates where the structure has ", p);
     if (!u.theta.allFinite()) fail("lot: unit '", u.name, "' has non-finite coordinates");
-    if (u.theta_covariance.size() != 0 && (u.theta_covariance.rows() != p || u.theta_covariance.cols() != p)) {
-      fail("lot: unit '", u.name, "' has a covariance of the wrong size");
+    if (u.theta_variance.size() != 0 && u.theta_variance.size() != p) {
+      fail("lot: unit '", u.name, "' has ", u.theta_variance.size(), " variances where the structure has ", p);
     }
   }
 }

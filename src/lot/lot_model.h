@@ -12,7 +12,7 @@
 // population, never narrower.
 // Noise: the log of each unit's white noise (noise/identify.h on the fit's residual), normal across units.
 // Screening: the leave-one-out Mahalanobis distances d_u^2 = r' (Sigma_-u + C_u)^-1 r of the training units
-// (C_u a unit's estimation covariance), matched by moments to a scaled chi-square a chi^2_nu - the
+// (C_u the diagonal of a unit's estimation covariance), matched by moments to a scaled chi-square a chi^2_nu - the
 // calibrated null of lot/screen.h.
 // Robustness: units whose leave-one-out p-value is below trim_alpha are left out and the lot learned again
 // (once): a defective unit in the training sample must not widen the family.
@@ -34,7 +34,9 @@ namespace gyrosid {
 struct LotUnit {
   std::string name;
   Eigen::VectorXd theta;             // greybox coordinates
-  Eigen::MatrixXd theta_covariance;  // its estimate's covariance; empty when unknown (a model file)
+  Eigen::VectorXd theta_variance;    // its estimate's variances; empty when unknown (a model file). The diagonal
+                                     // only: the lot's memory stays 2 p numbers a unit, and the null and the
+                                     // screening use the same form
   double white_dph_at_1hz = 0.0;     // 0 when unknown
 };
 
@@ -67,6 +69,9 @@ struct LotModel {
   nlohmann::json to_json() const;                 // the "population" of a gyrosid-prior/1 file
   static LotModel from_json(const nlohmann::json& population, const std::string& source);
 };
+
+// r' (Sigma + diag(v))^-1 r (v empty: none), the screening's distance.
+double mahalanobis2(const Eigen::VectorXd& r, const Eigen::MatrixXd& sigma, const Eigen::VectorXd& v);
 
 LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_options, const LotOptions& options = {});
 

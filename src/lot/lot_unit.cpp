@@ -35,7 +35,7 @@ double white_noise_dph_at_1hz(const Dataset& data, const GreyboxEstimate& fit) {
 LotUnit calibrate_unit(const Recording& recording, const std::string& name, const GreyboxOptions& structure, SolveSummary* summary) {
   const Dataset data = make_dataset(recording, greybox_features(structure), ModelTarget::error);
   GreyboxEstimate fit = estimate_greybox(data, structure, nullptr, summary);
-  LotUnit unit{name, std::move(fit.theta), std::move(fit.theta_covariance), 0.0};
+  LotUnit unit{name, std::move(fit.theta), fit.theta_covariance.diagonal(), 0.0};
   unit.white_dph_at_1hz = white_noise_dph_at_1hz(data, fit);
   return unit;
 }
@@ -55,7 +55,7 @@ LotUnit unit_of_model(const GreyboxModel& model, const std::string& name, const 
     fail(name, ": a lot's units need the scale-factor surface on the lot's grid (temperatures ", list(structure.surface_temperatures_c),
          " C; rates ", list(structure.surface_rates_dps), " dps)");
   }
-  return {name, greybox_theta(model.errors(), model.lag_tau_s(), structure), Eigen::MatrixXd(), 0.0};
+  return {name, greybox_theta(model.errors(), model.lag_tau_s(), structure), Eigen::VectorXd(), 0.0};
 }
 
 }  // namespace gyrosid

@@ -43,8 +43,8 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
   const auto p = static_cast<Eigen::Index>(lot.coordinates.size());
   if (unit.theta.size() != p) fail("lot screen: unit '", unit.name, "' has ", unit.theta.size(), " coordinates where the lot has ", p);
   ScreenResult out;
-  const Eigen::MatrixXd sigma = lot.covariance();
-  const Eigen::MatrixXd total = unit.theta_covariance.size() > 0 ? Eigen::MatrixXd(sigma + unit.theta_covariance) : sigma;
+  Eigen::MatrixXd total = lot.covariance();
+  if (unit.theta_variance.size() > 0) total.diagonal() += unit.theta_variance;
   const Eigen::LLT<Eigen::MatrixXd> llt(total);
   if (llt.info() != Eigen::Success) fail("lot screen: the lot's covariance plus the unit's is not positive definite");
   const Eigen::VectorXd r = unit.theta - lot.mean;

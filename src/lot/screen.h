@@ -1,7 +1,7 @@
 // Screening a unit against its lot (lot_model.h): does it belong to the family the lot was learned from?
 //
 // Physics: the Mahalanobis distance of the unit's coordinates from the lot,
-//   d^2 = r' (Sigma + C)^-1 r,   r = theta - mu,  C the unit's own estimation covariance,
+//   d^2 = r' (Sigma + C)^-1 r,   r = theta - mu,  C the diagonal of the unit's estimation covariance (as in the null),
 // referred to the lot's calibrated null a chi^2_nu (the training units' leave-one-out distances, matched by
 // moments): p_physics = 1 - F_chi2(d^2 / a; nu). Noise: z = (ln N - m) / (s sqrt(1 + 1/n)) of the unit's white
 // noise against the lot's log-normal, two-sided p_noise. The unit's p-value is the Bonferroni

@@ -98,7 +98,7 @@ struct SyntheticLot {
     const double z1 = r.normal(), z2 = r.normal();
     u.theta = mu + s.cwiseProduct(20.0 * std::sqrt(static_cast<double>(p)) * z1 * a1 + 8.0 * std::sqrt(static_cast<double>(p)) * z2 * a2);
     for (Eigen::Index j = 0; j < p; ++j) u.theta(j) += s(j) * r.normal();
-    u.theta_covariance = s.cwiseAbs2().asDiagonal();
+    u.theta_variance = s.cwiseAbs2();
     u.white_dph_at_1hz = 10.0 * std::exp(0.2 * r.normal());
     return u;
   }
