@@ -135,6 +135,7 @@ void run_screen(const LotScreenCommand& c) {
   std::cout << c.recording << ": " << (r.out_of_family ? "OUT OF FAMILY" : "in family") << " (p = " << format_significant(r.p_value, 3)
             << "; physics " << format_significant(r.p_physics, 3) << ", noise " << format_significant(r.p_noise, 3) << "; alpha " << c.alpha << ")\n";
   for (const auto& reason : r.reasons) std::cout << "  " << reason << "\n";
+  if (!r.warning.empty()) std::cout << "warning: " << r.warning << "\n";
   std::cout << "wrote " << (dir / "screen.json").string() << "\n";
 }
 

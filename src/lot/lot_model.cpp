@@ -223,6 +223,14 @@ LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_o
     if (units[i].white_dph_at_1hz > 0.0) log_noise.push_back(std::log(units[i].white_dph_at_1hz));
   }
   lot.noise_units = static_cast<int>(log_noise.size());
+  std::vector<double> minutes;
+  for (std::size_t i : keep) {
+    if (units[i].recording_min > 0.0) minutes.push_back(units[i].recording_min);
+  }
+  if (!minutes.empty()) {
+    std::nth_element(minutes.begin(), minutes.begin() + static_cast<std::ptrdiff_t>(minutes.size() / 2), minutes.end());
+    lot.recording_min = minutes[minutes.size() / 2];
+  }
   if (log_noise.size() >= 2) {
     const auto [m, v] = moments(log_noise);
     lot.log_noise_mean = m, lot.log_noise_sd = std::max(std::sqrt(v), 0.01);
@@ -239,6 +247,7 @@ nlohmann::json LotModel::to_json() const {
   return {{"model", "greybox"},
           {"greybox_options", greybox_options},
           {"units", unit_names.size()},
+          {"recording_min", recording_min},
           {"unit_names", unit_names},
           {"left_out", left_out},
           {"coordinates", coords},
@@ -276,6 +285,7 @@ LotModel LotModel::from_json(const nlohmann::json& j, const std::string& source)
     if (lot.mean.size() != p || lot.scale.size() != p) fail(source, ": population.mean and scale need ", p, " numbers (the greybox structure's coordinates)");
     lot.residual_variance = j.at("residual_variance").get<double>();
     lot.unit_names = j.at("unit_names").get<std::vector<std::string>>();
+    lot.recording_min = j.value("recording_min", 0.0);
     lot.left_out = j.at("left_out").get<std::vector<std::string>>();
     const auto& noise = j.at("noise").at("white_dph_at_1hz");
     lot.log_noise_mean = noise.at("log_mean"), lot.log_noise_sd = noise.at("log_sd"), lot.noise_units = noise.at("units");

@@ -38,6 +38,7 @@ struct LotUnit {
                                      // only: the lot's memory stays 2 p numbers a unit, and the null and the
                                      // screening use the same form
   double white_dph_at_1hz = 0.0;     // 0 when unknown
+  double recording_min = 0.0;        // the recording's length; 0 when unknown
 };
 
 struct LotOptions {
@@ -60,6 +61,7 @@ struct LotModel {
   double residual_variance = 0.0;                 // psi
   double log_noise_mean = 0.0, log_noise_sd = 0.0;  // of ln(white dph at 1 Hz); sd 0: no noise known
   int noise_units = 0;
+  double recording_min = 0.0;                     // median length of the units' recordings (0: unknown)
   std::vector<double> loo_distance;               // d_u^2 of the null
   double null_scale = 1.0, null_dof = 1.0;        // d^2 ~ a chi^2_nu
   std::string source;                             // the file it was read from

@@ -37,6 +37,7 @@ LotUnit calibrate_unit(const Recording& recording, const std::string& name, cons
   GreyboxEstimate fit = estimate_greybox(data, structure, nullptr, summary);
   LotUnit unit{name, std::move(fit.theta), fit.theta_covariance.diagonal(), 0.0};
   unit.white_dph_at_1hz = white_noise_dph_at_1hz(data, fit);
+  if (data.size() > 1) unit.recording_min = (data.t_s.back() - data.t_s.front()) / 60.0;
   return unit;
 }
 

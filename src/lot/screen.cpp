@@ -59,6 +59,10 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
   }
   out.p_value = std::min(1.0, 2.0 * std::min(out.p_physics, out.p_noise));
   out.out_of_family = out.p_value < o.alpha;
+  if (lot.recording_min > 0.0 && unit.recording_min > 0.0 && std::abs(unit.recording_min / lot.recording_min - 1.0) > 0.2) {
+    out.warning = str_cat("the lot's null was calibrated on ", format_significant(lot.recording_min, 3), "-min recordings and this one is ",
+                          format_significant(unit.recording_min, 3), " min: its false-alarm rate is not calibrated (screen the lot's own programme)");
+  }
 
   std::map<std::string, double> share;
   for (Eigen::Index j = 0; j < p; ++j) share[region_of(lot.coordinates[static_cast<std::size_t>(j)])] += r(j) * w(j) / std::max(out.distance2, 1e-300);
@@ -82,7 +86,7 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
 
 nlohmann::json ScreenResult::to_json() const {
   return {{"out_of_family", out_of_family}, {"p_value", p_value}, {"p_physics", p_physics}, {"p_noise", p_noise},
-          {"distance2", distance2}, {"reasons", reasons}, {"contributions", contributions}};
+          {"distance2", distance2}, {"reasons", reasons}, {"contributions", contributions}, {"warning", warning}};
 }
 
 }  // namespace gyrosid

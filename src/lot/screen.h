@@ -6,6 +6,8 @@
 // moments): p_physics = 1 - F_chi2(d^2 / a; nu). Noise: z = (ln N - m) / (s sqrt(1 + 1/n)) of the unit's white
 // noise against the lot's log-normal, two-sided p_noise. The unit's p-value is the Bonferroni
 // min(1, 2 min(p_physics, p_noise)), so the false-alarm rate is at most alpha.
+// The null is calibrated on the lot's own recordings: a unit recorded on a programme of another length (more
+// than 20 % apart) is screened with a warning - its estimate's errors, and so its distances, are of another kind.
 // Reasons name what is out of family: d^2 splits exactly into the contributions r_j [(Sigma + C)^-1 r]_j,
 // summed over a coordinate group (bias, Shupe, ...) or, for the scale-factor surface, over a region (a grid
 // temperature and the sign of the rate); groups holding at least a fifth of d^2 are named, largest first,
@@ -31,6 +33,7 @@ struct ScreenResult {
   double p_value = 1.0, p_physics = 1.0, p_noise = 1.0;
   double distance2 = 0.0;  // d^2
   std::vector<std::string> reasons;
+  std::string warning;  // why the false-alarm rate may not hold (a recording unlike the lot's)
   nlohmann::json contributions;  // share of d^2 per group or surface region
   nlohmann::json to_json() const;
 };

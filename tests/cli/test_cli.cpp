@@ -872,6 +872,7 @@ TEST_F(Cli, LotLearnsScreensAndCalibratesWithItsPrior) {
   const Result in = run("lot screen --prior " + path("lot.json") + " --recording " + path("unit9.csv") + " --out " + path("s9"));
   ASSERT_EQ(in.status, 0) << in.output;
   EXPECT_FALSE(read_json(dir_ / "s9" / "screen.json")["out_of_family"].get<bool>()) << in.output;
+  EXPECT_EQ(read_json(dir_ / "s9" / "screen.json")["warning"], "");
   std::string noisy = read_text(std::string(GYROSID_SOURCE_DIR) + "/configs/sensors/open_loop_fog.yaml");
   noisy.replace(noisy.find("white_dph_at_1hz: 10"), 20, "white_dph_at_1hz: 30");
   std::ofstream(path("noisy.yaml")) << noisy;
@@ -903,6 +904,9 @@ TEST_F(Cli, LotLearnsScreensAndCalibratesWithItsPrior) {
     return error;
   };
   EXPECT_LT(bias_error_dph("with.json"), 0.5 * bias_error_dph("alone.json"));
+  // A 32-min recording against a lot of 62-min ones: screened, with the warning that the null is not its own.
+  const Result other = run("lot screen --prior " + path("lot.json") + " --recording " + path("short.csv") + " --out " + path("ss"));
+  EXPECT_THAT(other.output, HasSubstr("warning: the lot's null was calibrated on 62-min recordings and this one is 31.8 min"));
   EXPECT_EQ(read_json(path("with.json"))["training"]["prior"], path("lot.json"));
 
   EXPECT_THAT(run("calibrate --recording " + path("short.csv") + " --prior " + path("lot.json") + " --model rbf --out " + path("x.json")).output,
