@@ -25,7 +25,7 @@ namespace gyrosid::cli {
 namespace {
 
 struct LotLearnCommand {
-  std::vector<std::string> recordings, models, set;
+  std::vector<std::string> recordings, models, screen_recordings, set;
   std::string name, out;
   double package_tau_s = LotMemberOptions{}.package_tau_s;
 };
@@ -37,10 +37,11 @@ struct LotScreenCommand {
 
 // Every unit's recording calibrated with the structure, in parallel (each unit on its own: the result does
 // not depend on the thread count).
-std::vector<LotUnit> units_of_recordings(const std::vector<std::string>& paths, const GreyboxOptions& structure) {
+std::vector<LotUnit> units_of_recordings(const std::vector<std::string>& paths, const GreyboxOptions& structure,
+                                         const std::string& label = "lot learn: calibrating the units") {
   std::vector<LotUnit> units(paths.size());
   std::vector<std::string> errors(paths.size());
-  Progress progress("lot learn: calibrating the units", paths.size());
+  Progress progress(label, paths.size());
   std::atomic<std::size_t> done{0};
   parallel_for(static_cast<std::ptrdiff_t>(paths.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
     for (std::ptrdiff_t i = begin; i < end; ++i) {
@@ -104,7 +105,9 @@ void run_learn(const LotLearnCommand& c) {
   const std::vector<LotUnit> units =
       c.models.empty() ? units_of_recordings(c.recordings, greybox_options(greybox)) : units_of_models(c.models, greybox);
   progress_note(str_cat("lot learn: the population of ", units.size(), " units"));
-  const LotModel lot = learn_lot(units, greybox, options);
+  std::vector<LotUnit> screen_units;
+  if (!c.screen_recordings.empty()) screen_units = units_of_recordings(c.screen_recordings, greybox_options(greybox), "lot learn: the units' screening recordings");
+  const LotModel lot = learn_lot(units, greybox, options, c.screen_recordings.empty() ? nullptr : &screen_units);
   const nlohmann::json file = {{"format", "gyrosid-prior/1"},
                                {"name", c.name.empty() ? str_cat("lot of ", lot.unit_names.size(), " units") : c.name},
                                {"members", lot_members(lot, {c.package_tau_s})},
@@ -151,6 +154,9 @@ void register_lot(CLI::App& app, Action& action) {
   learn->add_option("--set", l->set,
                     "greybox option key=value for the units' structure (calibrate --options-of greybox), or lot.KEY=value: "
                     "lot.variance_kept (0.99), lot.max_modes (12), lot.trim_alpha (0.0001), lot.max_loo_units (200)");
+  learn->add_option("--screen-recordings", l->screen_recordings,
+                    "The same units recorded on the programme a production line screens with (one per unit, same order): the "
+                    "screening's null is calibrated on them (default: on the units' own recordings)");
   learn->add_option("--name", l->name, "The lot's name in the file");
   learn->add_option("--package-tau-s", l->package_tau_s,
                     "The members' chamber-to-probe lag, s (a calibration sees the probe only; the design's programme is in chamber temperatures)")

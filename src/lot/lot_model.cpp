@@ -120,15 +120,16 @@ Eigen::VectorXd estimation_sd(const std::vector<LotUnit>& units, const std::vect
   return (var / count).cwiseSqrt();
 }
 
-// Leave-one-out distances of (at most max_loo_units, evenly spaced) units in `keep`, index -> d^2.
-std::map<std::size_t, double> leave_one_out(const std::vector<LotUnit>& units, const std::vector<std::size_t>& keep,
+// Leave-one-out distances of (at most max_loo_units, evenly spaced) units in `keep`: probes[u] against the
+// population of the other units, index -> d^2.
+std::map<std::size_t, double> leave_one_out(const std::vector<LotUnit>& units, const std::vector<LotUnit>& probes, const std::vector<std::size_t>& keep,
                                             const std::vector<GreyboxCoordinate>& coordinates, const LotOptions& o) {
   std::map<std::size_t, double> d2;
   const std::size_t m = std::min<std::size_t>(keep.size(), static_cast<std::size_t>(o.max_loo_units));
   for (std::size_t j = 0; j < m; ++j) {
     const std::size_t u = keep[j * keep.size() / m];
     const Population pop = fit_population(rows_of(units, keep, u), estimation_sd(units, keep, u), coordinates, o);
-    d2[u] = mahalanobis2(units[u].theta - pop.mean, pop.covariance(), units[u].theta_variance);
+    d2[u] = mahalanobis2(probes[u].theta - pop.mean, pop.covariance(), probes[u].theta_variance);
   }
   return d2;
 }
@@ -185,17 +186,22 @@ Eigen::MatrixXd LotModel::covariance() const {
 
 GreyboxPrior LotModel::prior() const { return {mean, covariance(), source}; }
 
-LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_options_map, const LotOptions& o) {
+LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_options_map, const LotOptions& o,
+                   const std::vector<LotUnit>* screen_units) {
   if (auto p = o.validate(); !p.empty()) fail("lot: ", p);
   LotModel lot;
   lot.greybox_options = greybox_options_map;
   lot.structure = gyrosid::greybox_options(greybox_options_map);
   lot.coordinates = greybox_coordinates(lot.structure);
   check_units(units, static_cast<Eigen::Index>(lot.coordinates.size()));
+  if (screen_units) {
+    if (screen_units->size() != units.size()) fail("lot: ", screen_units->size(), " screening recordings for ", units.size(), " units; give one per unit, in the same order");
+    check_units(*screen_units, static_cast<Eigen::Index>(lot.coordinates.size()));
+  }
 
   std::vector<std::size_t> keep(units.size());
   for (std::size_t i = 0; i < units.size(); ++i) keep[i] = i;
-  std::map<std::size_t, double> d2 = leave_one_out(units, keep, lot.coordinates, o);
+  std::map<std::size_t, double> d2 = leave_one_out(units, units, keep, lot.coordinates, o);
   if (o.trim_alpha > 0.0) {  // leave out the units the others do not hold (each against the others' null), then learn again
     std::vector<std::size_t> kept;
     for (std::size_t i : keep) {
@@ -209,8 +215,10 @@ LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_o
       else kept.push_back(i);
     }
     if (kept.size() < 5) fail("lot: only ", kept.size(), " units remain after leaving out those out of family; a lot needs at least 5");
-    if (kept.size() != keep.size()) keep = kept, d2 = leave_one_out(units, keep, lot.coordinates, o);
+    if (kept.size() != keep.size()) keep = kept, d2 = leave_one_out(units, units, keep, lot.coordinates, o);
   }
+  const std::vector<LotUnit>& probes = screen_units ? *screen_units : units;  // what the null is calibrated on
+  if (screen_units) d2 = leave_one_out(units, probes, keep, lot.coordinates, o);
   const Population pop = fit_population(rows_of(units, keep), estimation_sd(units, keep), lot.coordinates, o);
   lot.mean = pop.mean, lot.scale = pop.scale, lot.modes = pop.modes, lot.mode_variance = pop.mode_variance;
   lot.residual_variance = pop.residual_variance;
@@ -225,7 +233,7 @@ LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_o
   lot.noise_units = static_cast<int>(log_noise.size());
   std::vector<double> minutes;
   for (std::size_t i : keep) {
-    if (units[i].recording_min > 0.0) minutes.push_back(units[i].recording_min);
+    if (probes[i].recording_min > 0.0) minutes.push_back(probes[i].recording_min);
   }
   if (!minutes.empty()) {
     std::nth_element(minutes.begin(), minutes.begin() + static_cast<std::ptrdiff_t>(minutes.size() / 2), minutes.end());

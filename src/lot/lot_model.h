@@ -61,7 +61,7 @@ struct LotModel {
   double residual_variance = 0.0;                 // psi
   double log_noise_mean = 0.0, log_noise_sd = 0.0;  // of ln(white dph at 1 Hz); sd 0: no noise known
   int noise_units = 0;
-  double recording_min = 0.0;                     // median length of the units' recordings (0: unknown)
+  double recording_min = 0.0;                     // median length of the recordings the null is calibrated on (0: unknown)
   std::vector<double> loo_distance;               // d_u^2 of the null
   double null_scale = 1.0, null_dof = 1.0;        // d^2 ~ a chi^2_nu
   std::string source;                             // the file it was read from
@@ -75,7 +75,11 @@ struct LotModel {
 // r' (Sigma + diag(v))^-1 r (v empty: none), the screening's distance.
 double mahalanobis2(const Eigen::VectorXd& r, const Eigen::MatrixXd& sigma, const Eigen::VectorXd& v);
 
-LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_options, const LotOptions& options = {});
+// `screen_units` (optional, one per unit, same order): the same units on the programme a production line
+// screens with; the null is then their leave-one-out distances from the others' population (learned from
+// `units`), so the screening's false-alarm rate holds for that programme.
+LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_options, const LotOptions& options = {},
+                   const std::vector<LotUnit>* screen_units = nullptr);
 
 // The lot in a gyrosid-prior/1 file (`population`); Error naming the file when it has none.
 LotModel load_lot(const std::string& path);

@@ -907,6 +907,20 @@ TEST_F(Cli, LotLearnsScreensAndCalibratesWithItsPrior) {
   // A 32-min recording against a lot of 62-min ones: screened, with the warning that the null is not its own.
   const Result other = run("lot screen --prior " + path("lot.json") + " --recording " + path("short.csv") + " --out " + path("ss"));
   EXPECT_THAT(other.output, HasSubstr("warning: the lot's null was calibrated on 62-min recordings and this one is 31.8 min"));
+  EXPECT_TRUE(read_json(dir_ / "ss" / "screen.json")["out_of_family"].get<bool>());
+  // The same units recorded on that short programme calibrate the null: the unit is then in family, unwarned.
+  std::string short_recordings;
+  for (int u = 1; u <= 8; ++u) {
+    const std::string rec = path("short" + std::to_string(u) + ".csv");
+    ASSERT_EQ(run("simulate --trajectory builtin:trajectories/single_scan.yaml --samples 200 --seed " + std::to_string(20 + u) + " --out " + rec).status, 0);
+    short_recordings += " " + rec;
+  }
+  ASSERT_EQ(run("lot learn --recordings" + recordings + " --screen-recordings" + short_recordings + " --out " + path("lot_short.json")).status, 0);
+  const Result own = run("lot screen --prior " + path("lot_short.json") + " --recording " + path("short.csv") + " --out " + path("ss2"));
+  EXPECT_THAT(own.output, Not(HasSubstr("warning")));
+  EXPECT_FALSE(read_json(dir_ / "ss2" / "screen.json")["out_of_family"].get<bool>()) << own.output;
+  EXPECT_THAT(run("lot learn --recordings" + recordings + " --screen-recordings " + path("short1.csv") + " --out " + path("x.json")).output,
+              HasSubstr("1 screening recordings for 8 units"));
   EXPECT_EQ(read_json(path("with.json"))["training"]["prior"], path("lot.json"));
 
   EXPECT_THAT(run("calibrate --recording " + path("short.csv") + " --prior " + path("lot.json") + " --model rbf --out " + path("x.json")).output,
