@@ -13,16 +13,9 @@
 namespace gyrosid {
 namespace {
 
-double median_step_s(const std::vector<double>& t) {
-  std::vector<double> dt;
-  for (std::size_t i = 1; i < t.size(); ++i) dt.push_back(t[i] - t[i - 1]);
-  std::nth_element(dt.begin(), dt.begin() + static_cast<std::ptrdiff_t>(dt.size() / 2), dt.end());
-  return dt[dt.size() / 2];
-}
-
 double white_noise_dph_at_1hz(const Dataset& data, const GreyboxEstimate& fit) {
   const Eigen::VectorXd residual_dph = (data.target - fit.model->predict(data)) * units::radps_to_dph(1.0);
-  const double dt = median_step_s(data.t_s);
+  const double dt = median_sample_interval(data.t_s);
   const NoiseIdentification id = identify_noise(std::span<const double>(residual_dph.data(), static_cast<std::size_t>(residual_dph.size())), dt);
   for (const NoiseParameter& p : id.parameters) {
     if (p.name == "N" && p.value > 0.0) return p.value;

@@ -71,8 +71,19 @@ Signals signals_of(const Dataset& d) {
   return s;
 }
 
-// Ridge-regularised least squares by pivoted QR on unit-norm columns; the RSS into *rss.
-Eigen::VectorXd ridge_solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& y, double ridge, double* rss) {
+// (S'S)^-1 of a full-rank stacked matrix S = [rows] D^-1 on unit-norm columns, back in unscaled coefficients.
+Eigen::MatrixXd inverse_gram(const Eigen::MatrixXd& scaled, const Eigen::VectorXd& norm) {
+  const Eigen::Index p = scaled.cols();
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(scaled);
+  const Eigen::MatrixXd r = qr.matrixQR().topRows(p).triangularView<Eigen::Upper>();
+  const Eigen::MatrixXd r_inv = r.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(p, p));
+  const Eigen::MatrixXd d_inv = norm.cwiseInverse().asDiagonal();
+  return d_inv * (r_inv * r_inv.transpose()) * d_inv;
+}
+
+// Ridge-regularised least squares by pivoted QR on unit-norm columns; the RSS into *rss, (A'A + ridge)^-1
+// (unit noise) into *covariance on request.
+Eigen::VectorXd ridge_solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& y, double ridge, double* rss, Eigen::MatrixXd* covariance = nullptr) {
   const Eigen::Index n = a.rows(), p = a.cols();
   const Eigen::VectorXd norm = a.colwise().norm().transpose().cwiseMax(1e-300);
   Eigen::MatrixXd aug(n + p, p);
@@ -82,17 +93,8 @@ Eigen::VectorXd ridge_solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& y, 
   rhs.head(n) = y;
   const Eigen::VectorXd coeff = Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(aug).solve(rhs).cwiseQuotient(norm);
   if (rss) *rss = (a * coeff - y).squaredNorm();
+  if (covariance) *covariance = inverse_gram(aug, norm);
   return coeff;
-}
-
-// (S'S)^-1 of a full-rank stacked matrix S = [rows] D^-1 on unit-norm columns, back in unscaled coefficients.
-Eigen::MatrixXd inverse_gram(const Eigen::MatrixXd& scaled, const Eigen::VectorXd& norm) {
-  const Eigen::Index p = scaled.cols();
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(scaled);
-  const Eigen::MatrixXd r = qr.matrixQR().topRows(p).triangularView<Eigen::Upper>();
-  const Eigen::MatrixXd r_inv = r.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(p, p));
-  const Eigen::MatrixXd d_inv = norm.cwiseInverse().asDiagonal();
-  return d_inv * (r_inv * r_inv.transpose()) * d_inv;
 }
 
 // The prior as rows on the coefficients, L^-1 M c ~ L^-1 mu_c (Sigma_c = L L'), and the lag's marginal.
@@ -197,11 +199,12 @@ Eigen::MatrixXd theta_map(const GreyboxOptions& o, const TermScaling& sc, Eigen:
   return m;
 }
 
-// 1 - posterior / prior variance, averaged over each group of coordinates.
+// 1 - posterior / prior variance, averaged over each group of coordinates (the lag apart).
 nlohmann::json data_share(const GreyboxOptions& o, const Eigen::MatrixXd& posterior, const GreyboxPrior& prior) {
   std::map<std::string, std::pair<double, int>> sum;
   const auto coordinates = greybox_coordinates(o);
   for (Eigen::Index i = 0; i < posterior.rows(); ++i) {
+    if (coordinates[static_cast<std::size_t>(i)].group == "lag") continue;  // searched, not estimated with a variance
     auto& [share, count] = sum[coordinates[static_cast<std::size_t>(i)].group];
     share += std::clamp(1.0 - posterior(i, i) / prior.covariance(i, i), 0.0, 1.0);
     ++count;
@@ -267,16 +270,10 @@ GreyboxEstimate estimate(const Dataset& data, const GreyboxOptions& o, const Gre
       if (!o.thermal_lag) monitor.iteration(0.5 * cost), monitor.evaluation();
       lag.outcome.message = "maximum a posteriori under the prior " + prior->source + ": linear least squares by column-pivoted QR";
     } else {
-      c = ridge_solve(a, data.target, o.ridge, &rss);
+      c = ridge_solve(a, data.target, o.ridge, &rss, want_covariance ? &covariance : nullptr);
       sd = sd_of(rss);
+      covariance *= sd * sd;
       if (!o.thermal_lag) monitor.iteration(0.5 * rss), monitor.evaluation();
-      if (want_covariance) {
-        const Eigen::VectorXd norm = a.colwise().norm().transpose().cwiseMax(1e-300);
-        Eigen::MatrixXd scaled(a.rows() + p, p);
-        scaled.topRows(a.rows()) = a * norm.cwiseInverse().asDiagonal();
-        scaled.bottomRows(p) = std::sqrt(o.ridge) * Eigen::MatrixXd::Identity(p, p);
-        covariance = sd * sd * inverse_gram(scaled, norm);
-      }
     }
     if (!c.allFinite()) lag.outcome = {Termination::failed, "the linear solve gave non-finite coefficients", {}};
     out.model = std::make_unique<GreyboxModel>(data.features, error_model_of(o, scaling, c), lag.tau_s);
@@ -286,18 +283,16 @@ GreyboxEstimate estimate(const Dataset& data, const GreyboxOptions& o, const Gre
                            {"rms_residual_dph", units::radps_to_dph(std::sqrt(rss / static_cast<double>(data.size())))},
                            {"lag_tau_s", lag.tau_s},
                            {"lag_evaluations", o.thermal_lag ? lag.evaluations : 0}};
-    if (covariance.size() > 0) {
-      const Eigen::Index q = m.rows();
-      Eigen::MatrixXd theta_covariance = Eigen::MatrixXd::Zero(q + (o.thermal_lag ? 1 : 0), q + (o.thermal_lag ? 1 : 0));
-      theta_covariance.topLeftCorner(q, q) = m * covariance * m.transpose();
-      if (prior) {
-        lag.outcome.details["prior"] = prior->source;
-        lag.outcome.details["data_share"] = data_share(o, theta_covariance.topLeftCorner(q, q), *prior);
-      }
-      covariance = std::move(theta_covariance);
+    if (covariance.size() > 0) {  // theta's: M C M', the lag's row and column 0
+      const Eigen::Index q = m.rows(), lag_row = o.thermal_lag ? 1 : 0;
+      out.theta_covariance = Eigen::MatrixXd::Zero(q + lag_row, q + lag_row);
+      out.theta_covariance.topLeftCorner(q, q) = m * covariance * m.transpose();
+    }
+    if (prior) {
+      lag.outcome.details["prior"] = prior->source;
+      lag.outcome.details["data_share"] = data_share(o, out.theta_covariance, *prior);
     }
     if (const HeldInputs held = held_inputs(s.rate, s.temp_c); held.temperature || held.rate) lag.outcome.details["physics_note"] = held.ridge_note();
-    out.theta_covariance = std::move(covariance);
     return lag.outcome;
   });
   if (want_covariance) out.theta = greybox_theta(out.model->errors(), out.model->lag_tau_s(), o);
