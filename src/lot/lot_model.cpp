@@ -87,14 +87,25 @@ Population fit_population(const Eigen::MatrixXd& theta, const Eigen::VectorXd& n
 
 }  // namespace
 
-// r' (Sigma + diag(v))^-1 r, by Cholesky.
-double mahalanobis2(const Eigen::VectorXd& r, const Eigen::MatrixXd& sigma, const Eigen::VectorXd& v) {
+// r' (Sigma + diag(v))^-1 r per test, by Cholesky of the test's block.
+std::vector<double> lot_distances(const Eigen::VectorXd& r, const Eigen::MatrixXd& sigma, const Eigen::VectorXd& v,
+                                  const std::vector<GreyboxCoordinate>& coordinates, const std::vector<std::string>& tests) {
   Eigen::MatrixXd total = sigma;
   if (v.size() > 0) total.diagonal() += v;
-  const Eigen::LLT<Eigen::MatrixXd> llt(total);
-  if (llt.info() != Eigen::Success) fail("lot: a covariance is not positive definite");
-  return llt.matrixL().solve(r).squaredNorm();
+  std::vector<double> out;
+  for (const std::string& test : tests) {
+    std::vector<Eigen::Index> idx;
+    for (std::size_t j = 0; j < coordinates.size(); ++j) {
+      if (test == "all" || coordinates[j].group == test) idx.push_back(static_cast<Eigen::Index>(j));
+    }
+    const Eigen::LLT<Eigen::MatrixXd> llt(total(idx, idx));
+    if (llt.info() != Eigen::Success) fail("lot: the covariance of '", test, "' is not positive definite");
+    out.push_back(llt.matrixL().solve(Eigen::VectorXd(r(idx))).squaredNorm());
+  }
+  return out;
 }
+
+double DistanceNull::p_value(double d2) const { return 1.0 - stats::chi2_cdf(d2 / scale, dof); }
 
 namespace {
 
@@ -121,15 +132,16 @@ Eigen::VectorXd estimation_sd(const std::vector<LotUnit>& units, const std::vect
 }
 
 // Leave-one-out distances of (at most max_loo_units, evenly spaced) units in `keep`: probes[u] against the
-// population of the other units, index -> d^2.
-std::map<std::size_t, double> leave_one_out(const std::vector<LotUnit>& units, const std::vector<LotUnit>& probes, const std::vector<std::size_t>& keep,
-                                            const std::vector<GreyboxCoordinate>& coordinates, const LotOptions& o) {
-  std::map<std::size_t, double> d2;
+// population of the other units, index -> d^2 per test.
+std::map<std::size_t, std::vector<double>> leave_one_out(const std::vector<LotUnit>& units, const std::vector<LotUnit>& probes,
+                                                         const std::vector<std::size_t>& keep, const std::vector<GreyboxCoordinate>& coordinates,
+                                                         const std::vector<std::string>& tests, const LotOptions& o) {
+  std::map<std::size_t, std::vector<double>> d2;
   const std::size_t m = std::min<std::size_t>(keep.size(), static_cast<std::size_t>(o.max_loo_units));
   for (std::size_t j = 0; j < m; ++j) {
     const std::size_t u = keep[j * keep.size() / m];
     const Population pop = fit_population(rows_of(units, keep, u), estimation_sd(units, keep, u), coordinates, o);
-    d2[u] = mahalanobis2(probes[u].theta - pop.mean, pop.covariance(), probes[u].theta_variance);
+    d2[u] = lot_distances(probes[u].theta - pop.mean, pop.covariance(), probes[u].theta_variance, coordinates, tests);
   }
   return d2;
 }
@@ -143,9 +155,13 @@ std::pair<double, double> moments(const std::vector<double>& x) {
   return {m, x.size() > 1 ? v / static_cast<double>(x.size() - 1) : 0.0};
 }
 
-// a chi^2_nu with the mean and variance of the distances.
-std::pair<double, double> matched_chi2(const std::vector<double>& d2) {
-  const auto [m, var] = moments(d2);
+// a chi^2_nu with the mean and variance of the distances of test k.
+DistanceNull matched_chi2(const std::map<std::size_t, std::vector<double>>& d2, std::size_t k, std::size_t except = SIZE_MAX) {
+  std::vector<double> d;
+  for (const auto& [u, v] : d2) {
+    if (u != except) d.push_back(v[k]);
+  }
+  const auto [m, var] = moments(d);
   const double v = std::max(var, 1e-12 * m * m);
   return {v / (2.0 * m), 2.0 * m * m / v};
 }
@@ -201,30 +217,29 @@ LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_o
 
   std::vector<std::size_t> keep(units.size());
   for (std::size_t i = 0; i < units.size(); ++i) keep[i] = i;
-  std::map<std::size_t, double> d2 = leave_one_out(units, units, keep, lot.coordinates, o);
+  lot.tests = {"all"};
+  for (const auto& c : lot.coordinates) {
+    if (std::find(lot.tests.begin(), lot.tests.end(), c.group) == lot.tests.end()) lot.tests.push_back(c.group);
+  }
+  std::map<std::size_t, std::vector<double>> d2 = leave_one_out(units, units, keep, lot.coordinates, lot.tests, o);
   if (o.trim_alpha > 0.0) {  // leave out the units the others do not hold (each against the others' null), then learn again
     std::vector<std::size_t> kept;
     for (std::size_t i : keep) {
       const auto it = d2.find(i);
-      std::vector<double> others;
-      for (const auto& [u, d] : d2) {
-        if (u != i) others.push_back(d);
-      }
-      const auto [a, nu] = matched_chi2(others);
-      if (it != d2.end() && 1.0 - stats::chi2_cdf(it->second / a, nu) < o.trim_alpha) lot.left_out.push_back(units[i].name);
+      if (it != d2.end() && matched_chi2(d2, 0, i).p_value(it->second[0]) < o.trim_alpha) lot.left_out.push_back(units[i].name);
       else kept.push_back(i);
     }
     if (kept.size() < 5) fail("lot: only ", kept.size(), " units remain after leaving out those out of family; a lot needs at least 5");
-    if (kept.size() != keep.size()) keep = kept, d2 = leave_one_out(units, units, keep, lot.coordinates, o);
+    if (kept.size() != keep.size()) keep = kept, d2 = leave_one_out(units, units, keep, lot.coordinates, lot.tests, o);
   }
-  const std::vector<LotUnit>& probes = screen_units ? *screen_units : units;  // what the null is calibrated on
-  if (screen_units) d2 = leave_one_out(units, probes, keep, lot.coordinates, o);
+  const std::vector<LotUnit>& probes = screen_units ? *screen_units : units;  // what the nulls are calibrated on
+  if (screen_units) d2 = leave_one_out(units, probes, keep, lot.coordinates, lot.tests, o);
   const Population pop = fit_population(rows_of(units, keep), estimation_sd(units, keep), lot.coordinates, o);
   lot.mean = pop.mean, lot.scale = pop.scale, lot.modes = pop.modes, lot.mode_variance = pop.mode_variance;
   lot.residual_variance = pop.residual_variance;
   for (std::size_t i : keep) lot.unit_names.push_back(units[i].name);
-  for (const auto& [u, d] : d2) lot.loo_distance.push_back(d);
-  std::tie(lot.null_scale, lot.null_dof) = matched_chi2(lot.loo_distance);
+  for (const auto& [u, d] : d2) lot.loo_distance.push_back(d[0]);
+  for (std::size_t k = 0; k < lot.tests.size(); ++k) lot.nulls.push_back(matched_chi2(d2, k));
 
   std::vector<double> log_noise;
   for (std::size_t i : keep) {
@@ -244,6 +259,12 @@ LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_o
     lot.log_noise_mean = m, lot.log_noise_sd = std::max(std::sqrt(v), 0.01);
   }
   return lot;
+}
+
+nlohmann::json LotModel::tests_json() const {
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t k = 0; k < tests.size(); ++k) out.push_back({{"test", tests[k]}, {"scale", nulls[k].scale}, {"dof", nulls[k].dof}});
+  return out;
 }
 
 nlohmann::json LotModel::to_json() const {
@@ -266,7 +287,7 @@ nlohmann::json LotModel::to_json() const {
           {"mode_variance", vec(mode_variance)},
           {"residual_variance", residual_variance},
           {"noise", {{"white_dph_at_1hz", {{"log_mean", log_noise_mean}, {"log_sd", log_noise_sd}, {"units", noise_units}}}}},
-          {"screening", {{"null", "scaled chi-square matched to the leave-one-out distances"}, {"scale", null_scale}, {"dof", null_dof},
+          {"screening", {{"null", "scaled chi-square matched to the leave-one-out distances, per test"}, {"tests", tests_json()},
                          {"leave_one_out_d2", loo_distance}}}};
 }
 
@@ -298,12 +319,17 @@ LotModel LotModel::from_json(const nlohmann::json& j, const std::string& source)
     const auto& noise = j.at("noise").at("white_dph_at_1hz");
     lot.log_noise_mean = noise.at("log_mean"), lot.log_noise_sd = noise.at("log_sd"), lot.noise_units = noise.at("units");
     const auto& s = j.at("screening");
-    lot.null_scale = s.at("scale"), lot.null_dof = s.at("dof");
+    for (const auto& t : s.at("tests")) {
+      lot.tests.push_back(t.at("test"));
+      lot.nulls.push_back({t.at("scale").get<double>(), t.at("dof").get<double>()});
+      if (!(lot.nulls.back().scale > 0.0) || !(lot.nulls.back().dof > 0.0)) fail(source, ": population.screening.tests: scale and dof must be positive");
+    }
+    if (lot.tests.empty() || lot.tests.front() != "all") fail(source, ": population.screening.tests must start with 'all'");
     lot.loo_distance = s.at("leave_one_out_d2").get<std::vector<double>>();
   } catch (const nlohmann::json::exception& e) {
     fail(source, ": population: ", e.what());
   }
-  if (!(lot.residual_variance > 0.0) || !(lot.null_scale > 0.0) || !(lot.null_dof > 0.0)) fail(source, ": population: residual_variance, screening.scale and dof must be positive");
+  if (!(lot.residual_variance > 0.0)) fail(source, ": population: residual_variance must be positive");
   return lot;
 }
 

@@ -12,8 +12,10 @@
 // population, never narrower.
 // Noise: the log of each unit's white noise (noise/identify.h on the fit's residual), normal across units.
 // Screening: the leave-one-out Mahalanobis distances d_u^2 = r' (Sigma_-u + C_u)^-1 r of the training units
-// (C_u the diagonal of a unit's estimation covariance), matched by moments to a scaled chi-square a chi^2_nu - the
-// calibrated null of lot/screen.h.
+// (C_u the diagonal of a unit's estimation covariance), over every coordinate and, marginally, over each
+// group of them (bias, surface, shupe, ...), each matched by moments to a scaled chi-square a chi^2_nu - the
+// calibrated nulls of lot/screen.h. (A defect in one term, a doubled Shupe coefficient, moves one coordinate
+// of 77: the omnibus distance dilutes it, the term's own test does not.)
 // Robustness: units whose leave-one-out p-value is below trim_alpha are left out and the lot learned again
 // (once): a defective unit in the training sample must not widen the family.
 #pragma once
@@ -29,6 +31,12 @@
 #include "solvers/common/options.h"
 
 namespace gyrosid {
+
+// A distance's null, d^2 ~ scale chi^2_dof, matched by moments to the leave-one-out distances.
+struct DistanceNull {
+  double scale = 1.0, dof = 1.0;
+  double p_value(double d2) const;
+};
 
 // One calibrated unit, as the lot sees it.
 struct LotUnit {
@@ -62,18 +70,22 @@ struct LotModel {
   double log_noise_mean = 0.0, log_noise_sd = 0.0;  // of ln(white dph at 1 Hz); sd 0: no noise known
   int noise_units = 0;
   double recording_min = 0.0;                     // median length of the recordings the null is calibrated on (0: unknown)
-  std::vector<double> loo_distance;               // d_u^2 of the null
-  double null_scale = 1.0, null_dof = 1.0;        // d^2 ~ a chi^2_nu
+  std::vector<std::string> tests;                 // "all", then each coordinate group
+  std::vector<DistanceNull> nulls;                // one per test
+  std::vector<double> loo_distance;               // d_u^2 over every coordinate, of the null
   std::string source;                             // the file it was read from
 
   Eigen::MatrixXd covariance() const;             // Sigma = S (W W' + psi I) S
   GreyboxPrior prior() const;
   nlohmann::json to_json() const;                 // the "population" of a gyrosid-prior/1 file
+  nlohmann::json tests_json() const;
   static LotModel from_json(const nlohmann::json& population, const std::string& source);
 };
 
-// r' (Sigma + diag(v))^-1 r (v empty: none), the screening's distance.
-double mahalanobis2(const Eigen::VectorXd& r, const Eigen::MatrixXd& sigma, const Eigen::VectorXd& v);
+// r' (Sigma + diag(v))^-1 r (v empty: none) for each of `tests` ("all": every coordinate; a group: its
+// coordinates' marginal), the screening's distances.
+std::vector<double> lot_distances(const Eigen::VectorXd& r, const Eigen::MatrixXd& sigma, const Eigen::VectorXd& v,
+                                  const std::vector<GreyboxCoordinate>& coordinates, const std::vector<std::string>& tests);
 
 // `screen_units` (optional, one per unit, same order): the same units on the programme a production line
 // screens with; the null is then their leave-one-out distances from the others' population (learned from

@@ -31,6 +31,9 @@ std::string largest_departure(const LotModel& lot, const Eigen::VectorXd& r, con
                  " +- ", format_significant(sd(best), 3));
 }
 
+// The group a region belongs to ("surface at 40 C, positive rates" -> "surface").
+std::string region_of_group(const std::string& region) { return region.rfind("surface", 0) == 0 ? "surface" : region; }
+
 }  // namespace
 
 std::string ScreenOptions::validate() const {
@@ -49,8 +52,14 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
   if (llt.info() != Eigen::Success) fail("lot screen: the lot's covariance plus the unit's is not positive definite");
   const Eigen::VectorXd r = unit.theta - lot.mean;
   const Eigen::VectorXd w = llt.solve(r);
-  out.distance2 = r.dot(w);
-  out.p_physics = 1.0 - stats::chi2_cdf(out.distance2 / lot.null_scale, lot.null_dof);
+  const std::vector<double> d2 = lot_distances(r, lot.covariance(), unit.theta_variance, lot.coordinates, lot.tests);
+  out.distance2 = d2[0];
+  std::vector<double> p_test;
+  for (std::size_t k = 0; k < d2.size(); ++k) {
+    p_test.push_back(lot.nulls[k].p_value(d2[k]));
+    out.tests[lot.tests[k]] = {{"distance2", d2[k]}, {"p_value", p_test.back()}};
+  }
+  out.p_physics = std::min(1.0, static_cast<double>(d2.size()) * *std::min_element(p_test.begin(), p_test.end()));
 
   double noise_z = 0.0;
   if (lot.noise_units >= 2 && unit.white_dph_at_1hz > 0.0) {
@@ -68,13 +77,27 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
   for (Eigen::Index j = 0; j < p; ++j) share[region_of(lot.coordinates[static_cast<std::size_t>(j)])] += r(j) * w(j) / std::max(out.distance2, 1e-300);
   out.contributions = share;
   if (out.out_of_family && 2.0 * out.p_physics < o.alpha) {
+    const Eigen::VectorXd sd = total.diagonal().cwiseSqrt();
+    // A term's own test first (for the surface: its region of largest share), then the omnibus's shares.
     std::vector<std::pair<double, std::string>> ranked;
     for (const auto& [region, s] : share) ranked.push_back({-s, region});
     std::sort(ranked.begin(), ranked.end());
-    const Eigen::VectorXd sd = total.diagonal().cwiseSqrt();
-    for (const auto& [minus, region] : ranked) {
-      if (-minus < 0.2) break;
-      out.reasons.push_back(str_cat(region, ": ", format_significant(100.0 * -minus, 3), " % of the distance (", largest_departure(lot, r, sd, region), ")"));
+    for (std::size_t k = 1; k < d2.size(); ++k) {
+      if (2.0 * static_cast<double>(d2.size()) * p_test[k] >= o.alpha) continue;
+      std::string region = lot.tests[k];
+      for (const auto& [minus, name] : ranked) {
+        if (region_of_group(name) == lot.tests[k]) {
+          region = name;
+          break;
+        }
+      }
+      out.reasons.push_back(str_cat(region, ": its own test p = ", format_significant(p_test[k], 3), " (", largest_departure(lot, r, sd, region), ")"));
+    }
+    if (out.reasons.empty()) {
+      for (const auto& [minus, region] : ranked) {
+        if (-minus < 0.2) break;
+        out.reasons.push_back(str_cat(region, ": ", format_significant(100.0 * -minus, 3), " % of the distance (", largest_departure(lot, r, sd, region), ")"));
+      }
     }
   }
   if (out.out_of_family && 2.0 * out.p_noise < o.alpha) {
@@ -86,7 +109,7 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
 
 nlohmann::json ScreenResult::to_json() const {
   return {{"out_of_family", out_of_family}, {"p_value", p_value}, {"p_physics", p_physics}, {"p_noise", p_noise},
-          {"distance2", distance2}, {"reasons", reasons}, {"contributions", contributions}, {"warning", warning}};
+          {"distance2", distance2}, {"tests", tests}, {"reasons", reasons}, {"contributions", contributions}, {"warning", warning}};
 }
 
 }  // namespace gyrosid

@@ -3,15 +3,17 @@
 // Physics: the Mahalanobis distance of the unit's coordinates from the lot,
 //   d^2 = r' (Sigma + C)^-1 r,   r = theta - mu,  C the diagonal of the unit's estimation covariance (as in the null),
 // referred to the lot's calibrated null a chi^2_nu (the training units' leave-one-out distances, matched by
-// moments): p_physics = 1 - F_chi2(d^2 / a; nu). Noise: z = (ln N - m) / (s sqrt(1 + 1/n)) of the unit's white
+// moments), and the same over each coordinate group alone (its marginal): p_physics is the Bonferroni
+// min(1, K min_k p_k) over the K tests, so a defect in one term is not diluted by the other 76 coordinates. Noise: z = (ln N - m) / (s sqrt(1 + 1/n)) of the unit's white
 // noise against the lot's log-normal, two-sided p_noise. The unit's p-value is the Bonferroni
 // min(1, 2 min(p_physics, p_noise)), so the false-alarm rate is at most alpha.
 // The null is calibrated on the lot's own recordings: a unit recorded on a programme of another length (more
 // than 20 % apart) is screened with a warning - its estimate's errors, and so its distances, are of another kind.
 // Reasons name what is out of family: d^2 splits exactly into the contributions r_j [(Sigma + C)^-1 r]_j,
 // summed over a coordinate group (bias, Shupe, ...) or, for the scale-factor surface, over a region (a grid
-// temperature and the sign of the rate); groups holding at least a fifth of d^2 are named, largest first,
-// and the noise when its own test fails.
+// temperature and the sign of the rate). A group whose own test fails is named first (the surface by its
+// region of largest share); else the regions holding at least a fifth of d^2, largest first; and the noise
+// when its own test fails.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -35,6 +37,7 @@ struct ScreenResult {
   std::vector<std::string> reasons;
   std::string warning;  // why the false-alarm rate may not hold (a recording unlike the lot's)
   nlohmann::json contributions;  // share of d^2 per group or surface region
+  nlohmann::json tests = nlohmann::json::object();  // per test ("all", each group): distance2, p_value
   nlohmann::json to_json() const;
 };
 

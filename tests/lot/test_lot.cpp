@@ -78,15 +78,21 @@ TEST(GreyboxPrior, TheMapIsThePrecisionWeightedMeanOfDataAndPrior) {
 // values, 5 ppm on the surface), two planted modes of 20 s and 8 s (a surface magnitude, a bias tilt),
 // log-normal white noise 10 deg/h x/ exp(0.2).
 struct SyntheticLot {
-  GreyboxOptions structure;
+  GreyboxOptions structure = [] { return GreyboxOptions{}; }();
   std::vector<GreyboxCoordinate> coordinates = greybox_coordinates(structure);
   Eigen::Index p = static_cast<Eigen::Index>(coordinates.size());
   Eigen::VectorXd s = Eigen::VectorXd::Constant(p, 5.0), mu = Eigen::VectorXd::Zero(p), a1 = Eigen::VectorXd::Zero(p),
                   a2 = Eigen::VectorXd::Zero(p);
-  SyntheticLot() {
+  // With `shupe`, a Shupe coefficient 2 deg/h per (C/min), estimated to 0.05, varying by 0.2 across units.
+  explicit SyntheticLot(bool shupe = false) {
+    structure.shupe = shupe;
+    coordinates = greybox_coordinates(structure);
+    p = static_cast<Eigen::Index>(coordinates.size());
+    s = Eigen::VectorXd::Constant(p, 5.0), mu = a1 = a2 = Eigen::VectorXd::Zero(p);
     for (Eigen::Index j = 0; j < p; ++j) {
       const auto& c = coordinates[static_cast<std::size_t>(j)];
-      if (c.group == "bias") s(j) = 0.05, a2(j) = (c.temp_c - 20.0) / 40.0, mu(j) = -15.0 + 0.1 * (c.temp_c - 25.0);
+      if (c.group == "shupe") s(j) = 0.05, mu(j) = 2.0;
+      else if (c.group == "bias") s(j) = 0.05, a2(j) = (c.temp_c - 20.0) / 40.0, mu(j) = -15.0 + 0.1 * (c.temp_c - 25.0);
       else a1(j) = -std::pow(c.rate_dps / 100.0, 2) * (1.0 + 0.005 * (c.temp_c - 25.0)), mu(j) = -600.0 * std::pow(c.rate_dps / 100.0, 2);
     }
     a1.normalize(), a2.normalize();
@@ -98,6 +104,7 @@ struct SyntheticLot {
     const double z1 = r.normal(), z2 = r.normal();
     u.theta = mu + s.cwiseProduct(20.0 * std::sqrt(static_cast<double>(p)) * z1 * a1 + 8.0 * std::sqrt(static_cast<double>(p)) * z2 * a2);
     for (Eigen::Index j = 0; j < p; ++j) u.theta(j) += s(j) * r.normal();
+    if (structure.shupe) u.theta(p - 1) += 0.2 * r.normal();
     u.theta_variance = s.cwiseAbs2();
     u.white_dph_at_1hz = 10.0 * std::exp(0.2 * r.normal());
     return u;
@@ -135,7 +142,9 @@ TEST(LotModel, RecoversThePlantedModesAndTheNoise) {
   // The file's population reads back to the same lot.
   const LotModel back = LotModel::from_json(lot.to_json(), "back");
   EXPECT_EQ(back.covariance(), lot.covariance());
-  EXPECT_EQ(back.null_dof, lot.null_dof);
+  ASSERT_EQ(back.nulls.size(), lot.nulls.size());
+  EXPECT_EQ(back.tests, lot.tests);
+  EXPECT_EQ(back.nulls.back().dof, lot.nulls.back().dof);
 }
 
 // Fresh units of the lot are flagged at about the nominal rate; planted defects are flagged and named.
@@ -166,6 +175,23 @@ TEST(LotScreen, TheNullIsCalibratedAndDefectsAreNamed) {
   EXPECT_TRUE(n.out_of_family);
   ASSERT_FALSE(n.reasons.empty());
   EXPECT_THAT(n.reasons.back(), HasSubstr("noise: white"));
+}
+
+// A Shupe coefficient 4.5 of the lot's sd off (2 -> 2.9 deg/h per C/min) moves one coordinate of 77: the
+// omnibus distance hardly notices, the term's own test does, and names it.
+TEST(LotScreen, ATermsOwnTestFindsWhatTheOmnibusDilutes) {
+  const SyntheticLot g(true);
+  ASSERT_EQ(g.coordinates.back().group, "shupe");
+  LotModel lot = learn_lot(g.units(60, 1), {{"shupe", "true"}});
+  ASSERT_EQ(lot.tests.back(), "shupe");
+  LotUnit doubled = g.unit("doubled", 900);
+  doubled.theta(g.p - 1) += 0.9;
+  const ScreenResult r = screen_unit(lot, doubled);
+  EXPECT_GT(r.tests["all"]["p_value"].get<double>(), 1e-3);
+  EXPECT_LT(r.tests["shupe"]["p_value"].get<double>(), 1e-4);
+  EXPECT_TRUE(r.out_of_family);
+  ASSERT_FALSE(r.reasons.empty());
+  EXPECT_THAT(r.reasons.front(), HasSubstr("shupe: its own test"));
 }
 
 TEST(LotModel, AUnitTheOthersDoNotHoldIsLeftOut) {
