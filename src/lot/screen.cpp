@@ -73,8 +73,13 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
                           format_significant(unit.recording_min, 3), " min: its false-alarm rate is not calibrated (screen the lot's own programme)");
   }
 
+  // Each region's share of the distance: its contributions r_j w_j summed, the negative ones (a region
+  // pulling against another) as zero, over their total - shares in [0, 1] that sum to 1.
   std::map<std::string, double> share;
-  for (Eigen::Index j = 0; j < p; ++j) share[region_of(lot.coordinates[static_cast<std::size_t>(j)])] += r(j) * w(j) / std::max(out.distance2, 1e-300);
+  double positive = 0.0;
+  for (Eigen::Index j = 0; j < p; ++j) share[region_of(lot.coordinates[static_cast<std::size_t>(j)])] += r(j) * w(j);
+  for (auto& [region, s] : share) positive += s = std::max(s, 0.0);
+  for (auto& [region, s] : share) s /= std::max(positive, 1e-300);
   out.contributions = share;
   if (out.out_of_family && 2.0 * out.p_physics < o.alpha) {
     const Eigen::VectorXd sd = total.diagonal().cwiseSqrt();
@@ -93,9 +98,9 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
       }
       out.reasons.push_back(str_cat(region, ": its own test p = ", format_significant(p_test[k], 3), " (", largest_departure(lot, r, sd, region), ")"));
     }
-    if (out.reasons.empty()) {
+    if (out.reasons.empty()) {  // the regions holding a fifth of the distance, at least the largest
       for (const auto& [minus, region] : ranked) {
-        if (-minus < 0.2) break;
+        if (-minus < 0.2 && !out.reasons.empty()) break;
         out.reasons.push_back(str_cat(region, ": ", format_significant(100.0 * -minus, 3), " % of the distance (", largest_departure(lot, r, sd, region), ")"));
       }
     }

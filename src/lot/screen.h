@@ -11,9 +11,9 @@
 // than 20 % apart) is screened with a warning - its estimate's errors, and so its distances, are of another kind.
 // Reasons name what is out of family: d^2 splits exactly into the contributions r_j [(Sigma + C)^-1 r]_j,
 // summed over a coordinate group (bias, Shupe, ...) or, for the scale-factor surface, over a region (a grid
-// temperature and the sign of the rate). A group whose own test fails is named first (the surface by its
-// region of largest share); else the regions holding at least a fifth of d^2, largest first; and the noise
-// when its own test fails.
+// temperature and the sign of the rate); negative sums (a region pulling against another) count as zero in the
+// shares. A group whose own test fails is named first (the surface by its region of largest share); else the
+// regions holding at least a fifth of d^2, at least the largest; and the noise when its own test fails.
 #pragma once
 
 #include <nlohmann/json.hpp>
