@@ -45,6 +45,7 @@ FAMILY_INDEX = {"A": 1, "B": 2}
 CALIBRATIONS = ("prior15", "dual", "short15")  # the lot prior on 15 min; own dual scan; 15 min without the lot
 REASON_WORDS = {"shupe_doubled": ("shupe",), "ripple": ("surface", "dsf", "scale", "ripple", "dps"), "noise_3x": ("noise", "white")}
 DPH = np.pi / 180 / 3600  # rad/s per deg/h
+ALPHAS = (0.001, 0.01, 0.02, 0.05)  # false-alarm budgets the recall is also read at, from the p-values
 SCREEN_SEED = 100  # lot seed of the screening lots (the prior part's lots are 1, 2, ...)
 SCALE_SEED = 200
 
@@ -77,14 +78,15 @@ class Log:
 class Lot:
     """Units `0..n-1` of one family's lot `seed` under work/<family>/lot<seed>/, with their planted defects."""
 
-    def __init__(self, ex, family, seed, defects=None):
+    def __init__(self, ex, family, seed, defects=None, name=None):
         self.ex, self.family, self.seed = ex, family, seed
         self.generator = lg.GENERATORS[family]()
         self.defects = defects or {}
-        self.dir = os.path.join(ex.work, family, "lot%d" % seed)
+        self.name = name or "lot%d" % seed  # a lot with defects has its own folder: its units' configs differ
+        self.dir = os.path.join(ex.work, family, self.name)
 
     def unit_path(self, i, *names):
-        return self.ex.runner.path(self.family, "lot%d" % self.seed, "u%05d" % i, *names)
+        return self.ex.runner.path(self.family, self.name, "u%05d" % i, *names)
 
     def sensor(self, i):
         path = self.unit_path(i, "sensor.yaml")
@@ -240,19 +242,28 @@ def prior_aggregate(rows, with_lot):
 # Part 2: screening
 
 
-def screen_lot(ex, family, seed, n_units):
-    a = ex.args
-    defects = lg.plant_defects(n_units, a.train, a.defect_share, seed)
-    lot = Lot(ex, family, seed, defects)
-    prior = lot.learn(range(a.train))
-    gx.write_text(os.path.join(lot.dir, "defects.json"), json.dumps({str(k): v for k, v in defects.items()}, indent=1))
+def screen_units(ex, lot, prior, n_units):
+    """`lot screen` of units 0..n-1 of a lot: one row per unit."""
     units = []
     for i in range(n_units):
-        s = ex.screen(lot, i, prior, a.screen_recording)
-        units.append({"unit": i, "defect": defects.get(i), "training": i < a.train, "out_of_family": bool(s["out_of_family"]),
+        s = ex.screen(lot, i, prior, ex.args.screen_recording)
+        units.append({"unit": i, "defect": lot.defects.get(i), "training": i < ex.args.train, "out_of_family": bool(s["out_of_family"]),
                       "p_value": s["p_value"], "reasons": s.get("reasons", [])})
     ex.log.save()
     return units
+
+
+def defective_lot(ex, family, seed, n_units):
+    """Lot `seed` of n units with the planted defects (recorded in the lot's defects.json)."""
+    lot = Lot(ex, family, seed, lg.plant_defects(n_units, ex.args.train, ex.args.defect_share, seed), "lot%d_n%d" % (seed, n_units))
+    os.makedirs(lot.dir, exist_ok=True)
+    gx.write_text(os.path.join(lot.dir, "defects.json"), json.dumps({str(k): v for k, v in lot.defects.items()}, indent=1))
+    return lot
+
+
+def screen_lot(ex, family, seed, n_units):
+    lot = defective_lot(ex, family, seed, n_units)
+    return screen_units(ex, lot, lot.learn(range(ex.args.train)), n_units)
 
 
 def reasons_name(defect, reasons):
@@ -279,6 +290,10 @@ def screen_aggregate(units):
     out["clean_p_value_quantiles"] = {q: float(np.quantile(p, float(q))) for q in ("0.01", "0.02", "0.05", "0.1", "0.5")} if len(p) else {}
     all_d = [u for u in units if u["defect"]]
     out["recall_all"] = float(np.mean([u["out_of_family"] for u in all_d])) if all_d else None
+    # the same from the p-values at other false-alarm budgets (the flag is p_value < alpha)
+    out["by_alpha"] = {str(al): {"recall": {d: float(np.mean([u["p_value"] < al for u in units if u["defect"] == d])) if any(u["defect"] == d for u in units) else None
+                                           for d in lg.DEFECTS},
+                                 "false_alarm_rate": float(np.mean(p < al)) if len(p) else None} for al in ALPHAS}
     return out
 
 
@@ -287,8 +302,10 @@ def screen_part(ex):
     for family in ex.args.families.split(","):
         for seed in seeds_of(ex.args.screen_seeds):
             units = screen_lot(ex, family, seed, ex.args.screen_units)
-            out["%s lot %d (%d units)" % (family, seed, ex.args.screen_units)] = {"family": family, "seed": seed, **screen_aggregate(units)}
-            print(json.dumps({k: v for k, v in out.items()}, default=str)[:2000], flush=True)
+            name = "%s lot %d (%d units)" % (family, seed, ex.args.screen_units)
+            out[name] = {"family": family, "seed": seed, **screen_aggregate(units)}
+            print(name, "recall", {d: (c["flagged"], c["planted"]) for d, c in out[name]["defects"].items()},
+                  "false alarms", out[name]["false_alarms"], "of", out[name]["clean_screened"], flush=True)
     return out
 
 
@@ -297,21 +314,23 @@ def screen_part(ex):
 
 
 def scale_part(ex):
+    """Family A lot SCALE_SEED of --scale-units units from nothing (its folder is emptied first unless the timed run
+    completed): simulate, learn, calibrate with the prior, screen - one process, timed by stage. Then `lot learn`'s
+    peak memory on the training units and on every unit's dual scan."""
+    import shutil
     a = ex.args
-    n, seed = a.scale_units, SCALE_SEED
-    stamp = os.path.join(ex.work, "A", "lot%d" % seed, "pipeline_%d.json" % n)
-    if os.path.exists(stamp) and not a.force:
-        timing = gx.load_json(stamp)
-    else:
-        defects = lg.plant_defects(n, a.train, a.defect_share, seed)
-        lot = Lot(ex, "A", seed, defects)
+    n = a.scale_units
+    lot = defective_lot(ex, "A", SCALE_SEED, n)
+    stamp = os.path.join(ex.work, "pipeline_A_lot%d_%d.json" % (SCALE_SEED, n))
+    if not os.path.exists(stamp) or a.force:
+        shutil.rmtree(lot.dir)
+        lot = defective_lot(ex, "A", SCALE_SEED, n)
         stages, start = {}, time.time()
-        t = time.time()
         for i in range(n):
             lot.recording(i, "short")
         for i in range(a.train):
             lot.recording(i, "dual")
-        stages["simulate"] = time.time() - t
+        stages["simulate"] = time.time() - start
         t = time.time()
         prior = lot.learn(range(a.train))
         stages["learn"] = time.time() - t
@@ -320,17 +339,16 @@ def scale_part(ex):
             ex.calibrate(lot, i, "prior15", prior)
         stages["calibrate"] = time.time() - t
         t = time.time()
-        units = [ex.screen(lot, i, prior) for i in range(n)]
+        screen_units(ex, lot, prior, n)
         stages["screen"] = time.time() - t
-        timing = {"units": n, "wall_s": time.time() - start, "stages_s": stages, "flagged": sum(bool(u["out_of_family"]) for u in units)}
-        gx.write_text(stamp, json.dumps(timing, indent=1))
-    lot = Lot(ex, "A", seed, lg.plant_defects(n, a.train, a.defect_share, seed))
+        gx.write_text(stamp, json.dumps({"units": n, "wall_s": time.time() - start, "stages_s": stages}, indent=1))
+    units = screen_units(ex, lot, lot.learn(range(a.train)), n)
     memory = {}
-    for units in sorted({a.train, n}):
-        out = lot.learn(range(units), name="lot_all%d" % units if units != a.train else "lot")
-        memory[str(units)] = ex.log.get(out)
+    for m in sorted({a.train, n}):
+        out = lot.learn(range(m), name="lot" if m == a.train else "lot_all%d" % m)
+        memory[str(m)] = ex.log.get(out)
     ex.log.save()
-    return {"pipeline": timing, "lot_learn": memory}
+    return {"pipeline": gx.load_json(stamp), "lot_learn": memory, "screen": {"family": "A", "seed": SCALE_SEED, **screen_aggregate(units)}}
 
 
 # ---------------------------------------------------------------------------------------------------------
@@ -358,7 +376,9 @@ def table_prior(prior):
 
 
 def table_screen(screen):
-    lines = ["| lot | " + " | ".join("%s recall (reasons right)" % d for d in lg.DEFECTS) + " | all defects | false alarms (clean, not training) | training units flagged |",
+    lines = ["At the command's default alpha (`out_of_family`); in brackets, flagged units whose reasons name the defect "
+             "(shupe / the surface / the noise):", "",
+             "| lot | " + " | ".join("%s recall" % d for d in lg.DEFECTS) + " | all defects | false alarms (clean, not training) | training units flagged |",
              "|---" * (4 + len(lg.DEFECTS)) + "|"]
     for name, s in screen.items():
         cells = []
@@ -369,13 +389,25 @@ def table_screen(screen):
             name, " | ".join(cells), "%.0f %%" % (100 * s["recall_all"]) if s["recall_all"] is not None else "-",
             s["false_alarms"], s["clean_screened"], 100 * s["false_alarm_rate"],
             "%.0f %%" % (100 * s["false_alarm_rate_training"]) if s["false_alarm_rate_training"] is not None else "-"))
+    lines += ["", "Read from the p-values at other alphas (flag: p < alpha):", "",
+              "| lot | alpha | " + " | ".join("%s recall" % d for d in lg.DEFECTS) + " | false-alarm rate |", "|---" * (3 + len(lg.DEFECTS)) + "|"]
+    for name, s in screen.items():
+        for al, c in s.get("by_alpha", {}).items():
+            lines.append("| %s | %s | %s | %.1f %% |" % (name, al, " | ".join("-" if c["recall"][d] is None else "%.0f %%" % (100 * c["recall"][d])
+                                                                            for d in lg.DEFECTS), 100 * c["false_alarm_rate"]))
+    lines += ["", "Reasons given for the planted defects (first three of each type per lot):", ""]
+    for name, s in screen.items():
+        for d in lg.DEFECTS:
+            for u in s["defects"][d]["units"][:3]:
+                lines.append("- %s, unit %d (%s): %s, p = %.3g, reasons: %s" % (
+                    name, u["unit"], d, "flagged" if u["out_of_family"] else "not flagged", u["p_value"], "; ".join(u["reasons"]) or "-"))
     return lines
 
 
 def table_scale(scale):
     p = scale["pipeline"]
-    lines = ["%d-unit lot (family A) from nothing, one process: %.0f s wall (%s); %d units flagged." % (
-        p["units"], p["wall_s"], ", ".join("%s %.0f s" % kv for kv in p["stages_s"].items()), p["flagged"])]
+    lines = ["%d-unit lot (family A) from nothing, one process: %.0f s wall (%s)." % (
+        p["units"], p["wall_s"], ", ".join("%s %.0f s" % kv for kv in p["stages_s"].items()))]
     for units, m in scale["lot_learn"].items():
         if m:
             lines.append("`lot learn` on %s units' dual scans: %.1f s, peak %.0f MB." % (units, m["s"], m.get("peak_kb", 0) / 1024))
@@ -388,7 +420,7 @@ def write_summary(summary):
     lines = ["# production_lot results", "", "gyrosid: `%s`" % summary.get("gyrosid", ""), ""]
     for key, title, fn in (("prior", "Lot prior on held-out units (criterion of fit, noise off, long after 1 h)", table_prior),
                            ("baseline", "Baselines without a lot", table_prior),
-                           ("screen", "Screening (15-min recordings)", table_screen), ("scale", "Cost", table_scale)):
+                           ("screen", "Screening", table_screen), ("scale", "Cost", table_scale)):
         if key in summary:
             lines += ["## " + title, ""] + fn(summary[key]) + [""]
     gx.write_text(os.path.join(HERE, "results", "summary.md"), "\n".join(lines))
@@ -422,9 +454,10 @@ def main():
     if "prior" in parts:
         summary["prior"] = prior_part(ex)
     if "screen" in parts:
-        summary["screen"] = screen_part(ex)
+        summary.setdefault("screen", {}).update(screen_part(ex))
     if "scale" in parts:
         summary["scale"] = scale_part(ex)
+        summary.setdefault("screen", {})["A lot %d (%d units, the timed lot)" % (SCALE_SEED, a.scale_units)] = summary["scale"]["screen"]
     ex.log.save()
     write_summary(summary)
 
