@@ -302,7 +302,7 @@ def screen_part(ex):
     for family in ex.args.families.split(","):
         for seed in seeds_of(ex.args.screen_seeds):
             units = screen_lot(ex, family, seed, ex.args.screen_units)
-            name = "%s lot %d (%d units)" % (family, seed, ex.args.screen_units)
+            name = "%s lot %d, %d units, %s recordings" % (family, seed, ex.args.screen_units, "15-min" if ex.args.screen_recording == "short" else "dual-scan")
             out[name] = {"family": family, "seed": seed, **screen_aggregate(units)}
             print(name, "recall", {d: (c["flagged"], c["planted"]) for d, c in out[name]["defects"].items()},
                   "false alarms", out[name]["false_alarms"], "of", out[name]["clean_screened"], flush=True)
@@ -414,16 +414,16 @@ def table_scale(scale):
     return lines
 
 
-def write_summary(summary):
-    os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
-    gx.write_text(os.path.join(HERE, "results", "summary.json"), json.dumps(summary, indent=1, default=str))
+def write_summary(summary, results):
+    os.makedirs(results, exist_ok=True)
+    gx.write_text(os.path.join(results, "summary.json"), json.dumps(summary, indent=1, default=str))
     lines = ["# production_lot results", "", "gyrosid: `%s`" % summary.get("gyrosid", ""), ""]
     for key, title, fn in (("prior", "Lot prior on held-out units (criterion of fit, noise off, long after 1 h)", table_prior),
                            ("baseline", "Baselines without a lot", table_prior),
                            ("screen", "Screening", table_screen), ("scale", "Cost", table_scale)):
         if key in summary:
             lines += ["## " + title, ""] + fn(summary[key]) + [""]
-    gx.write_text(os.path.join(HERE, "results", "summary.md"), "\n".join(lines))
+    gx.write_text(os.path.join(results, "summary.md"), "\n".join(lines))
     print("\n".join(lines))
 
 
@@ -442,10 +442,11 @@ def main():
     ap.add_argument("--defect-share", type=float, default=0.02)
     ap.add_argument("--alpha", type=float, default=None, help="lot screen --alpha (default: the command's)")
     ap.add_argument("--scale-units", type=int, default=1000)
+    ap.add_argument("--results", default=os.path.join(HERE, "results"), help="where summary.json/.md go (default: %(default)s)")
     ap.add_argument("--force", action="store_true")
     a = ap.parse_args()
     ex = Experiment(a)
-    path = os.path.join(HERE, "results", "summary.json")
+    path = os.path.join(a.results, "summary.json")
     summary = gx.load_json(path) if os.path.exists(path) else {}
     summary["gyrosid"] = a.gyrosid
     parts = a.parts.split(",")
@@ -457,9 +458,10 @@ def main():
         summary.setdefault("screen", {}).update(screen_part(ex))
     if "scale" in parts:
         summary["scale"] = scale_part(ex)
-        summary.setdefault("screen", {})["A lot %d (%d units, the timed lot)" % (SCALE_SEED, a.scale_units)] = summary["scale"]["screen"]
+        summary.setdefault("screen", {})["A lot %d, %d units, %s recordings (the timed lot)" % (
+            SCALE_SEED, a.scale_units, "15-min" if a.screen_recording == "short" else "dual-scan")] = summary["scale"]["screen"]
     ex.log.save()
-    write_summary(summary)
+    write_summary(summary, a.results)
 
 
 if __name__ == "__main__":
