@@ -43,7 +43,7 @@ GREYBOX = {"shupe": True}  # the greybox options of every fit, with or without t
 PROGRAMMES = {"dual": "builtin:trajectories/dual_scan.yaml", "short": os.path.join(HERE, "short_15min.yaml")}
 FAMILY_INDEX = {"A": 1, "B": 2}
 CALIBRATIONS = ("prior15", "dual", "short15")  # the lot prior on 15 min; own dual scan; 15 min without the lot
-REASON_WORDS = {"shupe_doubled": ("shupe",), "ripple": ("surface", "dsf", "scale", "ripple", "dps"), "noise_3x": ("noise", "white")}
+REASON_WORDS = {"shupe_doubled": ("shupe",), "ripple": ("surface", "dsf", "ripple"), "noise_3x": ("noise", "white")}
 DPH = np.pi / 180 / 3600  # rad/s per deg/h
 ALPHAS = (0.001, 0.01, 0.02, 0.05)  # false-alarm budgets the recall is also read at, from the p-values
 SCREEN_SEED = 100  # lot seed of the screening lots (the prior part's lots are 1, 2, ...)
@@ -266,8 +266,8 @@ def screen_lot(ex, family, seed, n_units):
     return screen_units(ex, lot, lot.learn(range(ex.args.train)), n_units)
 
 
-def reasons_name(defect, reasons):
-    text = " ".join(reasons).lower()
+def reasons_name(defect, reasons, first_only=False):
+    text = " ".join(reasons[:1] if first_only else reasons).lower()
     return any(w in text for w in REASON_WORDS[defect])
 
 
@@ -278,6 +278,7 @@ def screen_aggregate(units):
         flagged = [u for u in du if u["out_of_family"]]
         out["defects"][d] = {"planted": len(du), "flagged": len(flagged), "recall": len(flagged) / len(du) if du else None,
                              "reasons_right": sum(reasons_name(d, u["reasons"]) for u in flagged),
+                             "first_reason_right": sum(reasons_name(d, u["reasons"], True) for u in flagged),
                              "units": [{k: u[k] for k in ("unit", "out_of_family", "p_value", "reasons")} for u in du]}
     clean = [u for u in units if u["defect"] is None and not u["training"]]
     train = [u for u in units if u["training"]]
@@ -376,15 +377,15 @@ def table_prior(prior):
 
 
 def table_screen(screen):
-    lines = ["At the command's default alpha (`out_of_family`); in brackets, flagged units whose reasons name the defect "
-             "(shupe / the surface / the noise):", "",
+    lines = ["At the command's default alpha (`out_of_family`); in brackets, of the flagged units, those whose first (largest) "
+             "reason names the defect / those where any reason does (shupe / the surface / the noise):", "",
              "| lot | " + " | ".join("%s recall" % d for d in lg.DEFECTS) + " | all defects | false alarms (clean, not training) | training units flagged |",
              "|---" * (4 + len(lg.DEFECTS)) + "|"]
     for name, s in screen.items():
         cells = []
         for d in lg.DEFECTS:
             c = s["defects"][d]
-            cells.append("%d/%d (%d)" % (c["flagged"], c["planted"], c["reasons_right"]) if c["planted"] else "-")
+            cells.append("%d/%d (%d / %d)" % (c["flagged"], c["planted"], c["first_reason_right"], c["reasons_right"]) if c["planted"] else "-")
         lines.append("| %s | %s | %s | %d/%d = %.1f %% | %s |" % (
             name, " | ".join(cells), "%.0f %%" % (100 * s["recall_all"]) if s["recall_all"] is not None else "-",
             s["false_alarms"], s["clean_screened"], 100 * s["false_alarm_rate"],
