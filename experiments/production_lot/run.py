@@ -150,9 +150,10 @@ class Experiment:
         return out
 
     def oracle(self, lot, i):
-        """The unit's own truth as a greybox model file: what the best calibration of the greybox form would
-        compensate - its criteria of fit are the floor the model's form leaves (the Shupe term is compensated with
-        the probe's rate over a +-30 s window, the sensor's with the instantaneous rate)."""
+        """The unit's own truth as a greybox model file: what a perfect calibration of the greybox form would
+        compensate. Its criteria of fit are not zero when the unit has a Shupe term: the model compensates it with
+        the probe's rate over a +-30 s window, the sensor makes it with the instantaneous rate (a medium-flight
+        floor of ~100-200 m that a slightly wrong Shupe coefficient can even undercut)."""
         out = lot.unit_path(i, "oracle.json")
         if os.path.exists(out) and not self.args.force:
             return out
@@ -358,7 +359,7 @@ def scale_part(ex):
 
 def table_prior(prior):
     lines = ["| family | flight | dual scan, m (geo. mean) | lot prior on 15 min, m | dual / prior-15 | share prior-15 <= dual | worst dual / prior-15 | "
-             "dual / 15 min without lot | truth as greybox (floor), m |", "|---" * 9 + "|"]
+             "dual / 15 min without lot | the truth as a greybox model, m |", "|---" * 9 + "|"]
     for family, agg in prior["aggregate"].items():
         for f, c in agg["flights"].items():
             lines.append("| %s | %s | %.3g | %s | %s | %s | %s | %.2fx | %.3g |" % (
