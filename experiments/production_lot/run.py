@@ -21,6 +21,7 @@ independently written family); every unit's config, recordings, models and crite
 Writes results/summary.json and results/summary.md (the parts run so far).
 """
 import argparse
+import importlib.util
 import json
 import os
 import re
@@ -51,11 +52,11 @@ SCALE_SEED = 200
 
 
 def seeds_of(text):
-    out = []
-    for part in text.split(","):
-        lo, _, hi = part.partition("-")
-        out += list(range(int(lo), int(hi or lo) + 1))
-    return out
+    """'1-5,8' -> [1, 2, 3, 4, 5, 8]: trajectory_design/seed_sweep.py's parser."""
+    spec = importlib.util.spec_from_file_location("seed_sweep", os.path.join(ROOT, "experiments", "trajectory_design", "seed_sweep.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.seeds_of(text)
 
 
 class Log:
