@@ -97,10 +97,11 @@ class Lot:
         return path
 
     def recording(self, i, programme):
-        """The unit's recording of `programme` (dual or short); the noise seed differs per unit and programme."""
-        path = self.unit_path(i, programme + ".csv")
+        """The unit's recording of `programme` (dual or short); the noise seed differs per unit and programme (not
+        with the short programme's file: another --short-programme has the same noise seeds)."""
+        path = self.unit_path(i, self.ex.tagged(programme) + ".csv")
         seed = ((FAMILY_INDEX[self.family] * 1000 + self.seed) * 10000 + i) * 2 + (programme == "short")
-        self.ex.run(["simulate", "--sensor", self.sensor(i), "--trajectory", PROGRAMMES[programme], "--seed", seed, "--out", path], path)
+        self.ex.run(["simulate", "--sensor", self.sensor(i), "--trajectory", self.ex.programmes[programme], "--seed", seed, "--out", path], path)
         return path
 
     def learn(self, units, programme="dual", name="lot"):
@@ -118,6 +119,13 @@ class Experiment:
         self.runner = gx.Runner(args.gyrosid, self.work, force=args.force)
         self.log = Log(os.path.join(self.work, "log.json"))
         self.ran = 0
+        self.programmes = dict(PROGRAMMES, short=os.path.abspath(args.short_programme))
+        default = os.path.abspath(PROGRAMMES["short"]) == self.programmes["short"]
+        self.tag = "" if default else "-" + os.path.splitext(os.path.basename(args.short_programme))[0]
+
+    def tagged(self, name):
+        """A product's name: with the short programme's tag when it is made from a 15-min recording."""
+        return name + self.tag if name in ("short", "prior15", "short15") else name
 
     def run(self, argv, product, measure_memory=False):
         """`gyrosid argv` unless `product` exists; logs its seconds (and peak memory, by /usr/bin/time -v)."""
@@ -141,7 +149,7 @@ class Experiment:
 
     def calibrate(self, lot, i, kind, prior=None):
         """One of CALIBRATIONS of unit i; returns the model file."""
-        out = lot.unit_path(i, "%s.json" % kind)
+        out = lot.unit_path(i, "%s.json" % self.tagged(kind))
         if kind == "prior15":
             argv = ["calibrate", "--recording", lot.recording(i, "short"), "--prior", prior, "--out", out]
         else:
@@ -175,14 +183,14 @@ class Experiment:
         """{flight: criterion of fit, m} of a unit's model on its own sensor (noise off; long after 1 h)."""
         row = {}
         for flight, extra in FLIGHTS.items():
-            d = lot.unit_path(i, "cof_%s_%s" % (kind, flight), "cof.json")
+            d = lot.unit_path(i, "cof_%s_%s" % (self.tagged(kind), flight), "cof.json")
             self.run(["cof", "--model", model, "--sensor", lot.sensor(i), "--trajectory", flight] + extra + ["--out", os.path.dirname(d)], d)
             j = gx.load_json(d)
             row[flight] = j.get("error_after_1h_m", j["end_error_m"])
         return row
 
     def screen(self, lot, i, prior, programme="short"):
-        out = lot.unit_path(i, "screen_%s" % programme, "screen.json")
+        out = lot.unit_path(i, "screen_%s" % self.tagged(programme), "screen.json")
         alpha = ["--alpha", str(self.args.alpha)] if self.args.alpha else []
         self.run(["lot", "screen", "--prior", prior, "--recording", lot.recording(i, programme)] + alpha + ["--out", os.path.dirname(out)], out)
         return gx.load_json(out)
@@ -209,7 +217,7 @@ def prior_part(ex, with_lot=True):
                 rows.append(row)
                 print(json.dumps(row), flush=True)
             ex.log.save()
-    return {"rows": rows, "aggregate": prior_aggregate(rows, with_lot)}
+    return {"short_programme": os.path.relpath(ex.programmes["short"], ROOT), "rows": rows, "aggregate": prior_aggregate(rows, with_lot)}
 
 
 def geo_mean(x):
@@ -359,7 +367,7 @@ def scale_part(ex):
 
 
 def table_prior(prior):
-    lines = ["| family | flight | dual scan, m (geo. mean) | lot prior on 15 min, m | dual / prior-15 | share prior-15 <= dual | worst dual / prior-15 | "
+    lines = ["15-min programme: `%s`." % prior.get("short_programme", "experiments/production_lot/short_15min.yaml"), "","| family | flight | dual scan, m (geo. mean) | lot prior on 15 min, m | dual / prior-15 | share prior-15 <= dual | worst dual / prior-15 | "
              "dual / 15 min without lot | the truth as a greybox model, m |", "|---" * 9 + "|"]
     for family, agg in prior["aggregate"].items():
         for f, c in agg["flights"].items():
@@ -442,6 +450,7 @@ def main():
     ap.add_argument("--screen-units", type=int, default=200)
     ap.add_argument("--screen-seeds", default=str(SCREEN_SEED))
     ap.add_argument("--screen-recording", default="short", choices=sorted(PROGRAMMES))
+    ap.add_argument("--short-programme", default=PROGRAMMES["short"], help="the production recording's programme (default: %(default)s)")
     ap.add_argument("--defect-share", type=float, default=0.02)
     ap.add_argument("--alpha", type=float, default=None, help="lot screen --alpha (default: the command's)")
     ap.add_argument("--scale-units", type=int, default=1000)
