@@ -355,7 +355,7 @@ def scale_part(ex):
         gx.write_text(stamp, json.dumps({"units": n, "wall_s": time.time() - start, "stages_s": stages}, indent=1))
     units = screen_units(ex, lot, lot.learn(range(a.train)), n)
     memory = {}
-    for m in sorted({a.train, n}):
+    for m in sorted({a.train, n} | set(int(x) for x in a.learn_sizes.split(",") if x)):
         out = lot.learn(range(m), name="lot" if m == a.train else "lot_all%d" % m)
         memory[str(m)] = ex.log.get(out)
     ex.log.save()
@@ -419,7 +419,7 @@ def table_scale(scale):
     p = scale["pipeline"]
     lines = ["%d-unit lot (family A) from nothing, one process: %.0f s wall (%s)." % (
         p["units"], p["wall_s"], ", ".join("%s %.0f s" % kv for kv in p["stages_s"].items()))]
-    for units, m in scale["lot_learn"].items():
+    for units, m in sorted(scale["lot_learn"].items(), key=lambda kv: int(kv[0])):
         if m:
             lines.append("`lot learn` on %s units' dual scans: %.1f s, peak %.0f MB." % (units, m["s"], m.get("peak_kb", 0) / 1024))
     return lines
@@ -454,6 +454,7 @@ def main():
     ap.add_argument("--defect-share", type=float, default=0.02)
     ap.add_argument("--alpha", type=float, default=None, help="lot screen --alpha (default: the command's)")
     ap.add_argument("--scale-units", type=int, default=1000)
+    ap.add_argument("--learn-sizes", default="", help="more lot sizes (comma list) whose `lot learn` memory the scale part measures")
     ap.add_argument("--results", default=os.path.join(HERE, "results"), help="where summary.json/.md go (default: %(default)s)")
     ap.add_argument("--force", action="store_true")
     a = ap.parse_args()
