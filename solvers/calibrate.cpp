@@ -48,7 +48,6 @@ OptionTable greybox_table(GreyboxOptions& o, GreyboxText& text) {
   return t;
 }
 
-
 nlohmann::json request_json(const CalibrationRequest& r, const std::vector<std::string>& features) {
   return {{"model", r.model}, {"solver", r.model == "rbf" ? r.solver : r.model}, {"options", r.options},
           {"features", features}, {"target", to_string(r.target)}, {"normalization", to_string(r.normalization)}};

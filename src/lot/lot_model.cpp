@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/stats.h"
+#include "nav/statistics.h"
 #include "solvers/calibrate.h"
 
 namespace gyrosid {
@@ -31,6 +32,12 @@ struct Population {
   }
 };
 
+// The element at index n / 2 of the sorted values (the upper median); x non-empty.
+double upper_median(std::vector<double> x) {
+  std::nth_element(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2), x.end());
+  return x[x.size() / 2];
+}
+
 // Per-coordinate scale: the units' sd, floored within its group (a coordinate no unit moves, e.g. a lag all
 // units fit as 0, is held by its group's typical spread, or 1 of its unit when the whole group is still).
 Eigen::VectorXd coordinate_scale(const Eigen::VectorXd& sd, const std::vector<GreyboxCoordinate>& coordinates) {
@@ -38,9 +45,7 @@ Eigen::VectorXd coordinate_scale(const Eigen::VectorXd& sd, const std::vector<Gr
   for (std::size_t i = 0; i < coordinates.size(); ++i) by_group[coordinates[i].group].push_back(sd(static_cast<Eigen::Index>(i)));
   Eigen::VectorXd scale = sd;
   for (std::size_t i = 0; i < coordinates.size(); ++i) {
-    std::vector<double> g = by_group[coordinates[i].group];
-    std::nth_element(g.begin(), g.begin() + static_cast<std::ptrdiff_t>(g.size() / 2), g.end());
-    const double typical = g[g.size() / 2];
+    const double typical = upper_median(by_group[coordinates[i].group]);
     const auto k = static_cast<Eigen::Index>(i);
     scale(k) = std::max(sd(k), typical > 0.0 ? 1e-3 * typical : 1.0);
   }
@@ -146,23 +151,14 @@ std::map<std::size_t, std::vector<double>> leave_one_out(const std::vector<LotUn
   return d2;
 }
 
-// Sample mean and variance (n - 1).
-std::pair<double, double> moments(const std::vector<double>& x) {
-  double m = 0.0, v = 0.0;
-  for (double e : x) m += e;
-  m /= static_cast<double>(x.size());
-  for (double e : x) v += (e - m) * (e - m);
-  return {m, x.size() > 1 ? v / static_cast<double>(x.size() - 1) : 0.0};
-}
-
 // a chi^2_nu with the mean and variance of the distances of test k.
 DistanceNull matched_chi2(const std::map<std::size_t, std::vector<double>>& d2, std::size_t k, std::size_t except = SIZE_MAX) {
   std::vector<double> d;
   for (const auto& [u, v] : d2) {
     if (u != except) d.push_back(v[k]);
   }
-  const auto [m, var] = moments(d);
-  const double v = std::max(var, 1e-12 * m * m);
+  const nav::SampleStats st = nav::sample_stats(d);
+  const double m = st.mean, v = std::max(st.sigma * st.sigma, 1e-12 * m * m);
   return {v / (2.0 * m), 2.0 * m * m / v};
 }
 
@@ -250,13 +246,10 @@ LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_o
   for (std::size_t i : keep) {
     if (probes[i].recording_min > 0.0) minutes.push_back(probes[i].recording_min);
   }
-  if (!minutes.empty()) {
-    std::nth_element(minutes.begin(), minutes.begin() + static_cast<std::ptrdiff_t>(minutes.size() / 2), minutes.end());
-    lot.recording_min = minutes[minutes.size() / 2];
-  }
+  if (!minutes.empty()) lot.recording_min = upper_median(std::move(minutes));
   if (log_noise.size() >= 2) {
-    const auto [m, v] = moments(log_noise);
-    lot.log_noise_mean = m, lot.log_noise_sd = std::max(std::sqrt(v), 0.01);
+    const nav::SampleStats st = nav::sample_stats(log_noise);
+    lot.log_noise_mean = st.mean, lot.log_noise_sd = std::max(st.sigma, 0.01);
   }
   return lot;
 }

@@ -31,9 +31,6 @@ std::string largest_departure(const LotModel& lot, const Eigen::VectorXd& r, con
                  " +- ", format_significant(sd(best), 3));
 }
 
-// The group a region belongs to ("surface at 40 C, positive rates" -> "surface").
-std::string region_of_group(const std::string& region) { return region.rfind("surface", 0) == 0 ? "surface" : region; }
-
 }  // namespace
 
 std::string ScreenOptions::validate() const {
@@ -46,13 +43,14 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
   const auto p = static_cast<Eigen::Index>(lot.coordinates.size());
   if (unit.theta.size() != p) fail("lot screen: unit '", unit.name, "' has ", unit.theta.size(), " coordinates where the lot has ", p);
   ScreenResult out;
-  Eigen::MatrixXd total = lot.covariance();
+  const Eigen::MatrixXd sigma = lot.covariance();
+  Eigen::MatrixXd total = sigma;
   if (unit.theta_variance.size() > 0) total.diagonal() += unit.theta_variance;
   const Eigen::LLT<Eigen::MatrixXd> llt(total);
   if (llt.info() != Eigen::Success) fail("lot screen: the lot's covariance plus the unit's is not positive definite");
   const Eigen::VectorXd r = unit.theta - lot.mean;
   const Eigen::VectorXd w = llt.solve(r);
-  const std::vector<double> d2 = lot_distances(r, lot.covariance(), unit.theta_variance, lot.coordinates, lot.tests);
+  const std::vector<double> d2 = lot_distances(r, sigma, unit.theta_variance, lot.coordinates, lot.tests);
   out.distance2 = d2[0];
   std::vector<double> p_test;
   for (std::size_t k = 0; k < d2.size(); ++k) {
@@ -76,8 +74,13 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
   // Each region's share of the distance: its contributions r_j w_j summed, the negative ones (a region
   // pulling against another) as zero, over their total - shares in [0, 1] that sum to 1.
   std::map<std::string, double> share;
+  std::map<std::string, std::string> group_of;  // region -> its coordinates' group
   double positive = 0.0;
-  for (Eigen::Index j = 0; j < p; ++j) share[region_of(lot.coordinates[static_cast<std::size_t>(j)])] += r(j) * w(j);
+  for (Eigen::Index j = 0; j < p; ++j) {
+    const GreyboxCoordinate& c = lot.coordinates[static_cast<std::size_t>(j)];
+    share[region_of(c)] += r(j) * w(j);
+    group_of[region_of(c)] = c.group;
+  }
   for (auto& [region, s] : share) positive += s = std::max(s, 0.0);
   for (auto& [region, s] : share) s /= std::max(positive, 1e-300);
   out.contributions = share;
@@ -91,7 +94,7 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
       if (2.0 * static_cast<double>(d2.size()) * p_test[k] >= o.alpha) continue;
       std::string region = lot.tests[k];
       for (const auto& [minus, name] : ranked) {
-        if (region_of_group(name) == lot.tests[k]) {
+        if (group_of.at(name) == lot.tests[k]) {
           region = name;
           break;
         }
