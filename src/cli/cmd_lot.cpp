@@ -1,16 +1,16 @@
 // gyrosid lot: a production lot - learn the population of a gyro type from calibrated units (lot/lot_model.h)
 // and screen a unit against it (lot/screen.h). `gyrosid calibrate --prior lot.json` fits a new unit with it.
-#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 
 #include "cli/app.h"
+#include "cli/resume.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/format.h"
-#include "core/parallel.h"
 #include "core/progress.h"
 #include "core/recording.h"
 #include "core/units.h"
@@ -28,37 +28,25 @@ struct LotLearnCommand {
   std::vector<std::string> recordings, models, screen_recordings, set;
   std::string name, out;
   double package_tau_s = LotMemberOptions{}.package_tau_s;
+  bool resume = false;
+  const CLI::App* command = nullptr;  // the parsed subcommand, for the checkpoint's fingerprint
 };
 
 struct LotScreenCommand {
-  std::string prior, recording, out;
+  std::vector<std::string> recordings;
+  std::string prior, out;
   double alpha = ScreenOptions{}.alpha;
+  bool resume = false;
+  const CLI::App* command = nullptr;
 };
 
-// Every unit's recording calibrated with the structure, in parallel (each unit on its own: the result does
-// not depend on the thread count).
-std::vector<LotUnit> units_of_recordings(const std::vector<std::string>& paths, const GreyboxOptions& structure,
-                                         const std::string& label = "lot learn: calibrating the units") {
-  std::vector<LotUnit> units(paths.size());
-  std::vector<std::string> errors(paths.size());
-  Progress progress(label, paths.size());
-  std::atomic<std::size_t> done{0};
-  parallel_for(static_cast<std::ptrdiff_t>(paths.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-    for (std::ptrdiff_t i = begin; i < end; ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      try {
-        units[k] = calibrate_unit(read_recording(paths[k]), paths[k], structure);
-      } catch (const std::exception& e) {
-        errors[k] = e.what();
-      }
-      progress.update(++done);
-    }
-  });
-  progress.finish();
-  for (std::size_t k = 0; k < paths.size(); ++k) {
-    if (!errors[k].empty()) fail(paths[k], ": ", errors[k]);
-  }
-  return units;
+// The checkpoint of a lot command writing `out` (a file: beside it; a directory: in it), fingerprinted by
+// its options and every file it reads.
+Checkpoint lot_checkpoint(const CLI::App& command, const std::filesystem::path& out, bool out_is_dir, std::vector<std::string> files,
+                          bool resume) {
+  const std::filesystem::path dir = out_is_dir ? out : out.parent_path().empty() ? std::filesystem::path(".") : out.parent_path();
+  std::filesystem::create_directories(dir);
+  return run_checkpoint(dir.string(), out_is_dir ? "lot_screen" : out.filename().string(), run_fingerprint(command, files), resume);
 }
 
 // Already-calibrated grey-box units: the structure from the first (its bias order and surface grid, and a
@@ -102,17 +90,26 @@ void run_learn(const LotLearnCommand& c) {
   if (!c.models.empty() && !greybox.empty()) fail("--set greybox options apply to --recordings; --models keep the structure they were calibrated with");
   LotOptions options;
   options.table().apply(lot_settings);
-  const std::vector<LotUnit> units =
-      c.models.empty() ? units_of_recordings(c.recordings, greybox_options(greybox)) : units_of_models(c.models, greybox);
+  // The units' calibrations are saved batch by batch; --resume continues a killed run to the same bytes.
+  std::vector<std::string> inputs = c.recordings;
+  inputs.insert(inputs.end(), c.models.begin(), c.models.end());
+  inputs.insert(inputs.end(), c.screen_recordings.begin(), c.screen_recordings.end());
+  Checkpoint checkpoint = lot_checkpoint(*c.command, c.out, false, inputs, c.resume);
+  const GreyboxOptions structure = greybox_options(greybox);
+  const std::vector<LotUnit> units = c.models.empty() ? calibrate_units(c.recordings, structure, "lot learn: calibrating the units", &checkpoint)
+                                                      : units_of_models(c.models, greybox);
   progress_note(str_cat("lot learn: the population of ", units.size(), " units"));
   std::vector<LotUnit> screen_units;
-  if (!c.screen_recordings.empty()) screen_units = units_of_recordings(c.screen_recordings, greybox_options(greybox), "lot learn: the units' screening recordings");
+  if (!c.screen_recordings.empty()) {
+    screen_units = calibrate_units(c.screen_recordings, structure, "lot learn: the units' screening recordings", &checkpoint, "screen_units");
+  }
   const LotModel lot = learn_lot(units, greybox, options, c.screen_recordings.empty() ? nullptr : &screen_units);
   const nlohmann::json file = {{"format", "gyrosid-prior/1"},
                                {"name", c.name.empty() ? str_cat("lot of ", lot.unit_names.size(), " units") : c.name},
                                {"members", lot_members(lot, {c.package_tau_s})},
                                {"population", lot.to_json()}};
   write_file_atomic(c.out, file.dump(1) + "\n");
+  checkpoint.finish();
   std::cout << "wrote " << c.out << ": " << lot.unit_names.size() << " units, " << lot.coordinates.size() << " coordinates, " << lot.modes.cols()
             << " modes (";
   double total = lot.mode_variance.sum() + lot.residual_variance * static_cast<double>(lot.coordinates.size() - lot.modes.cols());
@@ -122,24 +119,66 @@ void run_learn(const LotLearnCommand& c) {
   if (!lot.left_out.empty()) std::cout << "left out as out of family (leave-one-out p < " << options.trim_alpha << "): " << join(lot.left_out) << "\n";
 }
 
-void run_screen(const LotScreenCommand& c) {
-  const LotModel lot = load_lot(c.prior);
-  progress_note(str_cat("lot screen: calibrating ", c.recording, " with the lot's structure"));
-  const LotUnit unit = calibrate_unit(read_recording(c.recording), c.recording, lot.structure);
-  const ScreenResult r = screen_unit(lot, unit, {c.alpha});
-  nlohmann::json j = r.to_json();
-  j["recording"] = c.recording;
-  j["prior"] = c.prior;
-  j["alpha"] = c.alpha;
-  j["white_dph_at_1hz"] = unit.white_dph_at_1hz;
-  const std::filesystem::path dir(c.out);
-  std::filesystem::create_directories(dir);
-  write_file_atomic(dir / "screen.json", j.dump(2) + "\n");
-  std::cout << c.recording << ": " << (r.out_of_family ? "OUT OF FAMILY" : "in family") << " (p = " << format_significant(r.p_value, 3)
-            << "; physics " << format_significant(r.p_physics, 3) << ", noise " << format_significant(r.p_noise, 3) << "; alpha " << c.alpha << ")\n";
+// A CSV field: quoted, its quotes doubled (RFC 4180).
+std::string csv_field(const std::string& text) {
+  std::string q = "\"";
+  for (char ch : text) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return q + "\"";
+}
+
+void print_screen(const std::string& recording, const ScreenResult& r, double alpha) {
+  std::cout << recording << ": " << (r.out_of_family ? "OUT OF FAMILY" : "in family") << " (p = " << format_significant(r.p_value, 3)
+            << "; physics " << format_significant(r.p_physics, 3) << ", noise " << format_significant(r.p_noise, 3) << "; alpha " << alpha << ")\n";
   for (const auto& reason : r.reasons) std::cout << "  " << reason << "\n";
   if (!r.warning.empty()) std::cout << "warning: " << r.warning << "\n";
-  std::cout << "wrote " << (dir / "screen.json").string() << "\n";
+}
+
+// Each unit's screen.json: in --out for one recording, in --out/<the recording's stem>/ for several (with
+// screens.csv, a row per unit, beside them).
+std::vector<std::filesystem::path> screen_dirs(const LotScreenCommand& c) {
+  const std::filesystem::path out(c.out);
+  if (c.recordings.size() == 1) return {out};
+  std::vector<std::filesystem::path> dirs;
+  std::map<std::string, std::string> seen;
+  for (const auto& r : c.recordings) {
+    const std::string stem = std::filesystem::path(r).stem().string();
+    if (auto [it, fresh] = seen.emplace(stem, r); !fresh) fail("--recording ", it->second, " and ", r, " share the name ", stem, ": their screens would overwrite each other");
+    dirs.push_back(out / stem);
+  }
+  return dirs;
+}
+
+void run_screen(const LotScreenCommand& c) {
+  const LotModel lot = load_lot(c.prior);
+  const std::vector<std::filesystem::path> dirs = screen_dirs(c);
+  std::vector<std::string> inputs = c.recordings;
+  inputs.push_back(c.prior);
+  Checkpoint checkpoint = lot_checkpoint(*c.command, c.out, true, inputs, c.resume);
+  const std::vector<LotUnit> units = calibrate_units(c.recordings, lot.structure, "lot screen: calibrating the units with the lot's structure", &checkpoint);
+  std::string table = "recording,out_of_family,p_value,p_physics,p_noise,white_dph_at_1hz,first_reason\n";
+  int flagged = 0;
+  for (std::size_t k = 0; k < units.size(); ++k) {
+    const ScreenResult r = screen_unit(lot, units[k], {c.alpha});
+    nlohmann::json j = r.to_json();
+    j["recording"] = c.recordings[k];
+    j["prior"] = c.prior;
+    j["alpha"] = c.alpha;
+    j["white_dph_at_1hz"] = units[k].white_dph_at_1hz;
+    std::filesystem::create_directories(dirs[k]);
+    write_file_atomic(dirs[k] / "screen.json", j.dump(2) + "\n");
+    flagged += r.out_of_family;
+    if (c.recordings.size() == 1 || r.out_of_family) print_screen(c.recordings[k], r, c.alpha);
+    table += str_cat(csv_field(c.recordings[k]), ",", r.out_of_family ? "true" : "false", ",", format_number(r.p_value), ",", format_number(r.p_physics), ",",
+                     format_number(r.p_noise), ",", format_number(units[k].white_dph_at_1hz), ",", csv_field(r.reasons.empty() ? "" : r.reasons.front()), "\n");
+  }
+  if (c.recordings.size() == 1) {
+    std::cout << "wrote " << (dirs.front() / "screen.json").string() << "\n";
+  } else {
+    write_file_atomic(std::filesystem::path(c.out) / "screens.csv", table);
+    std::cout << flagged << " of " << units.size() << " units out of family at alpha " << c.alpha << "; wrote " << units.size() << " screen.json and "
+              << (std::filesystem::path(c.out) / "screens.csv").string() << "\n";
+  }
+  checkpoint.finish();
 }
 
 }  // namespace
@@ -165,26 +204,43 @@ void register_lot(CLI::App& app, Action& action) {
   learn->add_option("--out", l->out, "Lot file to write (JSON, format gyrosid-prior/1 with a population)")->required();
   learn->footer(
       "Example: gyrosid lot learn --recordings units/*.csv --set shupe=true --out lot.json\n"
+      "         mpirun -np 2 gyrosid-mpi lot learn ...        (the units calibrated across processes; the same bytes)\n"
       "         gyrosid design --prior lot.json --budget-min 15 --out d/      (the shortest programme for a unit of the lot)\n"
       "The population: each unit's grey-box coordinates (bias values, the scale-factor surface's nodes, Shupe, ...)\n"
       "as a Gaussian whose covariance is a few principal modes plus an isotropic rest (probabilistic PCA); the white\n"
       "noise log-normal across units; the leave-one-out distances of the units calibrate the screening's null. Units the\n"
       "others do not hold are left out (lot.trim_alpha) and named. The file is a prior over sensors (docs/prior_format.md):\n"
       "its members are the population's unscented points in its modes, for design --prior.");
-  learn->callback([l, &action] { action = [l] { run_learn(*l); }; });
+  learn->add_flag("--resume", l->resume,
+                  "Continue a killed run from its checkpoint beside --out (the units calibrated so far; same inputs and options): "
+                  "it ends with the same bytes as an uninterrupted run");
+  learn->callback([l, learn, &action] {
+    l->command = learn;
+    action = [l] { run_learn(*l); };
+  });
 
   auto s = std::make_shared<LotScreenCommand>();
   CLI::App* screen = lot->add_subcommand("screen", "Does a unit belong to the lot? p-value, verdict and what is out of family");
   screen->add_option("--prior", s->prior, "Lot file (gyrosid lot learn)")->required();
-  screen->add_option("--recording", s->recording, "The unit's recording, calibrated here with the lot's structure")->required();
+  screen->add_option("--recording", s->recordings,
+                     "The unit's recording, calibrated here with the lot's structure; or several units' (each screened on its own)")
+      ->required();
   screen->add_option("--alpha", s->alpha, "False-alarm rate: out of family when p < alpha")->capture_default_str()->check(CLI::Range(1e-12, 0.5));
-  screen->add_option("--out", s->out, "Output directory: screen.json (out_of_family, p_value, reasons, contributions)")->required();
+  screen->add_option("--out", s->out,
+                     "Output directory: screen.json (out_of_family, p_value, reasons, contributions); for several recordings, "
+                     "<stem>/screen.json per unit and screens.csv (a row per unit)")
+      ->required();
+  screen->add_flag("--resume", s->resume, "Continue a killed screening from its checkpoint in --out (the units calibrated so far)");
   screen->footer(
       "Example: gyrosid lot screen --prior lot.json --recording unit_0042.csv --out screen_0042/\n"
+      "         mpirun -np 2 gyrosid-mpi lot screen --prior lot.json --recording units/*.csv --out screens/\n"
       "The statistic: the unit's Mahalanobis distance from the lot (with its own estimation covariance), referred to\n"
       "the lot's leave-one-out null; and its white noise against the lot's. Bonferroni over the two: the false-alarm\n"
       "rate is at most alpha. Reasons split the distance over terms and surface regions.");
-  screen->callback([s, &action] { action = [s] { run_screen(*s); }; });
+  screen->callback([s, screen, &action] {
+    s->command = screen;
+    action = [s] { run_screen(*s); };
+  });
 }
 
 }  // namespace gyrosid::cli

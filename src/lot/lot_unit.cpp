@@ -1,10 +1,14 @@
 #include "lot/lot_unit.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <limits>
 
+#include "core/distributed.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "core/progress.h"
 #include "core/units.h"
 #include "model/dataset.h"
 #include "model/greybox_fit.h"
@@ -23,7 +27,65 @@ double white_noise_dph_at_1hz(const Dataset& data, const GreyboxEstimate& fit) {
   return units::radps_to_dph(fit.residual_sd_radps) * std::sqrt(dt);
 }
 
+// A unit as a row of doubles for the distributed batches: theta (p), its variances (p), the white noise and
+// the recording's length; a failed unit is a row of NaN.
+void write_row(const LotUnit& u, Eigen::Index p, double* row) {
+  Eigen::Map<Eigen::VectorXd>(row, p) = u.theta;
+  Eigen::Map<Eigen::VectorXd>(row + p, p) = u.theta_variance;
+  row[2 * p] = u.white_dph_at_1hz;
+  row[2 * p + 1] = u.recording_min;
+}
+
+LotUnit read_row(const double* row, Eigen::Index p, const std::string& name) {
+  return {name, Eigen::Map<const Eigen::VectorXd>(row, p), Eigen::Map<const Eigen::VectorXd>(row + p, p), row[2 * p], row[2 * p + 1]};
+}
+
 }  // namespace
+
+std::vector<LotUnit> calibrate_units(const std::vector<std::string>& paths, const GreyboxOptions& structure, const std::string& label,
+                                     Checkpoint* checkpoint, const std::string& series) {
+  const auto p = static_cast<Eigen::Index>(greybox_coordinates(structure).size());
+  const int width = static_cast<int>(2 * p + 2), count = static_cast<int>(paths.size());
+  std::vector<double> rows;
+  if (checkpoint && checkpoint->enabled()) rows = checkpoint->series(series);
+  if (rows.size() % static_cast<std::size_t>(width) != 0 || rows.size() > paths.size() * static_cast<std::size_t>(width)) {
+    fail("the checkpoint's ", series, " do not fit ", count, " units of ", p, " coordinates: start afresh without --resume");
+  }
+  Progress progress(label, paths.size());
+  std::atomic<std::size_t> done{rows.size() / static_cast<std::size_t>(width)};
+  while (rows.size() < paths.size() * static_cast<std::size_t>(width)) {
+    // Batches grow with the units done (an eighth of them): the checkpoint's rewrites cost O(N log N).
+    const int have = static_cast<int>(rows.size()) / width;
+    const int want = std::min(count, have + std::max({8, 2 * parallel_width(), have / 8}));
+    const std::vector<double> batch = map_rows(have, want, width, [&](int i, double* row) {
+      const auto k = static_cast<std::size_t>(i);
+      try {
+        write_row(calibrate_unit(read_recording(paths[k]), paths[k], structure), p, row);
+      } catch (const std::exception&) {
+        std::fill(row, row + width, std::numeric_limits<double>::quiet_NaN());  // named below, on every process
+      }
+      progress.update(++done);
+    });
+    for (int i = have; i < want; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      if (std::isnan(batch[static_cast<std::size_t>((i - have) * width)])) {
+        try {
+          calibrate_unit(read_recording(paths[k]), paths[k], structure);
+        } catch (const std::exception& e) {
+          fail(paths[k], ": ", e.what());
+        }
+        fail(paths[k], ": the unit's calibration failed on another process");
+      }
+    }
+    rows.insert(rows.end(), batch.begin(), batch.end());
+    if (checkpoint && checkpoint->enabled()) checkpoint->save(series, rows);
+  }
+  progress.finish();
+  std::vector<LotUnit> units;
+  units.reserve(paths.size());
+  for (std::size_t k = 0; k < paths.size(); ++k) units.push_back(read_row(rows.data() + k * static_cast<std::size_t>(width), p, paths[k]));
+  return units;
+}
 
 LotUnit calibrate_unit(const Recording& recording, const std::string& name, const GreyboxOptions& structure, SolveSummary* summary) {
   const Dataset data = make_dataset(recording, greybox_features(structure), ModelTarget::error);

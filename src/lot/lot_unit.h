@@ -4,7 +4,9 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
+#include "core/checkpoint.h"
 #include "core/recording.h"
 #include "core/solve_summary.h"
 #include "lot/lot_model.h"
@@ -16,6 +18,14 @@ namespace gyrosid {
 // where the identified structure has none, the residual's sd per sample times sqrt(dt).
 LotUnit calibrate_unit(const Recording& recording, const std::string& name, const GreyboxOptions& structure,
                        SolveSummary* summary = nullptr);
+
+// Every recording's unit (named by its path), in index order: in batches over core/distributed.h's rows -
+// this process's threads, or `gyrosid-mpi`'s processes, each unit computed from its own recording alone, so
+// the units do not depend on how many threads or processes computed them. With an enabled checkpoint each
+// finished batch is saved under `series`, and a resumed run takes the saved units and computes the rest.
+// Error naming the recording of the first unit that fails.
+std::vector<LotUnit> calibrate_units(const std::vector<std::string>& paths, const GreyboxOptions& structure, const std::string& label,
+                                     Checkpoint* checkpoint = nullptr, const std::string& series = "units");
 
 LotUnit unit_of_model(const GreyboxModel& model, const std::string& name, const GreyboxOptions& structure);
 

@@ -326,17 +326,19 @@ bool run_and_kill(const std::string& args, double seconds) {
 // Runs `args --out whole` uninterrupted, then the same command into `killed`, killed with SIGKILL at random
 // points (resuming from the second attempt on) and finished with --resume. After every kill no JSON result is
 // half-written; at the end no checkpoint or temporary is left. Returns how many runs were actually killed.
+// `out_file` (optional): the command writes that file in the directories rather than the directories themselves.
 int kill_and_resume(const std::string& args, const fs::path& whole, const fs::path& killed, const std::string& checkpoint,
-                    std::uint64_t seed) {
+                    std::uint64_t seed, const std::string& out_file = "") {
   const auto start = std::chrono::steady_clock::now();
-  const Result first = run(args + " --out " + whole.string());
+  const std::string out_whole = (out_file.empty() ? whole : whole / out_file).string(), out = (out_file.empty() ? killed : killed / out_file).string();
+  const Result first = run(args + " --out " + out_whole);
   EXPECT_EQ(first.status, 0) << first.output;
   const double duration = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   RandomStream random(seed, "kill-points");
   int kills = 0;
   for (int attempt = 0; attempt < 2; ++attempt) {
     const double at = (0.15 + 0.6 * random.uniform()) * duration;
-    kills += run_and_kill(args + " --out " + killed.string() + (attempt > 0 ? " --resume" : ""), at) ? 1 : 0;
+    kills += run_and_kill(args + " --out " + out + (attempt > 0 ? " --resume" : ""), at) ? 1 : 0;
     if (!fs::exists(killed)) continue;
     for (const auto& entry : fs::directory_iterator(killed)) {
       const std::string name = entry.path().filename().string();
@@ -346,7 +348,7 @@ int kill_and_resume(const std::string& args, const fs::path& whole, const fs::pa
       }
     }
   }
-  const Result resumed = run(args + " --out " + killed.string() + " --resume");
+  const Result resumed = run(args + " --out " + out + " --resume");
   EXPECT_EQ(resumed.status, 0) << resumed.output;
   EXPECT_FALSE(fs::exists(killed / checkpoint));
   for (const auto& entry : fs::directory_iterator(killed)) {
@@ -932,6 +934,39 @@ TEST_F(Cli, LotLearnsScreensAndCalibratesWithItsPrior) {
               HasSubstr("no 'population'"));
   EXPECT_THAT(run("lot learn --recordings " + path("short.csv") + " --models " + path("with.json") + " --out " + path("x.json")).output,
               HasSubstr("give exactly one of --recordings"));
+}
+
+// A lot run killed (SIGKILL) at random points and resumed writes the same lot file, byte for byte; a batch of
+// units screened at once gives each the same screen.json as its own run, and a table of them.
+TEST_F(Cli, LotRunsResumeToTheSameBytesAndScreenInBatches) {
+  std::string recordings;
+  for (int u = 1; u <= 16; ++u) {
+    const std::string rec = path("unit" + std::to_string(u) + ".csv");
+    ASSERT_EQ(run("simulate --samples 3000 --seed " + std::to_string(u) + " --out " + rec).status, 0);
+    recordings += " " + rec;
+  }
+  const std::string learn = "--quiet --threads 1 lot learn --recordings" + recordings;
+  const int kills = kill_and_resume(learn, dir_ / "whole", dir_ / "killed", ".lot.json_checkpoint.json", 33, "lot.json");
+  EXPECT_GE(kills, 1);
+  EXPECT_EQ(read_text(dir_ / "killed" / "lot.json"), read_text(dir_ / "whole" / "lot.json"));
+  // The lot's file does not depend on the threads that calibrated its units.
+  ASSERT_EQ(run("--threads 2 lot learn --recordings" + recordings + " --out " + path("two.json")).status, 0);
+  EXPECT_EQ(read_text(path("two.json")), read_text(dir_ / "whole" / "lot.json"));
+
+  const std::string lot = (dir_ / "whole" / "lot.json").string();
+  const Result batch = run("lot screen --prior " + lot + " --recording " + path("unit3.csv") + " " + path("unit5.csv") + " --out " + path("batch"));
+  ASSERT_EQ(batch.status, 0) << batch.output;
+  EXPECT_THAT(batch.output, HasSubstr("of 2 units out of family at alpha 0.01"));
+  for (const char* unit : {"unit3", "unit5"}) {
+    ASSERT_EQ(run("lot screen --prior " + lot + " --recording " + path(std::string(unit) + ".csv") + " --out " + path(unit)).status, 0);
+    EXPECT_EQ(read_text(dir_ / "batch" / unit / "screen.json"), read_text(dir_ / unit / "screen.json")) << unit;
+  }
+  const std::string table = read_text(dir_ / "batch" / "screens.csv");
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 3);
+  EXPECT_THAT(table, HasSubstr("\"" + path("unit5.csv") + "\","));
+  EXPECT_FALSE(fs::exists(dir_ / "batch" / ".lot_screen_checkpoint.json"));
+  EXPECT_THAT(run("lot screen --prior " + lot + " --recording " + path("unit3.csv") + " " + (dir_ / "whole" / "unit3.csv").string() + " --out " + path("x")).output,
+              HasSubstr("share the name unit3"));
 }
 
 }  // namespace
