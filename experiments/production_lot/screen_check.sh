@@ -3,18 +3,18 @@
 # family, 2 % planted defects, cached under the work dir): the lot learned from the 50 training units' dual
 # scans with the same units' 15-min recordings as the null's (`lot learn --screen-recordings`), then every
 # other unit's 15-min recording screened at the default alpha. Prints false alarms and each defect's verdict.
-#   experiments/production_lot/screen_check.sh GYROSID [WORK]   (after run.py --parts screen)
+# Every clean unit's z of the conditional Shupe test (lot_model.h) is printed too (mean and sd over the clean units).
+#   experiments/production_lot/screen_check.sh GYROSID [WORK [OUT]]   (after run.py --parts screen)
 set -euo pipefail
 g=$(realpath "$1"); work=${2:-/tmp/gyrosid-production-lot}
-out="$work/screen_check"; mkdir -p "$out"
+out=${3:-$work/screen_check}; mkdir -p "$out"
 for fam in A B; do
   lot="$work/$fam/lot100_n200"; train=(); short=()
   for u in $(seq 0 49); do f=$(printf %05d "$u"); train+=("$lot/u$f/dual.csv"); short+=("$lot/u$f/short.csv"); done
   "$g" --quiet lot learn --recordings "${train[@]}" --screen-recordings "${short[@]}" --set shupe=true --out "$out/lot_$fam.json"
-  for u in $(seq 50 199); do
-    f=$(printf %05d "$u")
-    [ -f "$out/$fam/$f/screen.json" ] || "$g" --quiet lot screen --prior "$out/lot_$fam.json" --recording "$lot/u$f/short.csv" --out "$out/$fam/$f" > /dev/null
-  done
+  screened=()
+  for u in $(seq 50 199); do f=$(printf %05d "$u"); screened+=("$lot/u$f/short.csv"); done
+  [ -f "$out/$fam/screens.csv" ] || "$g" --quiet lot screen --prior "$out/lot_$fam.json" --recording "${screened[@]}" --out "$out/$fam" > /dev/null
 done
 /usr/bin/python3 - "$work" "$out" <<'PY'
 import json, os, sys
@@ -22,12 +22,20 @@ work, out = sys.argv[1:]
 for fam in "AB":
     defects = {int(k): v for k, v in json.load(open(os.path.join(work, fam, "lot100_n200", "defects.json"))).items()}
     alarms = clean = 0
+    z = []
     for u in range(50, 200):
-        j = json.load(open(os.path.join(out, fam, "%05d" % u, "screen.json")))
+        j = json.load(open(os.path.join(out, fam, "u%05d" % u, "short", "screen.json")))
+        cond = j["tests"].get("shupe given the rest", {})
         if u in defects:
-            print(fam, u, defects[u], "flagged" if j["out_of_family"] else "missed", "p = %.3g" % j["p_value"], (j["reasons"] or ["-"])[0])
+            print(fam, u, defects[u], "flagged" if j["out_of_family"] else "missed", "p = %.3g" % j["p_value"],
+                  "shupe|rest z = %.3g" % cond.get("z", float("nan")), (j["reasons"] or ["-"])[0])
         else:
             clean += 1
             alarms += j["out_of_family"]
+            if "z" in cond:
+                z.append(cond["z"])
     print(fam, "false alarms: %d / %d = %.1f %%" % (alarms, clean, 100.0 * alarms / clean))
+    if z:
+        m = sum(z) / len(z)
+        print(fam, "clean units' shupe|rest z: mean %.2f, sd %.2f" % (m, (sum((x - m) ** 2 for x in z) / (len(z) - 1)) ** 0.5))
 PY

@@ -103,7 +103,15 @@ void run_learn(const LotLearnCommand& c) {
   if (!c.screen_recordings.empty()) {
     screen_units = calibrate_units(c.screen_recordings, structure, "lot learn: the units' screening recordings", &checkpoint, "screen_units");
   }
-  const LotModel lot = learn_lot(units, greybox, options, c.screen_recordings.empty() ? nullptr : &screen_units);
+  LotModel lot = learn_lot(units, greybox, options, c.screen_recordings.empty() ? nullptr : &screen_units);
+  if (!c.recordings.empty() && !single_coordinate_terms(lot.coordinates).empty()) {
+    // The conditional tests' null: the null's units' recordings, each refitted with the lot learned without it.
+    const std::vector<std::string>& probes = c.screen_recordings.empty() ? c.recordings : c.screen_recordings;
+    std::vector<std::string> paths;
+    for (std::size_t u : lot.null_units) paths.push_back(probes[u]);
+    set_conditional_nulls(lot, conditional_scores(paths, lot, "lot learn: the conditional tests' null", &checkpoint, "conditional",
+                                                  [&](std::size_t k) { return lot_without(lot, units, lot.null_units[k], options); }));
+  }
   const nlohmann::json file = {{"format", "gyrosid-prior/1"},
                                {"name", c.name.empty() ? str_cat("lot of ", lot.unit_names.size(), " units") : c.name},
                                {"members", lot_members(lot, {c.package_tau_s})},
@@ -133,17 +141,27 @@ void print_screen(const std::string& recording, const ScreenResult& r, double al
   if (!r.warning.empty()) std::cout << "warning: " << r.warning << "\n";
 }
 
-// Each unit's screen.json: in --out for one recording, in --out/<the recording's stem>/ for several (with
-// screens.csv, a row per unit, beside them).
+// Each unit's screen.json: in --out for one recording; for several, in --out/<its path from the recordings'
+// common folder, without the extension>/ (units/a.csv -> a/, lot/u0007/short.csv -> u0007/short/), with
+// screens.csv, a row per unit, beside them.
 std::vector<std::filesystem::path> screen_dirs(const LotScreenCommand& c) {
   const std::filesystem::path out(c.out);
   if (c.recordings.size() == 1) return {out};
+  std::vector<std::filesystem::path> paths;
+  for (const auto& r : c.recordings) paths.push_back(std::filesystem::absolute(r).lexically_normal());
+  std::filesystem::path common = paths.front().parent_path();
+  for (const auto& p : paths) {
+    while (!common.empty() && p.lexically_relative(common).begin()->string() == "..") common = common.parent_path();
+  }
   std::vector<std::filesystem::path> dirs;
-  std::map<std::string, std::string> seen;
-  for (const auto& r : c.recordings) {
-    const std::string stem = std::filesystem::path(r).stem().string();
-    if (auto [it, fresh] = seen.emplace(stem, r); !fresh) fail("--recording ", it->second, " and ", r, " share the name ", stem, ": their screens would overwrite each other");
-    dirs.push_back(out / stem);
+  std::map<std::filesystem::path, std::string> seen;
+  for (std::size_t k = 0; k < paths.size(); ++k) {
+    std::filesystem::path name = paths[k].lexically_relative(common);
+    name.replace_extension();
+    if (auto [it, fresh] = seen.emplace(name, c.recordings[k]); !fresh) {
+      fail("--recording ", it->second, " and ", c.recordings[k], " would both be screened into ", (out / name).string());
+    }
+    dirs.push_back(out / name);
   }
   return dirs;
 }
@@ -155,10 +173,12 @@ void run_screen(const LotScreenCommand& c) {
   inputs.push_back(c.prior);
   Checkpoint checkpoint = lot_checkpoint(*c.command, c.out, true, inputs, c.resume);
   const std::vector<LotUnit> units = calibrate_units(c.recordings, lot.structure, "lot screen: calibrating the units with the lot's structure", &checkpoint);
+  std::vector<Eigen::VectorXd> conditional;
+  if (!lot.conditional_terms.empty()) conditional = conditional_scores(c.recordings, lot, "lot screen: the conditional tests", &checkpoint);
   std::string table = "recording,out_of_family,p_value,p_physics,p_noise,white_dph_at_1hz,first_reason\n";
   int flagged = 0;
   for (std::size_t k = 0; k < units.size(); ++k) {
-    const ScreenResult r = screen_unit(lot, units[k], {c.alpha});
+    const ScreenResult r = screen_unit(lot, units[k], {c.alpha}, conditional.empty() ? nullptr : &conditional[k]);
     nlohmann::json j = r.to_json();
     j["recording"] = c.recordings[k];
     j["prior"] = c.prior;

@@ -234,7 +234,8 @@ LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_o
   lot.mean = pop.mean, lot.scale = pop.scale, lot.modes = pop.modes, lot.mode_variance = pop.mode_variance;
   lot.residual_variance = pop.residual_variance;
   for (std::size_t i : keep) lot.unit_names.push_back(units[i].name);
-  for (const auto& [u, d] : d2) lot.loo_distance.push_back(d[0]);
+  lot.kept_units = keep;
+  for (const auto& [u, d] : d2) lot.loo_distance.push_back(d[0]), lot.null_units.push_back(u);
   for (std::size_t k = 0; k < lot.tests.size(); ++k) lot.nulls.push_back(matched_chi2(d2, k));
 
   std::vector<double> log_noise;
@@ -254,9 +255,42 @@ LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_o
   return lot;
 }
 
+std::vector<std::string> single_coordinate_terms(const std::vector<GreyboxCoordinate>& coordinates) {
+  std::map<std::string, int> count;
+  for (const auto& c : coordinates) ++count[c.group];
+  std::vector<std::string> terms;
+  for (const auto& c : coordinates) {
+    if (count[c.group] == 1 && c.group != "lag") terms.push_back(c.group);
+  }
+  return terms;
+}
+
+LotModel lot_without(const LotModel& lot, const std::vector<LotUnit>& units, std::size_t u, const LotOptions& o) {
+  if (std::find(lot.kept_units.begin(), lot.kept_units.end(), u) == lot.kept_units.end()) fail("lot: unit ", u, " is not one the lot was learned from");
+  const Population pop = fit_population(rows_of(units, lot.kept_units, u), estimation_sd(units, lot.kept_units, u), lot.coordinates, o);
+  LotModel out = lot;
+  out.mean = pop.mean, out.scale = pop.scale, out.modes = pop.modes, out.mode_variance = pop.mode_variance;
+  out.residual_variance = pop.residual_variance;
+  return out;
+}
+
+void set_conditional_nulls(LotModel& lot, const std::vector<Eigen::VectorXd>& z) {
+  lot.conditional_terms = single_coordinate_terms(lot.coordinates);
+  lot.conditional_nulls.clear();
+  if (z.size() < 5) fail("lot: ", z.size(), " units' conditional scores; the null needs at least 5");
+  std::map<std::size_t, std::vector<double>> z2;
+  for (std::size_t u = 0; u < z.size(); ++u) {
+    for (Eigen::Index k = 0; k < z[u].size(); ++k) z2[u].push_back(z[u](k) * z[u](k));
+  }
+  for (std::size_t k = 0; k < lot.conditional_terms.size(); ++k) lot.conditional_nulls.push_back(matched_chi2(z2, k));
+}
+
 nlohmann::json LotModel::tests_json() const {
   nlohmann::json out = nlohmann::json::array();
   for (std::size_t k = 0; k < tests.size(); ++k) out.push_back({{"test", tests[k]}, {"scale", nulls[k].scale}, {"dof", nulls[k].dof}});
+  for (std::size_t k = 0; k < conditional_terms.size(); ++k) {
+    out.push_back({{"test", conditional_terms[k] + " given the rest"}, {"term", conditional_terms[k]}, {"scale", conditional_nulls[k].scale}, {"dof", conditional_nulls[k].dof}});
+  }
   return out;
 }
 
@@ -313,9 +347,19 @@ LotModel LotModel::from_json(const nlohmann::json& j, const std::string& source)
     lot.log_noise_mean = noise.at("log_mean"), lot.log_noise_sd = noise.at("log_sd"), lot.noise_units = noise.at("units");
     const auto& s = j.at("screening");
     for (const auto& t : s.at("tests")) {
-      lot.tests.push_back(t.at("test"));
-      lot.nulls.push_back({t.at("scale").get<double>(), t.at("dof").get<double>()});
-      if (!(lot.nulls.back().scale > 0.0) || !(lot.nulls.back().dof > 0.0)) fail(source, ": population.screening.tests: scale and dof must be positive");
+      const DistanceNull null{t.at("scale").get<double>(), t.at("dof").get<double>()};
+      if (!(null.scale > 0.0) || !(null.dof > 0.0)) fail(source, ": population.screening.tests: scale and dof must be positive");
+      if (t.contains("term")) {  // a conditional test
+        lot.conditional_terms.push_back(t.at("term"));
+        lot.conditional_nulls.push_back(null);
+      } else {
+        lot.tests.push_back(t.at("test"));
+        lot.nulls.push_back(null);
+      }
+    }
+    const auto terms = single_coordinate_terms(lot.coordinates);
+    if (!lot.conditional_terms.empty() && lot.conditional_terms != terms) {
+      fail(source, ": population.screening.tests: the conditional tests must be those of the terms of one coordinate (", join(terms), ")");
     }
     if (lot.tests.empty() || lot.tests.front() != "all") fail(source, ": population.screening.tests must start with 'all'");
     lot.loo_distance = s.at("leave_one_out_d2").get<std::vector<double>>();

@@ -16,6 +16,15 @@
 // group of them (bias, surface, shupe, ...), each matched by moments to a scaled chi-square a chi^2_nu - the
 // calibrated nulls of lot/screen.h. (A defect in one term, a doubled Shupe coefficient, moves one coordinate
 // of 77: the omnibus distance dilutes it, the term's own test does not.)
+// Conditional tests, for a term of one coordinate (Shupe, asymmetry): a short recording barely separates Shupe from
+// the bias law, so the unit's own estimate of it is loose and its marginal test weak; refitted with the lot's
+// prior on every other coordinate and none on the term's (model/greybox_fit.h's MAP, the term's prior variance
+// inflated 10^6-fold), its estimate is as sharp as the recording allows given the lot (lot_unit.h conditional_z):
+//   z = (theta_g - mu_g) / sqrt(v_g + Sigma_gg),   v_g the refit's variance of theta_g,
+// and d^2 = z^2 is referred to a scaled chi-square matched by moments to the null's units' z^2 - each unit's own
+// recording refitted with the lot learned without it (lot_without): a unit inside its lot scores about 0.7 of
+// the z^2 of one outside (family A of experiments/production_lot, 50 units), and a heavy-tailed term (a
+// log-normal Shupe coefficient) gets a heavier-tailed null than chi^2_1.
 // Robustness: units whose leave-one-out p-value is below trim_alpha are left out and the lot learned again
 // (once): a defective unit in the training sample must not widen the family.
 #pragma once
@@ -73,6 +82,9 @@ struct LotModel {
   std::vector<std::string> tests;                 // "all", then each coordinate group
   std::vector<DistanceNull> nulls;                // one per test
   std::vector<double> loo_distance;               // d_u^2 over every coordinate, of the null
+  std::vector<std::size_t> kept_units, null_units;  // learned from / the null rests on (indices into learn_lot's units); not saved
+  std::vector<std::string> conditional_terms;     // terms with a conditional test (set_conditional_nulls), and
+  std::vector<DistanceNull> conditional_nulls;    // their nulls of z^2
   std::string source;                             // the file it was read from
 
   Eigen::MatrixXd covariance() const;             // Sigma = S (W W' + psi I) S
@@ -92,6 +104,14 @@ std::vector<double> lot_distances(const Eigen::VectorXd& r, const Eigen::MatrixX
 // `units`), so the screening's false-alarm rate holds for that programme.
 LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_options, const LotOptions& options = {},
                    const std::vector<LotUnit>* screen_units = nullptr);
+
+// The terms of one coordinate a conditional test can be made for (not the lag, whose prior the lag search takes).
+std::vector<std::string> single_coordinate_terms(const std::vector<GreyboxCoordinate>& coordinates);
+// The lot learned from the same units without units[u] (u among lot.kept_units): its population refitted, the rest
+// the same.
+LotModel lot_without(const LotModel& lot, const std::vector<LotUnit>& units, std::size_t u, const LotOptions& options = {});
+// z[u]: the conditional scores (lot_unit.h conditional_z) of the null's units, one per single-coordinate term.
+void set_conditional_nulls(LotModel& lot, const std::vector<Eigen::VectorXd>& z);
 
 // The lot in a gyrosid-prior/1 file (`population`); Error naming the file when it has none.
 LotModel load_lot(const std::string& path);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "core/distributed.h"
@@ -42,49 +43,94 @@ LotUnit read_row(const double* row, Eigen::Index p, const std::string& name) {
 
 }  // namespace
 
-std::vector<LotUnit> calibrate_units(const std::vector<std::string>& paths, const GreyboxOptions& structure, const std::string& label,
-                                     Checkpoint* checkpoint, const std::string& series) {
-  const auto p = static_cast<Eigen::Index>(greybox_coordinates(structure).size());
-  const int width = static_cast<int>(2 * p + 2), count = static_cast<int>(paths.size());
+namespace {
+
+// Rows of `width` numbers, one per path, in index order: in batches over core/distributed.h (threads or MPI
+// processes), each finished batch saved to the checkpoint's `series` and, on resume, taken from it. fill(k, row)
+// may throw: the row is then NaN on the process that computed it, and every process names the failure by
+// running fill again itself.
+std::vector<double> batched_rows(const std::vector<std::string>& paths, int width, const std::string& label, Checkpoint* checkpoint,
+                                 const std::string& series, const std::function<void(std::size_t, double*)>& fill) {
+  const int count = static_cast<int>(paths.size());
+  const std::size_t total = paths.size() * static_cast<std::size_t>(width);
   std::vector<double> rows;
   if (checkpoint && checkpoint->enabled()) rows = checkpoint->series(series);
-  if (rows.size() % static_cast<std::size_t>(width) != 0 || rows.size() > paths.size() * static_cast<std::size_t>(width)) {
-    fail("the checkpoint's ", series, " do not fit ", count, " units of ", p, " coordinates: start afresh without --resume");
+  if (rows.size() % static_cast<std::size_t>(width) != 0 || rows.size() > total) {
+    fail("the checkpoint's ", series, " do not fit ", count, " units of ", width, " numbers: start afresh without --resume");
   }
   Progress progress(label, paths.size());
   std::atomic<std::size_t> done{rows.size() / static_cast<std::size_t>(width)};
-  while (rows.size() < paths.size() * static_cast<std::size_t>(width)) {
+  while (rows.size() < total) {
     // Batches grow with the units done (an eighth of them): the checkpoint's rewrites cost O(N log N).
     const int have = static_cast<int>(rows.size()) / width;
     const int want = std::min(count, have + std::max({8, 2 * parallel_width(), have / 8}));
     const std::vector<double> batch = map_rows(have, want, width, [&](int i, double* row) {
-      const auto k = static_cast<std::size_t>(i);
       try {
-        write_row(calibrate_unit(read_recording(paths[k]), paths[k], structure), p, row);
+        fill(static_cast<std::size_t>(i), row);
       } catch (const std::exception&) {
         std::fill(row, row + width, std::numeric_limits<double>::quiet_NaN());  // named below, on every process
       }
       progress.update(++done);
     });
     for (int i = have; i < want; ++i) {
+      if (!std::isnan(batch[static_cast<std::size_t>((i - have) * width)])) continue;
       const auto k = static_cast<std::size_t>(i);
-      if (std::isnan(batch[static_cast<std::size_t>((i - have) * width)])) {
-        try {
-          calibrate_unit(read_recording(paths[k]), paths[k], structure);
-        } catch (const std::exception& e) {
-          fail(paths[k], ": ", e.what());
-        }
-        fail(paths[k], ": the unit's calibration failed on another process");
+      std::vector<double> row(static_cast<std::size_t>(width));
+      try {
+        fill(k, row.data());
+      } catch (const std::exception& e) {
+        fail(paths[k], ": ", e.what());
       }
+      fail(paths[k], ": the unit failed on another process");
     }
     rows.insert(rows.end(), batch.begin(), batch.end());
     if (checkpoint && checkpoint->enabled()) checkpoint->save(series, rows);
   }
   progress.finish();
+  return rows;
+}
+
+}  // namespace
+
+std::vector<LotUnit> calibrate_units(const std::vector<std::string>& paths, const GreyboxOptions& structure, const std::string& label,
+                                     Checkpoint* checkpoint, const std::string& series) {
+  const auto p = static_cast<Eigen::Index>(greybox_coordinates(structure).size());
+  const std::size_t width = static_cast<std::size_t>(2 * p + 2);
+  const std::vector<double> rows = batched_rows(paths, static_cast<int>(width), label, checkpoint, series, [&](std::size_t k, double* row) {
+    write_row(calibrate_unit(read_recording(paths[k]), paths[k], structure), p, row);
+  });
   std::vector<LotUnit> units;
   units.reserve(paths.size());
-  for (std::size_t k = 0; k < paths.size(); ++k) units.push_back(read_row(rows.data() + k * static_cast<std::size_t>(width), p, paths[k]));
+  for (std::size_t k = 0; k < paths.size(); ++k) units.push_back(read_row(rows.data() + k * width, p, paths[k]));
   return units;
+}
+
+Eigen::VectorXd conditional_z(const Recording& recording, const LotModel& lot) {
+  const std::vector<std::string> terms = single_coordinate_terms(lot.coordinates);
+  const Dataset data = make_dataset(recording, greybox_features(lot.structure), ModelTarget::error);
+  const GreyboxPrior prior = lot.prior();
+  Eigen::VectorXd z(static_cast<Eigen::Index>(terms.size()));
+  for (std::size_t k = 0; k < terms.size(); ++k) {
+    const auto g = static_cast<Eigen::Index>(
+        std::find_if(lot.coordinates.begin(), lot.coordinates.end(), [&](const GreyboxCoordinate& c) { return c.group == terms[k]; }) - lot.coordinates.begin());
+    GreyboxPrior freed = prior;
+    freed.covariance(g, g) *= 1e6;  // no prior on the term; the others' marginal unchanged
+    const GreyboxEstimate fit = estimate_greybox(data, lot.structure, &freed);
+    z(static_cast<Eigen::Index>(k)) = (fit.theta(g) - lot.mean(g)) / std::sqrt(fit.theta_covariance(g, g) + prior.covariance(g, g));
+  }
+  return z;
+}
+
+std::vector<Eigen::VectorXd> conditional_scores(const std::vector<std::string>& paths, const LotModel& lot, const std::string& label,
+                                                Checkpoint* checkpoint, const std::string& series, const std::function<LotModel(std::size_t)>& lot_of) {
+  const int width = static_cast<int>(single_coordinate_terms(lot.coordinates).size());
+  if (width == 0) return std::vector<Eigen::VectorXd>(paths.size());
+  const std::vector<double> rows = batched_rows(paths, width, label, checkpoint, series, [&](std::size_t k, double* row) {
+    Eigen::Map<Eigen::VectorXd>(row, width) = conditional_z(read_recording(paths[k]), lot_of ? lot_of(k) : lot);
+  });
+  std::vector<Eigen::VectorXd> z;
+  for (std::size_t k = 0; k < paths.size(); ++k) z.emplace_back(Eigen::Map<const Eigen::VectorXd>(rows.data() + k * static_cast<std::size_t>(width), width));
+  return z;
 }
 
 LotUnit calibrate_unit(const Recording& recording, const std::string& name, const GreyboxOptions& structure, SolveSummary* summary) {

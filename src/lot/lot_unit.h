@@ -3,6 +3,7 @@
 // coordinates only: a model file keeps no covariance and no noise).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,16 @@ LotUnit calibrate_unit(const Recording& recording, const std::string& name, cons
 // Error naming the recording of the first unit that fails.
 std::vector<LotUnit> calibrate_units(const std::vector<std::string>& paths, const GreyboxOptions& structure, const std::string& label,
                                      Checkpoint* checkpoint = nullptr, const std::string& series = "units");
+
+// The conditional scores of lot_model.h, one per single_coordinate_terms(lot.coordinates): the recording refitted
+// with the lot's prior freed on each such term in turn.
+Eigen::VectorXd conditional_z(const Recording& recording, const LotModel& lot);
+// conditional_z of every recording, batched and checkpointed as calibrate_units (empty vectors when the lot's
+// structure has no such term).
+// `lot_of(k)` (optional): the lot recording k is scored against (default: `lot`), e.g. the lot without that unit.
+std::vector<Eigen::VectorXd> conditional_scores(const std::vector<std::string>& paths, const LotModel& lot, const std::string& label,
+                                                Checkpoint* checkpoint = nullptr, const std::string& series = "conditional",
+                                                const std::function<LotModel(std::size_t)>& lot_of = nullptr);
 
 LotUnit unit_of_model(const GreyboxModel& model, const std::string& name, const GreyboxOptions& structure);
 

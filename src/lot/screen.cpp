@@ -38,7 +38,7 @@ std::string ScreenOptions::validate() const {
   return "";
 }
 
-ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenOptions& o) {
+ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenOptions& o, const Eigen::VectorXd* conditional_z) {
   if (auto p = o.validate(); !p.empty()) fail("lot screen: ", p);
   const auto p = static_cast<Eigen::Index>(lot.coordinates.size());
   if (unit.theta.size() != p) fail("lot screen: unit '", unit.name, "' has ", unit.theta.size(), " coordinates where the lot has ", p);
@@ -57,7 +57,18 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
     p_test.push_back(lot.nulls[k].p_value(d2[k]));
     out.tests[lot.tests[k]] = {{"distance2", d2[k]}, {"p_value", p_test.back()}};
   }
-  out.p_physics = std::min(1.0, static_cast<double>(d2.size()) * *std::min_element(p_test.begin(), p_test.end()));
+  const bool conditional = conditional_z && !lot.conditional_terms.empty();
+  if (conditional && conditional_z->size() != static_cast<Eigen::Index>(lot.conditional_terms.size())) {
+    fail("lot screen: unit '", unit.name, "' has ", conditional_z->size(), " conditional scores where the lot has ", lot.conditional_terms.size(), " tests");
+  }
+  const std::size_t conditional_tests = conditional ? lot.conditional_terms.size() : 0;
+  for (std::size_t k = 0; k < conditional_tests; ++k) {
+    const double z = (*conditional_z)(static_cast<Eigen::Index>(k));
+    p_test.push_back(lot.conditional_nulls[k].p_value(z * z));
+    out.tests[lot.conditional_terms[k] + " given the rest"] = {{"z", z}, {"p_value", p_test.back()}};
+  }
+  const double tests = static_cast<double>(p_test.size());
+  out.p_physics = std::min(1.0, tests * *std::min_element(p_test.begin(), p_test.end()));
 
   double noise_z = 0.0;
   if (lot.noise_units >= 2 && unit.white_dph_at_1hz > 0.0) {
@@ -91,7 +102,7 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
     for (const auto& [region, s] : share) ranked.push_back({-s, region});
     std::sort(ranked.begin(), ranked.end());
     for (std::size_t k = 1; k < d2.size(); ++k) {
-      if (2.0 * static_cast<double>(d2.size()) * p_test[k] >= o.alpha) continue;
+      if (2.0 * tests * p_test[k] >= o.alpha) continue;
       std::string region = lot.tests[k];
       for (const auto& [minus, name] : ranked) {
         if (group_of.at(name) == lot.tests[k]) {
@@ -100,6 +111,12 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
         }
       }
       out.reasons.push_back(str_cat(region, ": its own test p = ", format_significant(p_test[k], 3), " (", largest_departure(lot, r, sd, region), ")"));
+    }
+    for (std::size_t k = 0; k < conditional_tests; ++k) {
+      const double p_k = p_test[d2.size() + k];
+      if (2.0 * tests * p_k >= o.alpha) continue;
+      out.reasons.push_back(str_cat(lot.conditional_terms[k], " given the rest of the lot: p = ", format_significant(p_k, 3), " (z = ",
+                                    format_significant((*conditional_z)(static_cast<Eigen::Index>(k)), 3), " of the lot's spread and the recording's)"));
     }
     if (out.reasons.empty()) {  // the regions holding a fifth of the distance, at least the largest
       for (const auto& [minus, region] : ranked) {

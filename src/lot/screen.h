@@ -4,7 +4,8 @@
 //   d^2 = r' (Sigma + C)^-1 r,   r = theta - mu,  C the diagonal of the unit's estimation covariance (as in the null),
 // referred to the lot's calibrated null a chi^2_nu (the training units' leave-one-out distances, matched by
 // moments), and the same over each coordinate group alone (its marginal): p_physics is the Bonferroni
-// min(1, K min_k p_k) over the K tests, so a defect in one term is not diluted by the other 76 coordinates. Noise: z = (ln N - m) / (s sqrt(1 + 1/n)) of the unit's white
+// min(1, K min_k p_k) over the K tests, so a defect in one term is not diluted by the other 76 coordinates;
+// the conditional tests of a one-coordinate term given the rest (lot_model.h), when given, are among the K. Noise: z = (ln N - m) / (s sqrt(1 + 1/n)) of the unit's white
 // noise against the lot's log-normal, two-sided p_noise. The unit's p-value is the Bonferroni
 // min(1, 2 min(p_physics, p_noise)), so the false-alarm rate is at most alpha.
 // The null is calibrated on the lot's own recordings: a unit recorded on a programme of another length (more
@@ -41,6 +42,7 @@ struct ScreenResult {
   nlohmann::json to_json() const;
 };
 
-ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenOptions& options = {});
+// `conditional_z` (optional): the unit's conditional scores (lot_unit.h), tested when the lot has their nulls.
+ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenOptions& options = {}, const Eigen::VectorXd* conditional_z = nullptr);
 
 }  // namespace gyrosid

@@ -11,6 +11,7 @@
 #include "core/config.h"
 #include "lot/lot_members.h"
 #include "lot/lot_model.h"
+#include "lot/lot_unit.h"
 #include "lot/screen.h"
 #include "model/dataset.h"
 #include "model/greybox_fit.h"
@@ -72,6 +73,40 @@ TEST(GreyboxPrior, TheMapIsThePrecisionWeightedMeanOfDataAndPrior) {
     EXPECT_THAT(e.what(), HasSubstr("lot.json"));
     EXPECT_THAT(e.what(), HasSubstr("5 coordinates where the grey-box structure has 76"));
   }
+}
+
+// The conditional score of a one-coordinate term (lot_model.h) against the same Gaussian algebra in information
+// form: the recording's own estimate theta^ ~ N(theta, C) (full C) combined with the lot's prior, the term's
+// variance freed, P = (C^-1 + Sigma'^-1)^-1, m = P (C^-1 theta^ + Sigma'^-1 mu), z = (m_g - mu_g) / sqrt(P_gg + Sigma_gg).
+TEST(LotScreen, TheConditionalScoreIsTheInformationFormsPosterior) {
+  GreyboxOptions o;
+  o.shupe = true;
+  TrajectorySpec t = load_trajectory_file("builtin:trajectories/dual_scan.yaml");
+  t.sampling = Sampling{3000, 0.0};
+  const Recording rec = simulate(load_sensor_file("builtin:sensors/open_loop_fog.yaml"), t, 5).recording;
+  const GreyboxEstimate plain = estimate_greybox(make_dataset(rec, greybox_features(o), ModelTarget::error), o, nullptr);
+  LotModel lot;
+  lot.structure = o;
+  lot.coordinates = greybox_coordinates(o);
+  ASSERT_EQ(single_coordinate_terms(lot.coordinates), std::vector<std::string>{"shupe"});
+  const Eigen::Index p = plain.theta.size(), g = p - 1;
+  ASSERT_EQ(lot.coordinates[static_cast<std::size_t>(g)].group, "shupe");
+  // A diagonal lot (no modes): each coordinate's sd 3x the recording's own, its mean 2 of them off; Shupe's 4 off.
+  const Eigen::VectorXd sd = plain.theta_covariance.diagonal().cwiseSqrt();
+  lot.scale = 3.0 * sd, lot.residual_variance = 1.0, lot.modes.resize(p, 0), lot.mode_variance.resize(0);
+  lot.mean = plain.theta + 2.0 * sd;
+  lot.mean(g) = plain.theta(g) - 4.0 * lot.scale(g);
+  const Eigen::VectorXd z = conditional_z(rec, lot);
+  ASSERT_EQ(z.size(), 1);
+
+  Eigen::MatrixXd prior_precision = lot.covariance().inverse();
+  prior_precision(g, g) = 1.0 / (1e6 * lot.covariance()(g, g));
+  const Eigen::MatrixXd data_precision = plain.theta_covariance.inverse();
+  const Eigen::MatrixXd post = (data_precision + prior_precision).inverse();
+  const Eigen::VectorXd m = post * (data_precision * plain.theta + prior_precision * lot.mean);
+  const double expected = (m(g) - lot.mean(g)) / std::sqrt(post(g, g) + lot.covariance()(g, g));
+  EXPECT_NEAR(z(0), expected, 1e-3 * std::abs(expected));
+  EXPECT_GT(z(0), 3.0);  // 4 lot sd's off, seen through the recording's and the lot's spread
 }
 
 // A synthetic lot in the default structure's 76 coordinates: estimation noise sd s (0.05 deg/h on the bias

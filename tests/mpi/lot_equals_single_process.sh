@@ -13,7 +13,7 @@ for u in 1 2 3 4 5 6 7 8 9 10 11; do
   "$gyrosid" --quiet simulate --samples 2000 --seed "$u" --out "$dir/unit$u.csv" > /dev/null
   recordings+=("$dir/unit$u.csv")
 done
-learn=(--quiet lot learn --recordings "${recordings[@]:0:9}")
+learn=(--quiet lot learn --set shupe=true --recordings "${recordings[@]:0:9}")  # Shupe: its conditional test too
 screen=(--quiet lot screen --recording "${recordings[@]:8}")
 "$gyrosid" --threads 1 "${learn[@]}" --out "$dir/single/lot.json" > /dev/null
 "$mpirun" -np 2 "$gyrosid_mpi" "${learn[@]}" --out "$dir/mpi/lot.json" > "$dir/mpi_learn.log" 2>&1 || { cat "$dir/mpi_learn.log"; exit 1; }
