@@ -43,21 +43,6 @@ DecimatedRecording read_gyro(const std::string& path, const std::string& axis, c
   return read;
 }
 
-std::vector<std::string> split_commas(const std::string& text) {
-  std::vector<std::string> out;
-  std::string item;
-  for (char c : text) {
-    if (c == ',') {
-      if (!item.empty()) out.push_back(item);
-      item.clear();
-    } else if (c != ' ') {
-      item += c;
-    }
-  }
-  if (!item.empty()) out.push_back(item);
-  return out;
-}
-
 void run_calibrate(CalibrateOptions o) {
   if (!o.help_for.empty()) {
     std::cout << (o.help_for == "triad" ? triad_help() : model_fitters().find(o.help_for) ? model_help(o.help_for) : solver_help(o.help_for));
@@ -84,7 +69,7 @@ void run_calibrate(CalibrateOptions o) {
   if (o.out.empty()) fail("--out is required (or 'out' in --config)");
   if (!o.model.empty()) request.model = o.model;
   if (!o.solver.empty()) request.solver = o.solver;
-  if (!o.features.empty()) request.features = split_commas(o.features);
+  if (!o.features.empty()) request.features = split_list(o.features);
   if (!o.target.empty()) request.target = parse_enum<ModelTarget>(o.target, "--target");
   if (!o.normalization.empty()) request.normalization = parse_enum<NormalizationKind>(o.normalization, "--normalization");
   for (const auto& kv : o.set) {

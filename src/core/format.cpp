@@ -38,7 +38,10 @@ std::vector<std::string> split_list(const std::string& text, char separator) {
   std::vector<std::string> out;
   for (std::size_t a = 0, b; a <= text.size(); a = b + 1) {
     b = std::min(text.find(separator, a), text.size());
-    if (b > a) out.push_back(text.substr(a, b - a));
+    std::size_t first = a, last = b;  // the item without the blanks around it
+    while (first < last && text[first] == ' ') ++first;
+    while (last > first && text[last - 1] == ' ') --last;
+    if (last > first) out.push_back(text.substr(first, last - first));
   }
   return out;
 }

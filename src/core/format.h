@@ -17,7 +17,8 @@ std::string format_significant(double value, int digits = 4);
 // The items with `separator` between them ("a, b, c").
 std::string join(const std::vector<std::string>& items, std::string_view separator = ", ");
 
-// The non-empty items of `text` between `separator`s ("short,,long" -> {"short", "long"}): join's inverse.
+// The non-empty items of `text` between `separator`s, without the blanks around them ("short,, long" ->
+// {"short", "long"}): join's inverse.
 std::vector<std::string> split_list(const std::string& text, char separator = ',');
 
 // strtod in the C locale whatever the process locale is (recordings, flight CSVs: "numbers in C locale").

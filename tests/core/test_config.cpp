@@ -3,6 +3,7 @@
 
 #include "core/config.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "error_of.h"
 
 namespace gyrosid {
@@ -99,6 +100,15 @@ TEST(Config, ComplexRepeatedAndExplodingKeysAreLocatedErrors) {
   }
   EXPECT_THAT(message(bomb), ::testing::HasSubstr("more than a million nodes"));
   EXPECT_EQ(ConfigNode::parse("a: 1\nb: {c: 2}\n", "ok.yaml").keys(), (std::vector<std::string>{"a", "b"}));
+}
+
+// Lists given on the command line ("--features measured_rate, temperature"): items without the blanks around
+// them, empty items dropped, and join's inverse.
+TEST(Config, ListsSplitIntoTheirTrimmedItems) {
+  EXPECT_EQ(split_list(" measured_rate ,temperature,, accel_x_mps2 "), (std::vector<std::string>{"measured_rate", "temperature", "accel_x_mps2"}));
+  EXPECT_EQ(split_list("short,medium"), split_list(join({"short", "medium"}, ",")));
+  EXPECT_TRUE(split_list(" , ").empty());
+  EXPECT_EQ(split_list("a b;c", ';'), (std::vector<std::string>{"a b", "c"}));
 }
 
 }  // namespace
