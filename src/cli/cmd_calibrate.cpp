@@ -127,6 +127,12 @@ void run_calibrate(CalibrateOptions o) {
     for (const auto& [group, share] : details["data_share"].items()) std::cout << " " << group << " " << format_significant(share.get<double>(), 2);
     std::cout << "\n";
   }
+  if (details.contains("predictive_sigma")) {  // where the prior filled in: the estimate's sd is largest there
+    const nlohmann::json& ps = details["predictive_sigma"];
+    std::cout << "predictive sigma of the estimated error over the surface grid's nodes: rms " << format_significant(ps["rms_dph"].get<double>(), 3)
+              << " deg/h, max " << format_significant(ps["max_dph"].get<double>(), 3) << " deg/h at " << format_number(ps["max_at_temp_c"].get<double>())
+              << " C, " << format_number(ps["max_at_rate_dps"].get<double>()) << " deg/s\n";
+  }
   if (details.contains("physics_note")) std::cout << "physics: " << details["physics_note"].get<std::string>() << "\n";
   if (details.contains("noise_choice")) std::cout << "noise model: " << details["noise_choice"].get<std::string>() << "\n";
   if (details.contains("noise_identification")) {
