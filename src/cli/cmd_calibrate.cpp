@@ -172,7 +172,8 @@ void register_calibrate(CLI::App& app, Action& action) {
                           "model's averaging bias are stated"));
   cmd->add_option("--prior", o->prior,
                   "A lot file (gyrosid lot learn): the greybox model with the lot's structure, fitted as the maximum a posteriori under "
-                  "the lot's population - the recording decides what it determines, the lot the rest; the share of each is printed");
+                  "the lot's population - the recording decides what it determines, the lot the rest; the share of each is printed, and the "
+                  "predictive sigma over the surface grid (the model keeps its posterior: largest where the lot filled in)");
   cmd->add_option("--config", o->config, "YAML with any of: recording, model, solver, features, target, normalization, options, out");
   cmd->add_option("--options-of", o->help_for, "Print the options of a solver or model and exit");
   cmd->add_option("--out", o->out, "Model file to write (JSON)");
