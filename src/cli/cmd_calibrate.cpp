@@ -112,6 +112,12 @@ void run_calibrate(CalibrateOptions o) {
     for (const auto& [group, share] : details["data_share"].items()) std::cout << " " << group << " " << format_significant(share.get<double>(), 2);
     std::cout << "\n";
   }
+  if (details.contains("predictive_sigma")) {  // where the prior filled in: the estimate's sd is largest there
+    const nlohmann::json& ps = details["predictive_sigma"];
+    std::cout << "predictive sigma of the estimated error over the surface grid's nodes: rms " << format_significant(ps["rms_dph"].get<double>(), 3)
+              << " deg/h, max " << format_significant(ps["max_dph"].get<double>(), 3) << " deg/h at " << format_number(ps["max_at_temp_c"].get<double>())
+              << " C, " << format_number(ps["max_at_rate_dps"].get<double>()) << " deg/s\n";
+  }
   if (details.contains("physics_note")) std::cout << "physics: " << details["physics_note"].get<std::string>() << "\n";
   if (details.contains("noise_choice")) std::cout << "noise model: " << details["noise_choice"].get<std::string>() << "\n";
   if (details.contains("noise_identification")) {
@@ -151,7 +157,8 @@ void register_calibrate(CLI::App& app, Action& action) {
                           "model's averaging bias are stated"));
   cmd->add_option("--prior", o->prior,
                   "A lot file (gyrosid lot learn): the greybox model with the lot's structure, fitted as the maximum a posteriori under "
-                  "the lot's population - the recording decides what it determines, the lot the rest; the share of each is printed");
+                  "the lot's population - the recording decides what it determines, the lot the rest; the share of each is printed, and the "
+                  "predictive sigma over the surface grid (the model keeps its posterior: largest where the lot filled in)");
   cmd->add_option("--config", o->config, "YAML with any of: recording, model, solver, features, target, normalization, options, out");
   cmd->add_option("--options-of", o->help_for, "Print the options of a solver or model and exit");
   cmd->add_option("--out", o->out, "Model file to write (JSON)");

@@ -14,6 +14,7 @@
 #include "core/units.h"
 #include "model/greybox_prior.h"
 #include "model/held_inputs.h"
+#include "model/surface_comparison.h"
 #include "model/terms/term_kinds.h"
 
 namespace gyrosid {
@@ -113,8 +114,20 @@ PriorRows prior_rows(const GreyboxPrior& prior, const Eigen::MatrixXd& m, bool l
   return r;
 }
 
+// (S'S)^-1 from the column-pivoted QR S Pi = Q R of a full-rank S = [rows] D^-1 on unit-norm columns:
+// S'S = Pi R'R Pi', so (S'S)^-1 = (Pi R^-1)(Pi R^-1)' (no normal equations), then D^-1 (.) D^-1 for the
+// unscaled coefficients.
+Eigen::MatrixXd inverse_gram(const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr, const Eigen::VectorXd& norm) {
+  const Eigen::Index p = qr.cols();
+  const Eigen::MatrixXd r_inv = qr.matrixR().topLeftCorner(p, p).triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(p, p));
+  const Eigen::MatrixXd root = norm.cwiseInverse().asDiagonal() * (qr.colsPermutation() * r_inv);
+  return root * root.transpose();
+}
+
 // The MAP of the linear part: [a / s; B] c = [y / s; b] by pivoted QR on unit-norm columns. Returns the
-// objective |a c - y|^2 / s^2 + |B c - b|^2; the coefficients into *c, their posterior covariance on request.
+// objective |a c - y|^2 / s^2 + |B c - b|^2; the coefficients into *c and, on request, their posterior
+// covariance (a'a / s^2 + B'B)^-1 from the same factorisation (Bishop, PRML eqs 3.50-3.51, with the prior's
+// rows B = L^-1 M in place of its precision).
 double map_solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& y, double s, const PriorRows& prior, Eigen::VectorXd* c,
                  Eigen::MatrixXd* covariance = nullptr) {
   const Eigen::Index n = a.rows(), p = a.cols(), q = prior.rows.rows();
@@ -125,8 +138,9 @@ double map_solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& y, double s, c
   Eigen::VectorXd rhs(n + q);
   rhs.head(n) = y / s;
   rhs.tail(q) = prior.rhs;
-  *c = Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(stacked).solve(rhs).cwiseQuotient(norm);
-  if (covariance) *covariance = inverse_gram(stacked, norm);
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(stacked);
+  *c = qr.solve(rhs).cwiseQuotient(norm);
+  if (covariance) *covariance = inverse_gram(qr, norm);
   return (a * *c - y).squaredNorm() / (s * s) + (prior.rows * *c - prior.rhs).squaredNorm();
 }
 
@@ -218,7 +232,7 @@ nlohmann::json data_share(const GreyboxOptions& o, const Eigen::MatrixXd& poster
 
 namespace {
 
-GreyboxEstimate estimate(const Dataset& data, const GreyboxOptions& o, const GreyboxPrior* prior, SolveSummary* summary, bool want_covariance) {
+void check_inputs(const Dataset& data, const GreyboxOptions& o, const GreyboxPrior* prior) {
   if (auto p = o.validate(); !p.empty()) fail("greybox model: ", p);
   if (data.features != greybox_features(o)) {
     fail("greybox model: features must be ", join(greybox_features(o)));
@@ -227,6 +241,25 @@ GreyboxEstimate estimate(const Dataset& data, const GreyboxOptions& o, const Gre
   if (prior) {
     if (auto p = prior->validate(o); !p.empty()) fail("greybox model with a prior", prior->source.empty() ? "" : " (" + prior->source + ")", ": ", p);
   }
+}
+
+// theta's covariance M C M' of coefficients with covariance C, the lag's row and column 0.
+Eigen::MatrixXd theta_covariance_of(const Eigen::MatrixXd& m, const Eigen::MatrixXd& covariance, bool lag) {
+  const Eigen::Index q = m.rows(), lag_row = lag ? 1 : 0;
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(q + lag_row, q + lag_row);
+  out.topLeftCorner(q, q) = m * covariance * m.transpose();
+  return out;
+}
+
+// The predictive sigma of a model with a posterior over the nodes of its surface grid (deg/h): what a user
+// reads to see where the prior filled in.
+nlohmann::json predictive_sigma_details(const CalibrationModel& model, const GreyboxOptions& o) {
+  const SigmaMap map = predictive_sigma_map(model, o.surface_temperatures_c, o.surface_rates_dps);
+  return {{"grid", "surface nodes"}, {"rms_dph", map.rms_dph}, {"max_dph", map.max_dph}, {"max_at_temp_c", map.max_temp_c}, {"max_at_rate_dps", map.max_rate_dps}};
+}
+
+GreyboxEstimate estimate(const Dataset& data, const GreyboxOptions& o, const GreyboxPrior* prior, SolveSummary* summary, bool want_covariance) {
+  check_inputs(data, o, prior);
   const Signals s = signals_of(data);
   const TermScaling scaling = TermScaling::of(s);
   const std::vector<Term> terms = greybox_terms(o);
@@ -235,7 +268,7 @@ GreyboxEstimate estimate(const Dataset& data, const GreyboxOptions& o, const Gre
   const auto a_at = [&](double tau) { return design_matrix(terms, s, coil_temperature(s, tau), scaling); };
 
   GreyboxEstimate out;
-  const SolveSummary result = timed_solve(prior ? "greybox (prior)" : "greybox", [&](SolveMonitor& monitor) {
+  SolveSummary result = timed_solve(prior ? "greybox (prior)" : "greybox", [&](SolveMonitor& monitor) {
     // Without a prior: least squares with a ridge. With one: the noise level of that fit at the prior's lag, then the MAP.
     const Eigen::MatrixXd m = prior || want_covariance ? theta_map(o, scaling, p) : Eigen::MatrixXd();
     const PriorRows rows = prior ? prior_rows(*prior, m, o.thermal_lag) : PriorRows{};
@@ -263,12 +296,14 @@ GreyboxEstimate estimate(const Dataset& data, const GreyboxOptions& o, const Gre
     const Eigen::MatrixXd a = a_at(lag.tau_s);
     Eigen::VectorXd c;
     Eigen::MatrixXd covariance;
+    std::optional<GreyboxPosterior> posterior;  // with a prior: the coefficients' at the found lag, noise s
     double rss = 0.0;
     if (prior) {
       const double cost = map_solve(a, data.target, sd, rows, &c, &covariance);
       rss = (a * c - data.target).squaredNorm();
       if (!o.thermal_lag) monitor.iteration(0.5 * cost), monitor.evaluation();
       lag.outcome.message = "maximum a posteriori under the prior " + prior->source + ": linear least squares by column-pivoted QR";
+      if (c.allFinite()) posterior = GreyboxPosterior{scaling, terms, c, WeightPosterior::of_covariance(covariance, sd)};
     } else {
       c = ridge_solve(a, data.target, o.ridge, &rss, want_covariance ? &covariance : nullptr);
       sd = sd_of(rss);
@@ -276,18 +311,14 @@ GreyboxEstimate estimate(const Dataset& data, const GreyboxOptions& o, const Gre
       if (!o.thermal_lag) monitor.iteration(0.5 * rss), monitor.evaluation();
     }
     if (!c.allFinite()) lag.outcome = {Termination::failed, "the linear solve gave non-finite coefficients", {}};
-    out.model = std::make_unique<GreyboxModel>(data.features, error_model_of(o, scaling, c), lag.tau_s);
+    out.model = std::make_unique<GreyboxModel>(data.features, error_model_of(o, scaling, c), lag.tau_s, std::move(posterior));
     out.residual_sd_radps = sd;
     lag.outcome.details = {{"samples", data.size()},
                            {"parameters", p + (o.thermal_lag ? 1 : 0)},
                            {"rms_residual_dph", units::radps_to_dph(std::sqrt(rss / static_cast<double>(data.size())))},
                            {"lag_tau_s", lag.tau_s},
                            {"lag_evaluations", o.thermal_lag ? lag.evaluations : 0}};
-    if (covariance.size() > 0) {  // theta's: M C M', the lag's row and column 0
-      const Eigen::Index q = m.rows(), lag_row = o.thermal_lag ? 1 : 0;
-      out.theta_covariance = Eigen::MatrixXd::Zero(q + lag_row, q + lag_row);
-      out.theta_covariance.topLeftCorner(q, q) = m * covariance * m.transpose();
-    }
+    if (covariance.size() > 0) out.theta_covariance = theta_covariance_of(m, covariance, o.thermal_lag);
     if (prior) {
       lag.outcome.details["prior"] = prior->source;
       lag.outcome.details["data_share"] = data_share(o, out.theta_covariance, *prior);
@@ -295,6 +326,7 @@ GreyboxEstimate estimate(const Dataset& data, const GreyboxOptions& o, const Gre
     if (const HeldInputs held = held_inputs(s.rate, s.temp_c); held.temperature || held.rate) lag.outcome.details["physics_note"] = held.ridge_note();
     return lag.outcome;
   });
+  if (out.model->posterior()) result.details["predictive_sigma"] = predictive_sigma_details(*out.model, o);
   if (want_covariance) out.theta = greybox_theta(out.model->errors(), out.model->lag_tau_s(), o);
   if (summary) *summary = result;
   return out;

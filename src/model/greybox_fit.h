@@ -71,7 +71,10 @@ struct GreyboxEstimate {
 // recording's noise as white (coloured noise makes it trust the data more than it should, never less).
 // Where the recording determines a coordinate the data win; where it does not, the prior fills in. The
 // summary adds data_share per group: 1 - (posterior variance / prior variance), averaged over the group's
-// coordinates (1: the recording alone, 0: the prior alone). Without a prior: fit_greybox's solve.
+// coordinates (1: the recording alone, 0: the prior alone). The model carries the posterior of its
+// coefficients at the found lag (GreyboxPosterior: covariance (S'S)^-1 from the same QR's R factor, noise s),
+// so predict_with_sigma works for it, and the summary adds predictive_sigma: its rms and maximum (deg/h) over
+// the surface grid's nodes and where the maximum is. Without a prior: fit_greybox's solve, no posterior.
 GreyboxEstimate estimate_greybox(const Dataset& data, const GreyboxOptions& options, const GreyboxPrior* prior,
                                  SolveSummary* summary = nullptr);
 

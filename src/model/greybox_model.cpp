@@ -5,14 +5,21 @@
 
 namespace gyrosid {
 
-GreyboxModel::GreyboxModel(std::vector<std::string> features, GyroErrorModel errors, double lag_tau_s)
-    : CalibrationModel(std::move(features), ModelTarget::error), errors_(std::move(errors)), lag_tau_s_(lag_tau_s) {
+GreyboxModel::GreyboxModel(std::vector<std::string> features, GyroErrorModel errors, double lag_tau_s, std::optional<GreyboxPosterior> posterior)
+    : CalibrationModel(std::move(features), ModelTarget::error), errors_(std::move(errors)), lag_tau_s_(lag_tau_s), posterior_(std::move(posterior)) {
   for (std::size_t i = 0; i < features_.size(); ++i) {
     if (features_[i] == "accel_x_mps2") accel_index_ = static_cast<int>(i);
     if (features_[i] == "temperature_rate") temp_rate_index_ = static_cast<int>(i);
   }
   if (features_.size() < 2 || features_[0] != "measured_rate" || features_[1] != "temperature") {
     fail("greybox model: the first features must be measured_rate, temperature");
+  }
+  if (posterior_) {
+    const Eigen::Index cols = total_columns(posterior_->terms);
+    if (posterior_->coefficients.size() != cols || posterior_->weights.size() != cols) {
+      fail("greybox model: the posterior has ", posterior_->coefficients.size(), " coefficients and ", posterior_->weights.size(),
+           " weights for ", cols, " term columns");
+    }
   }
 }
 
@@ -42,6 +49,25 @@ Eigen::VectorXd GreyboxModel::predict(const Dataset& data) const {
     out(i) = row[0] - errors_.inverse(row[0], environment(row.data(), coil.temp_c(i), coil.rate_c_per_s(i)));
   }
   return out;
+}
+
+Eigen::MatrixXd GreyboxModel::regressors(const Eigen::MatrixXd& x) const {
+  if (!posterior_) return CalibrationModel::regressors(x);
+  if (x.cols() != static_cast<Eigen::Index>(features_.size())) fail("greybox model: ", x.cols(), " input columns for ", features_.size(), " features");
+  // One steady-state sample per row: coil = probe, its rate the temperature_rate input (else 0), the true rate
+  // by the inversion predict(x) uses - so that predict(x_i) = h(x_i)' c to round-off.
+  Signals s;
+  s.t_s.assign(static_cast<std::size_t>(x.rows()), 0.0);
+  s.temp_c = x.col(1);
+  s.rate.resize(x.rows());
+  CoilTemperature coil{x.col(1), temp_rate_index_ >= 0 ? Eigen::VectorXd(x.col(temp_rate_index_)) : Eigen::VectorXd::Zero(x.rows())};
+  std::vector<double> row(static_cast<std::size_t>(x.cols()));
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    for (Eigen::Index k = 0; k < x.cols(); ++k) row[static_cast<std::size_t>(k)] = x(i, k);
+    s.rate(i) = errors_.inverse(row[0], environment(row.data(), row[1], coil.rate_c_per_s(i)));
+  }
+  for (std::size_t f = 2; f < features_.size(); ++f) s.channels[features_[f]] = x.col(static_cast<Eigen::Index>(f));
+  return design_matrix(posterior_->terms, s, coil, posterior_->scaling);
 }
 
 }  // namespace gyrosid

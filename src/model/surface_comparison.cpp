@@ -34,6 +34,25 @@ SurfaceStats surface_stats(const Eigen::MatrixXd& diff) {
   return s;
 }
 
+namespace {
+
+// A model's inputs in steady state at measured rate wm and temperature T: temperature rate 0, specific force
+// 1 g along the input axis.
+void steady_inputs(const CalibrationModel& model, double wm, double temp_c, double* x) {
+  const double gravity = earth::normal_gravity(0.0);
+  for (std::size_t k = 0; k < model.features().size(); ++k) {
+    const std::string& f = model.features()[k];
+    if (f == "measured_rate") x[k] = wm;
+    else if (f == "temperature") x[k] = temp_c;
+    else if (f == "temperature_rate") x[k] = 0.0;
+    else if (f == "accel_x_mps2" || f == "accel_y_mps2") x[k] = 0.0;
+    else if (f == "accel_z_mps2") x[k] = gravity;
+    else fail("surface comparison: no steady-state value for model input '", f, "'");
+  }
+}
+
+}  // namespace
+
 SurfaceComparison compare_surfaces(const CalibrationModel& model, const GyroSensor& truth, const SurfaceGridSpec& g) {
   if (auto p = g.validate(); !p.empty()) fail("surface grid: ", p);
   SurfaceComparison c;
@@ -51,15 +70,7 @@ SurfaceComparison compare_surfaces(const CalibrationModel& model, const GyroSens
       env.f_s = Eigen::Vector3d(0, 0, gravity);
       const double w = units::dps_to_radps(c.rates_dps[static_cast<std::size_t>(j)]);
       const double wm = truth.errors.forward(w, env);
-      for (std::size_t k = 0; k < x.size(); ++k) {
-        const std::string& f = model.features()[k];
-        if (f == "measured_rate") x[k] = wm;
-        else if (f == "temperature") x[k] = env.temp_c;
-        else if (f == "temperature_rate") x[k] = 0.0;
-        else if (f == "accel_x_mps2" || f == "accel_y_mps2") x[k] = 0.0;
-        else if (f == "accel_z_mps2") x[k] = gravity;
-        else fail("surface comparison: no steady-state value for model input '", f, "'");
-      }
+      steady_inputs(model, wm, env.temp_c, x.data());
       for (std::size_t k = 0; k < x.size(); ++k) inputs(i * g.rate_points + j, static_cast<Eigen::Index>(k)) = x[k];
       const double p = model.predict(x.data());
       const double estimated_error = model.target() == ModelTarget::error ? p : wm - p;
@@ -82,6 +93,28 @@ SurfaceComparison compare_surfaces(const CalibrationModel& model, const GyroSens
     c.sigma_stats.coverage_95 = static_cast<double>(inside) / static_cast<double>(c.sigma_dph.size());
   }
   return c;
+}
+
+SigmaMap predictive_sigma_map(const CalibrationModel& model, std::vector<double> temps_c, std::vector<double> rates_dps) {
+  SigmaMap m;
+  m.temps_c = std::move(temps_c), m.rates_dps = std::move(rates_dps);
+  const auto nt = static_cast<Eigen::Index>(m.temps_c.size()), nw = static_cast<Eigen::Index>(m.rates_dps.size());
+  if (nt == 0 || nw == 0) fail("predictive sigma map: the grid is empty");
+  Eigen::MatrixXd inputs(nt * nw, static_cast<Eigen::Index>(model.features().size()));  // row i * nw + j
+  std::vector<double> x(model.features().size());
+  for (Eigen::Index i = 0; i < nt; ++i) {
+    for (Eigen::Index j = 0; j < nw; ++j) {
+      steady_inputs(model, units::dps_to_radps(m.rates_dps[static_cast<std::size_t>(j)]), m.temps_c[static_cast<std::size_t>(i)], x.data());
+      for (std::size_t k = 0; k < x.size(); ++k) inputs(i * nw + j, static_cast<Eigen::Index>(k)) = x[k];
+    }
+  }
+  const Eigen::VectorXd sigma = model.predict_with_sigma(inputs).sigma;
+  m.sigma_dph = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(sigma.data(), nt, nw).unaryExpr([](double v) { return units::radps_to_dph(v); });
+  Eigen::Index at_t = 0, at_w = 0;
+  m.max_dph = m.sigma_dph.maxCoeff(&at_t, &at_w);
+  m.max_temp_c = m.temps_c[static_cast<std::size_t>(at_t)], m.max_rate_dps = m.rates_dps[static_cast<std::size_t>(at_w)];
+  m.rms_dph = std::sqrt(m.sigma_dph.squaredNorm() / static_cast<double>(m.sigma_dph.size()));
+  return m;
 }
 
 SurfaceGridSpec comparison_grid(const GyroSensor& truth, const std::vector<nlohmann::json>& trainings) {

@@ -43,6 +43,16 @@ struct SurfaceComparison {
 };
 
 SurfaceComparison compare_surfaces(const CalibrationModel& model, const GyroSensor& truth, const SurfaceGridSpec& grid);
+
+// The predictive sigma of a model with a posterior on a (T, omega) grid without a truth: the measured rate
+// is the grid's rate, the other inputs as compare_surfaces sets them. Where it is largest is where the
+// training data (or a prior) said least. Error for a model without a posterior.
+struct SigmaMap {
+  std::vector<double> temps_c, rates_dps;
+  Eigen::MatrixXd sigma_dph;  // temps x rates
+  double rms_dph = 0, max_dph = 0, max_temp_c = 0, max_rate_dps = 0;
+};
+SigmaMap predictive_sigma_map(const CalibrationModel& model, std::vector<double> temps_c, std::vector<double> rates_dps);
 SurfaceStats surface_stats(const Eigen::MatrixXd& difference_dph);
 
 // The (T, omega) grid on which to compare models with the truth: the sensor's surface grid, narrowed to

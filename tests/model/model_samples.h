@@ -59,6 +59,34 @@ inline std::unique_ptr<CalibrationModel> sample_greybox() {
   return std::make_unique<GreyboxModel>(default_features(), e, 0.0);
 }
 
+// A greybox model as a fit under a lot prior leaves it (greybox_fit.h): the coefficients of its physics terms
+// written into the error model by hand (the bias polynomial's powers of dT / t_scale, the surface's node
+// values, Shupe, asymmetry as a/2 of |w|), with a posterior over them.
+inline std::unique_ptr<CalibrationModel> sample_greybox_posterior() {
+  const std::vector<double> temps{-20, 0, 20, 40, 60}, rates_dps{-100, -40, -10, 10, 40, 100};
+  std::vector<Term> terms{bias_term(), temperature_polynomial({1, 2, 3}), scale_factor_surface(temps, rates_dps), shupe_term(), asymmetry_term()};
+  TermScaling scaling;
+  scaling.t_ref_c = 20.0, scaling.t_scale_c = 40.0, scaling.rate_scale_radps = 1.7;
+  RandomStream r(9, "greybox posterior");
+  Eigen::VectorXd c(4 + 30 + 2);
+  c.head(4) << units::dph_to_radps(-15.0), units::dph_to_radps(4.0), units::dph_to_radps(-1.5), units::dph_to_radps(0.6);
+  for (Eigen::Index i = 4; i < 34; ++i) c(i) = 2e-4 * r.normal();
+  c(34) = units::dph_to_radps(2.0) * 60.0, c(35) = 1.5e-4;
+  GyroErrorModel e;
+  e.bias_temperature_radps = {{c(0), c(1) / 40.0, c(2) / 1600.0, c(3) / 64000.0}, 20.0};
+  std::vector<double> rates;
+  for (double w : rates_dps) rates.push_back(units::dps_to_radps(w));
+  e.scale_factor_surface = SplineSurface(temps, rates, Eigen::Map<const Eigen::Matrix<double, 5, 6, Eigen::RowMajor>>(c.data() + 4), OutsideGridPolicy::clamp);
+  e.shupe_rad_per_c = c(34), e.scale_factor_asymmetry = 2.0 * c(35);
+  Eigen::MatrixXd l = Eigen::MatrixXd::Zero(36, 36);
+  for (Eigen::Index i = 0; i < 36; ++i)
+    for (Eigen::Index k = 0; k <= i; ++k) l(i, k) = (i == k ? 1.0 : 0.2 * r.normal()) * 0.05 * std::abs(c(i));
+  WeightPosterior posterior;
+  posterior.root = l;
+  posterior.noise_sigma_radps = units::dph_to_radps(10.0);
+  return std::make_unique<GreyboxModel>(default_features(), e, 0.0, GreyboxPosterior{scaling, terms, c, std::move(posterior)});
+}
+
 inline std::unique_ptr<CalibrationModel> sample_explained() {
   std::vector<Term> terms{bias_term(), temperature_polynomial({1, 2}), asymmetry_term(),
                           scale_factor_polynomial({{0, 0}, {1, 0}, {0, 2}}),
@@ -108,7 +136,7 @@ inline std::unique_ptr<CalibrationModel> sample_relative_rbf() {
 
 // Samples of options a kind's plain sample does not use, run through the same suite: name -> kind.
 inline const std::map<std::string, std::string>& sample_variants() {
-  static const std::map<std::string, std::string> variants{{"rbf_relative", "rbf"}};
+  static const std::map<std::string, std::string> variants{{"rbf_relative", "rbf"}, {"greybox_posterior", "greybox"}};
   return variants;
 }
 
@@ -116,7 +144,8 @@ inline const std::map<std::string, std::string>& sample_variants() {
 inline const std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>>& model_samples() {
   static const std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>> samples{
       {"rbf", sample_rbf}, {"classical", sample_classical}, {"greybox", sample_greybox}, {"explained", sample_explained},
-      {"hybrid", sample_hybrid}, {"rbf_relative", sample_relative_rbf}};
+      {"hybrid", sample_hybrid}, {"rbf_relative", sample_relative_rbf},
+      {"greybox_posterior", sample_greybox_posterior}};
   return samples;
 }
 
