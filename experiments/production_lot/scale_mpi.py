@@ -23,8 +23,8 @@ the median over --repeats runs; peak RSS per process from /usr/bin/time -v (one 
 Parts:
   layouts  `lot learn --recordings <N dual> --set shupe=true` and `lot screen` of the N short recordings against
            the 1p2t lot, per layout; cmp of lot.json, screens.csv and every screen.json across layouts.
-  resume   mpi2 `lot learn` on --resume-units dual scans: uninterrupted, then a run SIGKILLed (mpirun's process
-           group) at two seeded random moments and continued with --resume; cmp with the uninterrupted lot.json.
+  resume   mpi2 `lot learn` on --resume-units dual scans: uninterrupted, then a run SIGKILLed (mpirun and
+           every rank) at two seeded random moments and continued with --resume; cmp with the uninterrupted lot.json.
   pipeline learn (50 training units' dual scans) + `calibrate --prior` of every unit's short recording (one process
            per unit, two at a time) + batch `lot screen` of all of them: 1p2t, and mpi2 for learn and screen.
   memory   `lot learn` (1p2t) on the first N short recordings for N in --memory-sizes; peak RSS and wall.
@@ -224,10 +224,37 @@ def run_killable(a, argv, timefile, kill_after):
             raise RuntimeError("failed (%d): %s" % (p.returncode, " ".join(cmd[:14])))
         return time.perf_counter() - start, False
     except subprocess.TimeoutExpired:
-        os.killpg(p.pid, signal.SIGKILL)
+        tree = descendants(p.pid)  # mpirun puts each rank in a process group of its own: kill the whole tree
+        for pid in [p.pid] + tree:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
         p.wait()
-        time.sleep(1.0)  # the ranks (same process group) are reaped by init
+        while any(alive(pid) for pid in tree):
+            time.sleep(0.2)
         return time.perf_counter() - start, True
+
+
+def descendants(pid):
+    """Every process below pid (/proc/<pid>/task/*/children)."""
+    out = []
+    for task in os.listdir("/proc/%d/task" % pid) if os.path.exists("/proc/%d/task" % pid) else []:
+        try:
+            children = open("/proc/%d/task/%s/children" % (pid, task)).read().split()
+        except OSError:
+            continue
+        for c in map(int, children):
+            out += [c] + descendants(c)
+    return out
+
+
+def alive(pid):
+    """pid exists and is not a zombie."""
+    try:
+        return open("/proc/%d/stat" % pid).read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
 
 
 def resume_part(a):
@@ -281,7 +308,7 @@ def pipeline_part(a):
     res = {}
     n = a.units
     shorts = recordings(a, n, "short")
-    for lay in ("1p2t", "mpi2"):
+    for lay in a.pipeline_layouts.split(","):
         base = os.path.join(a.work, "pipeline%d" % n, lay)
         stamp = os.path.join(base, "run.json")
         if load(stamp):
@@ -345,7 +372,7 @@ def write_results(a, summary):
     if res:
         lines += ["## Killed and resumed (`mpirun -np 2 gyrosid-mpi lot learn`, %d units' dual scans)" % res["units"], "",
                   "Uninterrupted: %.1f s. " % res["uninterrupted_s"] + "; ".join(
-                      "kill %d (SIGKILL to mpirun's process group) after %.1f s: %d units in the checkpoint" % (k + 1, x["kill_after_s"], x["units_in_checkpoint"])
+                      "kill %d (SIGKILL to mpirun and every rank) after %.1f s: %d units in the checkpoint" % (k + 1, x["kill_after_s"], x["units_in_checkpoint"])
                       for k, x in enumerate(res["kills"])) + ". The last `--resume`: %.1f s. lot.json identical to the uninterrupted run's: **%s**; checkpoint removed: %s." % (
                       res["final_resume_s"], "yes" if res["identical"] else "no", "no" if res["checkpoint_left"] else "yes"), ""]
     pipe = summary.get("pipeline")
@@ -387,6 +414,7 @@ def main():
     ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--resume-units", type=int, default=300)
     ap.add_argument("--memory-sizes", default="1000,2000,10000")
+    ap.add_argument("--pipeline-layouts", default="1p2t,mpi2")
     ap.add_argument("--results", default=os.path.join(HERE, "results"))
     a = ap.parse_args()
     a.bin, a.work = os.path.abspath(a.bin), os.path.abspath(a.work)
