@@ -57,13 +57,17 @@ TRAIN = 50  # run.py's training units
 class Cpu:
     """flock(2) on the shared lock file: the same lock as flock(1) on the command line."""
 
+    enabled = True  # --no-lock: for a part whose times are not the result (the kill/resume check)
+
     def __enter__(self):
         self.f = open(LOCK, "a")
-        fcntl.flock(self.f, fcntl.LOCK_EX)
+        if Cpu.enabled:
+            fcntl.flock(self.f, fcntl.LOCK_EX)
         return self
 
     def __exit__(self, *exc):
-        fcntl.flock(self.f, fcntl.LOCK_UN)
+        if Cpu.enabled:
+            fcntl.flock(self.f, fcntl.LOCK_UN)
         self.f.close()
 
 
@@ -212,7 +216,7 @@ def layouts_part(a):
 
 
 def run_killable(a, argv, timefile, kill_after):
-    """mpi2 `argv` in its own process group; SIGKILL to the group after kill_after s (None: to the end).
+    """mpi2 `argv`; SIGKILL to mpirun and every process below it after kill_after s (None: to the end).
     Returns (seconds, killed)."""
     cmd = command(a, "mpi2", argv, timefile)
     env = dict(os.environ, GYROSID_QUIET="1", **MPI_ENV)
@@ -264,7 +268,8 @@ def resume_part(a):
         return load(stamp)
     argv = ["lot", "learn", "--recordings"] + recordings(a, a.resume_units, "dual") + GREYBOX
     ref = os.path.join(base, "uninterrupted")
-    os.makedirs(ref, exist_ok=True)
+    subprocess.run(["rm", "-rf", ref], check=True)
+    os.makedirs(ref)
     with Cpu():
         full_s, _ = run_killable(a, argv + ["--out", ref + "/lot.json"], ref + "/time", None)
         rng = random.Random(33)
@@ -273,8 +278,9 @@ def resume_part(a):
         os.makedirs(out)
         checkpoint = os.path.join(out, ".lot.json_checkpoint.json")
         kills = []
+        saved = 0
         for k in range(2):
-            at = rng.uniform(0.1, 0.8) * full_s
+            at = rng.uniform(0.1, 0.8) * full_s * (1.0 - saved / a.resume_units)  # a random moment of the work left
             seconds, killed = run_killable(a, argv + ["--out", out + "/lot.json"] + (["--resume"] if k else []), out + "/time", at)
             saved = len(json.load(open(checkpoint))["series"].get("units", [])) // (2 * 77 + 2) if os.path.exists(checkpoint) else 0
             kills.append({"kill_after_s": at, "killed": killed, "units_in_checkpoint": saved})
@@ -372,7 +378,8 @@ def write_results(a, summary):
     if res:
         lines += ["## Killed and resumed (`mpirun -np 2 gyrosid-mpi lot learn`, %d units' dual scans)" % res["units"], "",
                   "Uninterrupted: %.1f s. " % res["uninterrupted_s"] + "; ".join(
-                      "kill %d (SIGKILL to mpirun and every rank) after %.1f s: %d units in the checkpoint" % (k + 1, x["kill_after_s"], x["units_in_checkpoint"])
+                      "kill %d (SIGKILL to mpirun and every rank) after %.1f s: %s" % (
+                          k + 1, x["kill_after_s"], "%d units in the checkpoint" % x["units_in_checkpoint"] if x["killed"] else "the run had finished (no kill)")
                       for k, x in enumerate(res["kills"])) + ". The last `--resume`: %.1f s. lot.json identical to the uninterrupted run's: **%s**; checkpoint removed: %s." % (
                       res["final_resume_s"], "yes" if res["identical"] else "no", "no" if res["checkpoint_left"] else "yes"), ""]
     pipe = summary.get("pipeline")
@@ -415,9 +422,11 @@ def main():
     ap.add_argument("--resume-units", type=int, default=300)
     ap.add_argument("--memory-sizes", default="1000,2000,10000")
     ap.add_argument("--pipeline-layouts", default="1p2t,mpi2")
+    ap.add_argument("--no-lock", action="store_true", help="run without the CPU lock (times then not comparable)")
     ap.add_argument("--results", default=os.path.join(HERE, "results"))
     a = ap.parse_args()
     a.bin, a.work = os.path.abspath(a.bin), os.path.abspath(a.work)
+    Cpu.enabled = not a.no_lock
     summary = load(os.path.join(a.results, "scale_mpi.json"), {})
     md5 = subprocess.run(["md5sum", os.path.join(a.bin, "gyrosid"), os.path.join(a.bin, "gyrosid-mpi")], capture_output=True, text=True).stdout.split()
     summary["binaries_md5"] = "%s / %s" % (md5[0][:8], md5[2][:8])
