@@ -172,13 +172,12 @@ void run_screen(const LotScreenCommand& c) {
   std::vector<std::string> inputs = c.recordings;
   inputs.push_back(c.prior);
   Checkpoint checkpoint = lot_checkpoint(*c.command, c.out, true, inputs, c.resume);
-  const std::vector<LotUnit> units = calibrate_units(c.recordings, lot.structure, "lot screen: calibrating the units with the lot's structure", &checkpoint);
-  std::vector<Eigen::VectorXd> conditional;
-  if (!lot.conditional_terms.empty()) conditional = conditional_scores(c.recordings, lot, "lot screen: the conditional tests", &checkpoint);
+  const std::vector<LotUnit> units = calibrate_units(c.recordings, lot.structure, "lot screen: calibrating the units with the lot's structure", &checkpoint,
+                                                     "units", lot.conditional_terms.empty() ? nullptr : &lot);
   std::string table = "recording,out_of_family,p_value,p_physics,p_noise,white_dph_at_1hz,first_reason\n";
   int flagged = 0;
   for (std::size_t k = 0; k < units.size(); ++k) {
-    const ScreenResult r = screen_unit(lot, units[k], {c.alpha}, conditional.empty() ? nullptr : &conditional[k]);
+    const ScreenResult r = screen_unit(lot, units[k], {c.alpha});
     nlohmann::json j = r.to_json();
     j["recording"] = c.recordings[k];
     j["prior"] = c.prior;

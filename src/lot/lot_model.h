@@ -56,6 +56,7 @@ struct LotUnit {
                                      // screening use the same form
   double white_dph_at_1hz = 0.0;     // 0 when unknown
   double recording_min = 0.0;        // the recording's length; 0 when unknown
+  Eigen::VectorXd conditional_z;     // against the lot it is screened with (lot_unit.h); empty when not scored
 };
 
 struct LotOptions {

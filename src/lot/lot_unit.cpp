@@ -41,10 +41,6 @@ LotUnit read_row(const double* row, Eigen::Index p, const std::string& name) {
   return {name, Eigen::Map<const Eigen::VectorXd>(row, p), Eigen::Map<const Eigen::VectorXd>(row + p, p), row[2 * p], row[2 * p + 1]};
 }
 
-}  // namespace
-
-namespace {
-
 // Rows of `width` numbers, one per path, in index order: in batches over core/distributed.h (threads or MPI
 // processes), each finished batch saved to the checkpoint's `series` and, on resume, taken from it. fill(k, row)
 // may throw: the row is then NaN on the process that computed it, and every process names the failure by
@@ -93,15 +89,22 @@ std::vector<double> batched_rows(const std::vector<std::string>& paths, int widt
 }  // namespace
 
 std::vector<LotUnit> calibrate_units(const std::vector<std::string>& paths, const GreyboxOptions& structure, const std::string& label,
-                                     Checkpoint* checkpoint, const std::string& series) {
+                                     Checkpoint* checkpoint, const std::string& series, const LotModel* scored_against) {
   const auto p = static_cast<Eigen::Index>(greybox_coordinates(structure).size());
-  const std::size_t width = static_cast<std::size_t>(2 * p + 2);
+  const auto scores = static_cast<Eigen::Index>(scored_against ? single_coordinate_terms(scored_against->coordinates).size() : 0);
+  const auto width = static_cast<std::size_t>(2 * p + 2 + scores);
   const std::vector<double> rows = batched_rows(paths, static_cast<int>(width), label, checkpoint, series, [&](std::size_t k, double* row) {
-    write_row(calibrate_unit(read_recording(paths[k]), paths[k], structure), p, row);
+    const Recording recording = read_recording(paths[k]);  // read once for both
+    write_row(calibrate_unit(recording, paths[k], structure), p, row);
+    if (scores > 0) Eigen::Map<Eigen::VectorXd>(row + 2 * p + 2, scores) = conditional_z(recording, *scored_against);
   });
   std::vector<LotUnit> units;
   units.reserve(paths.size());
-  for (std::size_t k = 0; k < paths.size(); ++k) units.push_back(read_row(rows.data() + k * width, p, paths[k]));
+  for (std::size_t k = 0; k < paths.size(); ++k) {
+    const double* row = rows.data() + k * width;
+    units.push_back(read_row(row, p, paths[k]));
+    if (scores > 0) units.back().conditional_z = Eigen::Map<const Eigen::VectorXd>(row + 2 * p + 2, scores);
+  }
   return units;
 }
 

@@ -24,9 +24,11 @@ LotUnit calibrate_unit(const Recording& recording, const std::string& name, cons
 // this process's threads, or `gyrosid-mpi`'s processes, each unit computed from its own recording alone, so
 // the units do not depend on how many threads or processes computed them. With an enabled checkpoint each
 // finished batch is saved under `series`, and a resumed run takes the saved units and computes the rest.
-// Error naming the recording of the first unit that fails.
+// Error naming the recording of the first unit that fails. With `scored_against` (a lot whose structure is
+// `structure`), each unit's conditional_z against it is computed in the same pass over its recording.
 std::vector<LotUnit> calibrate_units(const std::vector<std::string>& paths, const GreyboxOptions& structure, const std::string& label,
-                                     Checkpoint* checkpoint = nullptr, const std::string& series = "units");
+                                     Checkpoint* checkpoint = nullptr, const std::string& series = "units",
+                                     const LotModel* scored_against = nullptr);
 
 // The conditional scores of lot_model.h, one per single_coordinate_terms(lot.coordinates): the recording refitted
 // with the lot's prior freed on each such term in turn.

@@ -38,7 +38,7 @@ std::string ScreenOptions::validate() const {
   return "";
 }
 
-ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenOptions& o, const Eigen::VectorXd* conditional_z) {
+ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenOptions& o) {
   if (auto p = o.validate(); !p.empty()) fail("lot screen: ", p);
   const auto p = static_cast<Eigen::Index>(lot.coordinates.size());
   if (unit.theta.size() != p) fail("lot screen: unit '", unit.name, "' has ", unit.theta.size(), " coordinates where the lot has ", p);
@@ -57,13 +57,14 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
     p_test.push_back(lot.nulls[k].p_value(d2[k]));
     out.tests[lot.tests[k]] = {{"distance2", d2[k]}, {"p_value", p_test.back()}};
   }
-  const bool conditional = conditional_z && !lot.conditional_terms.empty();
-  if (conditional && conditional_z->size() != static_cast<Eigen::Index>(lot.conditional_terms.size())) {
-    fail("lot screen: unit '", unit.name, "' has ", conditional_z->size(), " conditional scores where the lot has ", lot.conditional_terms.size(), " tests");
+  const Eigen::VectorXd& conditional_z = unit.conditional_z;
+  const bool conditional = conditional_z.size() > 0 && !lot.conditional_terms.empty();
+  if (conditional && conditional_z.size() != static_cast<Eigen::Index>(lot.conditional_terms.size())) {
+    fail("lot screen: unit '", unit.name, "' has ", conditional_z.size(), " conditional scores where the lot has ", lot.conditional_terms.size(), " tests");
   }
   const std::size_t conditional_tests = conditional ? lot.conditional_terms.size() : 0;
   for (std::size_t k = 0; k < conditional_tests; ++k) {
-    const double z = (*conditional_z)(static_cast<Eigen::Index>(k));
+    const double z = conditional_z(static_cast<Eigen::Index>(k));
     p_test.push_back(lot.conditional_nulls[k].p_value(z * z));
     out.tests[lot.conditional_terms[k] + " given the rest"] = {{"z", z}, {"p_value", p_test.back()}};
   }
@@ -116,7 +117,7 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
       const double p_k = p_test[d2.size() + k];
       if (2.0 * tests * p_k >= o.alpha) continue;
       out.reasons.push_back(str_cat(lot.conditional_terms[k], " given the rest of the lot: p = ", format_significant(p_k, 3), " (z = ",
-                                    format_significant((*conditional_z)(static_cast<Eigen::Index>(k)), 3), " of the lot's spread and the recording's)"));
+                                    format_significant(conditional_z(static_cast<Eigen::Index>(k)), 3), " of the lot's spread and the recording's)"));
     }
     if (out.reasons.empty()) {  // the regions holding a fifth of the distance, at least the largest
       for (const auto& [minus, region] : ranked) {

@@ -42,7 +42,7 @@ struct ScreenResult {
   nlohmann::json to_json() const;
 };
 
-// `conditional_z` (optional): the unit's conditional scores (lot_unit.h), tested when the lot has their nulls.
-ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenOptions& options = {}, const Eigen::VectorXd* conditional_z = nullptr);
+// The unit's conditional scores (unit.conditional_z), when it has them, are tested where the lot has their nulls.
+ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenOptions& options = {});
 
 }  // namespace gyrosid
