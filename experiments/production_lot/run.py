@@ -17,6 +17,10 @@ independently written family); every unit's config, recordings, models and crite
            units), `lot learn` on the training units' dual scans, `lot screen` of every unit's 15-min recording.
   scale    family A, --scale-units units from nothing: simulate, learn, calibrate with the prior and screen every
            unit, timed (one process); peak memory of `lot learn` at 50 units and on all units' dual scans.
+  design   per family, the lot of seed 1: `design --prior lot.json --model greybox` at --design-budgets (the calibration
+           fits with the lot's prior) and `design --evaluate` of the dual scan and the 15-min programme with and without
+           it: the predicted criteria of fit. `prior --short-programme <work>/<family>/lot1/design15/trajectory.yaml
+           --families <family> --results <dir>` then measures a design on held-out units.
 
 Writes results/summary.json and results/summary.md (the parts run so far).
 """
@@ -363,6 +367,69 @@ def scale_part(ex):
 
 
 # ---------------------------------------------------------------------------------------------------------
+# Part 4: design with the lot prior
+
+
+def predicted_cof(path, key=None):
+    """{flight: predicted criterion of fit, m} from a design.json (key None: the design) or an evaluation.json."""
+    j = gx.load_json(path)
+    p = j["predicted"] if key is None else j["trajectories"][key]
+    return {f: p["flights"][f]["cof_m"] for f in FLIGHTS}
+
+
+def design_part(ex):
+    """Per family, the lot of seed 1 (its 50 training units): `design --prior lot.json --model greybox` at each budget
+    (the calibration fits with the lot's prior), and `design --evaluate` of the dual scan and short_15min.yaml for
+    the lot's mean unit with and without the prior. Predicted ratios dual scan (own data) / programme (lot prior)."""
+    a = ex.args
+    out = {}
+    for family in a.families.split(","):
+        lot = Lot(ex, family, 1)
+        prior = lot.learn(range(a.train))
+        fam = {"lot": os.path.relpath(prior, ex.work), "designs": {}, "evaluated": {}}
+        for without in (False, True):
+            d = os.path.join(lot.dir, "evaluate" + ("_own_data" if without else "_lot_prior"))
+            ex.run(["design", "--evaluate", PROGRAMMES["dual"], PROGRAMMES["short"], "--prior", prior, "--model", "greybox"]
+                   + (["--without-lot-prior"] if without else []) + ["--out", d], os.path.join(d, "evaluation.json"))
+            for name, path in (("dual", PROGRAMMES["dual"]), ("short_15min", PROGRAMMES["short"])):
+                fam["evaluated"]["%s, %s" % (name, "own data" if without else "lot prior")] = predicted_cof(os.path.join(d, "evaluation.json"), path)
+        dual = fam["evaluated"]["dual, own data"]
+        for budget in [float(b) for b in a.design_budgets.split(",")]:
+            d = os.path.join(lot.dir, "design%g" % budget)
+            product = os.path.join(d, "design.json")
+            ex.run(["design", "--prior", prior, "--model", "greybox", "--budget-min", budget, "--seed", 1, "--out", d], product)
+            cof = predicted_cof(product)
+            fam["designs"]["%g" % budget] = {"trajectory": os.path.relpath(os.path.join(d, "trajectory.yaml"), ex.work), "seconds": ex.log.get(product).get("s"),
+                                             "predicted_cof_m": cof, "dual_own_over_design": {f: dual[f] / cof[f] for f in FLIGHTS}}
+        short = fam["evaluated"]["short_15min, lot prior"]
+        fam["dual_own_over_short15_prior"] = {f: dual[f] / short[f] for f in FLIGHTS}
+        reaching = [b for b, r in fam["designs"].items() if all(v >= 1.0 for v in r["dual_own_over_design"].values())]
+        fam["shortest_predicted_to_reach_dual"] = min(reaching, key=float) if reaching else None
+        out[family] = fam
+        print(json.dumps({family: fam}), flush=True)
+    return out
+
+
+def table_design(design):
+    lines = ["Predicted criterion of fit (m) for the lot's mean unit; dual scan calibrated by its own data against a programme "
+             "calibrated with the lot's prior (ratio > 1: the programme is predicted better).", "",
+             "| family | programme | short | medium | long | dual (own) / programme, short / medium / long | design time, s |", "|---" * 7 + "|"]
+    for family, fam in design.items():
+        for name, cof in fam["evaluated"].items():
+            lines.append("| %s | %s | %s | | |" % (family, name, " | ".join("%.3g" % cof[f] for f in FLIGHTS)))
+        for budget, r in fam["designs"].items():
+            lines.append("| %s | designed %s min, lot prior | %s | %s | %s |" % (
+                family, budget, " | ".join("%.3g" % r["predicted_cof_m"][f] for f in FLIGHTS),
+                " / ".join("%.2fx" % r["dual_own_over_design"][f] for f in FLIGHTS), "%.0f" % r["seconds"] if r["seconds"] else "-"))
+        lines.append("| %s | short_15min.yaml, lot prior | | | | %s | |" % (family, " / ".join("%.2fx" % v for v in fam["dual_own_over_short15_prior"].values())))
+    lines.append("")
+    for family, fam in design.items():
+        lines.append("Family %s: shortest designed budget predicted to reach the dual scan on every flight: %s." % (
+            family, "%s min" % fam["shortest_predicted_to_reach_dual"] if fam["shortest_predicted_to_reach_dual"] else "none of those tried"))
+    return lines
+
+
+# ---------------------------------------------------------------------------------------------------------
 # Summary
 
 
@@ -431,7 +498,8 @@ def write_summary(summary, results):
     lines = ["# production_lot results", "", "gyrosid: `%s`" % summary.get("gyrosid", ""), ""]
     for key, title, fn in (("prior", "Lot prior on held-out units (criterion of fit, noise off, long after 1 h)", table_prior),
                            ("baseline", "Baselines without a lot", table_prior),
-                           ("screen", "Screening", table_screen), ("scale", "Cost", table_scale)):
+                           ("screen", "Screening", table_screen), ("scale", "Cost", table_scale),
+                           ("design", "Design with the lot prior", table_design)):
         if key in summary:
             lines += ["## " + title, ""] + fn(summary[key]) + [""]
     gx.write_text(os.path.join(results, "summary.md"), "\n".join(lines))
@@ -442,7 +510,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--gyrosid", default="/tmp/gyrosid-lot")
     ap.add_argument("--work", default="/tmp/gyrosid-production-lot")
-    ap.add_argument("--parts", default="prior,screen,scale", help="comma list of baseline, prior, screen, scale")
+    ap.add_argument("--parts", default="prior,screen,scale", help="comma list of baseline, prior, screen, scale, design")
     ap.add_argument("--families", default="A,B")
     ap.add_argument("--seeds", default="1-5", help="lot seeds of the prior part")
     ap.add_argument("--train", type=int, default=50, help="training units of every lot")
@@ -456,6 +524,7 @@ def main():
     ap.add_argument("--scale-units", type=int, default=1000)
     ap.add_argument("--learn-sizes", default="", help="more lot sizes (comma list) whose `lot learn` memory the scale part measures")
     ap.add_argument("--results", default=os.path.join(HERE, "results"), help="where summary.json/.md go (default: %(default)s)")
+    ap.add_argument("--design-budgets", default="5,10,15", help="budgets (min, comma list) of the design part")
     ap.add_argument("--force", action="store_true")
     a = ap.parse_args()
     ex = Experiment(a)
@@ -473,6 +542,8 @@ def main():
         summary["scale"] = scale_part(ex)
         summary.setdefault("screen", {})["A lot %d, %d units, %s recordings (the timed lot)" % (
             SCALE_SEED, a.scale_units, "15-min" if a.screen_recording == "short" else "dual-scan")] = summary["scale"]["screen"]
+    if "design" in parts:
+        summary["design"] = design_part(ex)
     ex.log.save()
     write_summary(summary, a.results)
 

@@ -13,6 +13,7 @@
 #include "core/units.h"
 #include "design/design.h"
 #include "design/design_solver.h"
+#include "lot/lot_model.h"
 #include "noise/composite.h"
 #include "noise/processes.h"
 #include "report/allan_report.h"
@@ -38,12 +39,14 @@ struct DesignCommand {
   std::vector<std::string> set, evaluate, compare{"builtin:trajectories/dual_scan.yaml"};
   std::uint64_t seed = 1;
   bool resume = false;
+  bool without_lot_prior = false;  // a lot as --prior: its members only, each unit calibrated by its own data
   const CLI::App* command = nullptr;  // the parsed subcommand, for the checkpoint's fingerprint
 
   std::string command_line() const {
     std::string out = evaluate.empty() ? str_cat("gyrosid design --budget-min ", format_number(budget_min)) : "gyrosid design --evaluate";
     for (const auto& e : evaluate) out += " " + e;
     out += str_cat(" --model ", model, " --envelope ", envelope, prior.empty() ? " --sensor " + sensor : " --prior " + prior);
+    if (without_lot_prior) out += " --without-lot-prior";
     if (!noise.empty()) out += " --noise " + noise;
     if (equipment != kDefaultEquipment) out += " --equipment " + equipment;
     if (evaluate.empty()) out += str_cat(" --solver ", solver, " --seed ", seed);
@@ -111,6 +114,44 @@ SensorPrior prior_with_measured_noise(const DesignCommand& c) {
   return prior;
 }
 
+// A lot (`gyrosid lot learn`) as --prior with the grey-box model: the design's model takes the lot's structure
+// and, unless --without-lot-prior, the calibration it designs for fits with the lot's population as its prior
+// (`calibrate --prior`), so the predicted accuracy counts what the earlier units taught. Returns whether it does.
+bool take_lot(const DesignCommand& c, design::ModelFamily family, const OptionMap& options, design::ModelOptions& model) {
+  if (family != design::ModelFamily::greybox) {
+    std::cout << "prior: " << c.prior << " is a lot; its structure and population are the greybox model's, so with --model " << c.model
+              << " the design takes its members only\n";
+    return false;
+  }
+  const LotModel lot = load_lot(c.prior);
+  const GreyboxOptions& s = lot.structure;
+  for (const char* key : {"model.bias_order", "model.grid_temperatures", "model.grid_temperatures_c", "model.grid_rates_dps", "model.shupe", "model.thermal_lag"}) {
+    if (options.count(key)) fail("--set ", key, ": the lot ", c.prior, " fixes the grey-box structure");
+  }
+  if (s.scale_factor != ScaleFactorForm::surface || s.asymmetry || s.g_sensitivity) {
+    fail("--prior ", c.prior, ": the lot's grey-box structure has ", s.asymmetry ? "asymmetry" : s.g_sensitivity ? "g-sensitivity" : "a polynomial scale factor",
+         ", which the design's grey-box model has not (--model rbf, classical or hybrid design for its members alone)");
+  }
+  const auto list = [](const std::vector<double>& v) {
+    std::vector<std::string> items;
+    for (double x : v) items.push_back(format_number(x));
+    return join(items, ",");
+  };
+  model.bias_order = s.bias_order;
+  model.grid_temperatures_c = list(s.surface_temperatures_c);
+  model.grid_rates_dps = list(s.surface_rates_dps);
+  model.shupe = s.shupe;
+  model.thermal_lag = s.thermal_lag;
+  std::cout << "prior: the lot " << c.prior << " (" << lot.unit_names.size() << " units): its grey-box structure";
+  if (c.without_lot_prior) {
+    std::cout << ", each unit calibrated by its own data (--without-lot-prior)\n";
+    return false;
+  }
+  model.calibration_prior = std::make_shared<const GreyboxPrior>(lot.prior());
+  std::cout << ", and its population as the calibration's prior (calibrate --prior)\n";
+  return true;
+}
+
 // A design for a prior of more than one sensor: every member's context beside the nominal one (the first's,
 // built by the caller), with the same envelope, model, criterion and domain.
 struct PriorContexts {
@@ -169,6 +210,9 @@ void run_design(DesignCommand c) {
                                                           : parse_enum<design::Criterion>(c.criterion, "--criterion");
   if (criterion == design::Criterion::cof_minimax) settings.minimax_defaults(options);  // it always has a reference (below)
   const design::ModelFamily family = parse_enum<design::ModelFamily>(c.model, "--model");
+  const bool lot = !c.prior.empty() && has_population(c.prior);
+  if (c.without_lot_prior && !lot) fail("--without-lot-prior is for a lot (gyrosid lot learn) as --prior");
+  const bool lot_prior = lot && take_lot(c, family, options, settings.model);
   if (criterion == design::Criterion::effects && !settings.model.shupe && !settings.model.hysteresis && !settings.model.thermal_lag) {
     settings.model.shupe = settings.model.hysteresis = settings.model.thermal_lag = true;  // what the criterion separates
   }
@@ -187,9 +231,13 @@ void run_design(DesignCommand c) {
                                               : parse_enum<design::ReferenceStatistic>(c.reference_statistic, "--reference-statistic");
 
   const SensorPrior prior = prior_with_measured_noise(c);
-  if (prior.members.size() > 1 && (criterion == design::Criterion::cof_minimax || evaluating)) {
-    fail("--prior ", c.prior, ": ", evaluating ? "--evaluate takes one sensor (--sensor)" : "criterion cof_minimax takes one sensor (it compares against one reference; use --criterion cof)",
+  if (prior.members.size() > 1 && (criterion == design::Criterion::cof_minimax || (evaluating && !lot))) {
+    fail("--prior ", c.prior, ": ", evaluating ? "--evaluate takes one sensor (--sensor), or a lot" : "criterion cof_minimax takes one sensor (it compares against one reference; use --criterion cof)",
          ", not a prior of ", prior.members.size());
+  }
+  if (evaluating && lot) {
+    std::cout << "evaluated for the lot's mean unit (" << prior.members.front().name << ")"
+              << (lot_prior ? ", calibrated with the lot's prior\n" : ", calibrated by its own data alone\n");
   }
   const SensorSpec& sensor = prior.members.front().sensor;
   auto envelope = std::make_shared<const design::Envelope>(design::load_envelope(settings.envelope, as_triad(sensor)));
@@ -203,6 +251,7 @@ void run_design(DesignCommand c) {
   nlohmann::json provenance = {{"model", c.model}, {"sensor", c.sensor}, {"noise", c.noise}, {"envelope", c.envelope}, {"seed", c.seed},
                                {"solver", c.solver}, {"options", c.set}, {"command", c.command_line()}};
   if (!c.prior.empty()) provenance["prior"] = c.prior;
+  if (lot_prior) provenance["calibration_prior"] = c.prior;  // the calibration designed for fits with the lot's population
   if (c.equipment != kDefaultEquipment) provenance["equipment"] = c.equipment;
   // The reference's trajectory when it is predicted with --model: a --compare of the same path is not predicted again.
   std::string reference_as_compared;
@@ -285,6 +334,10 @@ void register_design(CLI::App& app, Action& action) {
                                        "of its objective over the members and reports its prediction on each (criterion cof, "
                                        "surface, d_optimal, a_optimal or effects). A sensor config is a prior of one sensor")
       ->excludes(sensor);
+  cmd->add_flag("--without-lot-prior", c->without_lot_prior,
+                "With a lot (gyrosid lot learn) as --prior: design for its members calibrated each by its own data. By default "
+                "the greybox design counts the lot's population as the calibration's prior (calibrate --prior); either "
+                "way it takes the lot's grey-box structure, and --evaluate predicts for the lot's mean unit");
   cmd->add_option("--equipment", c->equipment, "Equipment file: the chamber's range and heating and cooling limits, the table's rate and "
                                                "acceleration limits (configs/equipment/thesis_lab.yaml shows every key); "
                                                "--set space.* overrides it")

@@ -1,5 +1,6 @@
 #include "design/assessment.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 
@@ -73,6 +74,32 @@ Eigen::VectorXd prior_scales(const Regressor& r, ModelFamily family, const Model
   return s;
 }
 
+// The grey-box calibration's prior when it fits with a lot's (ModelOptions::calibration_prior): the population
+// N(mu, Sigma) over the coordinates theta_lin = M c (model/greybox_prior.h) is N(M^-1 mu, M^-1 L (M^-1 L)'),
+// Sigma = L L', on the regressor's coefficients - its terms are the fit's, on the domain's scaling, so M is
+// square - and the lag's marginal on the lag column, which is linearised about the sensor's own tau (the fit
+// also takes the lag's prior marginally). The other columns (hysteresis) keep `scales`.
+Prior calibration_prior(const Eigen::VectorXd& scales, const Regressor& r, const ModelOptions& o, const Domain& d, double coil_tau_s) {
+  const GreyboxPrior& lot = *o.calibration_prior;
+  GreyboxOptions g = greybox_options(o, d);
+  g.thermal_lag = o.thermal_lag;
+  const auto refuse = [&](const std::string& why) { fail("design: the calibration's prior (", lot.source, ") and the design's grey-box model: ", why); };
+  if (auto p = lot.validate(g); !p.empty()) refuse(p);
+  const Eigen::MatrixXd m = greybox_theta_map(g, domain_scaling(d));
+  const Eigen::Index q = m.rows();
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(m);
+  if (m.cols() != q || qr.rank() < q) refuse("the coordinates do not determine the coefficients");
+  const Eigen::LLT<Eigen::MatrixXd> llt(lot.covariance.topLeftCorner(q, q));
+  if (llt.info() != Eigen::Success) refuse("the prior's covariance is not positive definite");
+  Prior p = Prior::independent(scales);
+  p.mean.head(q) = qr.solve(lot.mean.head(q));
+  p.root.topLeftCorner(q, q) = qr.solve(Eigen::MatrixXd(llt.matrixL()));
+  for (const auto& [name, j] : r.effects()) {
+    if (name == "thermal_lag") p.mean(j) = lot.mean(q) - coil_tau_s, p.root(j, j) = std::sqrt(lot.covariance(q, q));
+  }
+  return p;
+}
+
 struct EffectUnit {
   const char* unit;
   double per_si;  // multiply an SI value by this
@@ -119,7 +146,9 @@ DesignContext::DesignContext(const SensorSpec& sensor, std::shared_ptr<const Env
   if ((criterion == Criterion::cof || criterion == Criterion::cof_minimax) && envelope_->flights.empty()) {
     fail("design: criterion '", to_string(criterion), "' needs flights in the envelope");
   }
-  prior_ = Prior::independent(prior_scales(*regressor_, family, model, model_domain_, gyro().errors, network_.get()));
+  const Eigen::VectorXd scales = prior_scales(*regressor_, family, model, model_domain_, gyro().errors, network_.get());
+  prior_ = family == ModelFamily::greybox && model.calibration_prior ? calibration_prior(scales, *regressor_, model, model_domain_, thermal().coil_tau_s)
+                                                                     : Prior::independent(scales);
   lin_ = linearise(*envelope_, *regressor_);
   const Eigen::Index p = regressor_->size();
   surface_moment_ = Eigen::MatrixXd::Zero(p, p);

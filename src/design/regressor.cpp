@@ -256,13 +256,6 @@ class HybridRegressor : public Regressor {
   Eigen::Index nodes_;
 };
 
-TermScaling domain_scaling(const Domain& d) {
-  TermScaling s;
-  s.t_ref_c = 0.5 * (d.temp_min_c + d.temp_max_c);
-  s.t_scale_c = std::max(1.0, 0.5 * (d.temp_max_c - d.temp_min_c));
-  s.rate_scale_radps = d.rate_max_radps;
-  return s;
-}
 
 std::vector<int> orders(int from, int to) {
   std::vector<int> out;
@@ -271,6 +264,14 @@ std::vector<int> orders(int from, int to) {
 }
 
 }  // namespace
+
+TermScaling domain_scaling(const Domain& d) {
+  TermScaling s;
+  s.t_ref_c = 0.5 * (d.temp_min_c + d.temp_max_c);
+  s.t_scale_c = std::max(1.0, 0.5 * (d.temp_max_c - d.temp_min_c));
+  s.rate_scale_radps = d.rate_max_radps;
+  return s;
+}
 
 SurfaceGrid greybox_grid(const ModelOptions& o, const Domain& d) {
   SurfaceGrid g;
@@ -325,8 +326,10 @@ std::string hybrid_noise_options(const NoiseSpec& n, std::string* why_auto) {
 
 std::string calibration_yaml(ModelFamily family, const ModelOptions& o, const Domain& d, const NoiseSpec& noise) {
   std::ostringstream out;
+  const bool lot = family == ModelFamily::greybox && o.calibration_prior;
   out << "# The calibration this design assumed:\n"
-      << "#   gyrosid calibrate --config calibration.yaml --recording rec.csv --out model.json\n";
+      << "#   gyrosid calibrate --config calibration.yaml --recording rec.csv" << (lot ? " --prior " + o.calibration_prior->source : "")
+      << " --out model.json\n";
   auto list = [](const std::vector<double>& v) {
     std::string s;
     for (double x : v) s += (s.empty() ? "" : ",") + format_number(x);

@@ -36,6 +36,7 @@
 #include "design/evidence_network.h"
 #include "design/information.h"
 #include "model/greybox_fit.h"
+#include "model/greybox_prior.h"
 #include "model/physics_terms.h"
 #include "sensor/gyro_error_model.h"
 #include "solvers/common/options.h"
@@ -86,6 +87,10 @@ struct ModelOptions {
   // weights' prior sd in deg/h. Empty / 0: by the expected evidence.
   std::string network_widths;
   double network_prior_sd_dph = 0.0;
+  // greybox: the prior the calibration fits with (`calibrate --prior lot.json`, model/greybox_fit.h: a lot's
+  // population over greybox_coordinates); null: none, the fit is plain least squares. Not an option key:
+  // `design --prior` sets it from a lot file, and the design's posterior then counts the lot's information.
+  std::shared_ptr<const GreyboxPrior> calibration_prior;
   void bind(OptionTable& table);  // keys model.<name>
   std::string validate() const;
   Eigen::RowVectorXd given_network_widths() const;  // network_widths parsed (empty when not given)
@@ -117,6 +122,8 @@ SurfaceGrid greybox_grid(const ModelOptions& options, const Domain& domain);
 // The grey-box fit's options (model/greybox_fit.h) for the design's model over a domain (its thermal lag is
 // linearised here, fitted there; hysteresis is not a grey-box term).
 GreyboxOptions greybox_options(const ModelOptions& options, const Domain& domain);
+// The physics terms' scaling (physics_terms.h) of the design's regressors: centred and scaled to the domain.
+TermScaling domain_scaling(const Domain& domain);
 
 // The options of `gyrosid calibrate` that fit the model a design assumed (model, solver, options), as YAML.
 // The hybrid is given `noise`, the sensor's noise model the design's Fisher information whitened with

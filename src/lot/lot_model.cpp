@@ -370,6 +370,11 @@ LotModel LotModel::from_json(const nlohmann::json& j, const std::string& source)
   return lot;
 }
 
+bool has_population(const std::string& path) {
+  const nlohmann::json j = nlohmann::json::parse(config_text(path), nullptr, false);
+  return j.is_object() && j.contains("population");
+}
+
 LotModel load_lot(const std::string& path) {
   nlohmann::json j;
   try {

@@ -139,7 +139,7 @@ std::vector<Eigen::VectorXd> conditional_scores(const std::vector<std::string>& 
 LotUnit calibrate_unit(const Recording& recording, const std::string& name, const GreyboxOptions& structure, SolveSummary* summary) {
   const Dataset data = make_dataset(recording, greybox_features(structure), ModelTarget::error);
   GreyboxEstimate fit = estimate_greybox(data, structure, nullptr, summary);
-  LotUnit unit{name, std::move(fit.theta), fit.theta_covariance.diagonal(), 0.0};
+  LotUnit unit{name, std::move(fit.theta), fit.theta_covariance.diagonal(), 0.0, 0.0, {}};
   unit.white_dph_at_1hz = white_noise_dph_at_1hz(data, fit);
   if (data.size() > 1) unit.recording_min = (data.t_s.back() - data.t_s.front()) / 60.0;
   return unit;
@@ -160,7 +160,7 @@ LotUnit unit_of_model(const GreyboxModel& model, const std::string& name, const 
     fail(name, ": a lot's units need the scale-factor surface on the lot's grid (temperatures ", list(structure.surface_temperatures_c),
          " C; rates ", list(structure.surface_rates_dps), " dps)");
   }
-  return {name, greybox_theta(model.errors(), model.lag_tau_s(), structure), Eigen::VectorXd(), 0.0};
+  return {name, greybox_theta(model.errors(), model.lag_tau_s(), structure), Eigen::VectorXd(), 0.0, 0.0, {}};
 }
 
 }  // namespace gyrosid

@@ -204,15 +204,6 @@ LagSearch search_lag(const std::function<double(double)>& rss_at, const GreyboxO
   return s;
 }
 
-// theta's linear part (greybox_prior.h) as a matrix on the coefficients scaled by `sc`: theta_c = M c.
-Eigen::MatrixXd theta_map(const GreyboxOptions& o, const TermScaling& sc, Eigen::Index p) {
-  GreyboxOptions linear = o;
-  linear.thermal_lag = false;
-  Eigen::MatrixXd m(static_cast<Eigen::Index>(greybox_coordinates(linear).size()), p);
-  for (Eigen::Index j = 0; j < p; ++j) m.col(j) = greybox_theta(error_model_of(o, sc, Eigen::VectorXd::Unit(p, j)), 0.0, linear);
-  return m;
-}
-
 // 1 - posterior / prior variance, averaged over each group of coordinates (the lag apart).
 nlohmann::json data_share(const GreyboxOptions& o, const Eigen::MatrixXd& posterior, const GreyboxPrior& prior) {
   std::map<std::string, std::pair<double, int>> sum;
@@ -229,6 +220,15 @@ nlohmann::json data_share(const GreyboxOptions& o, const Eigen::MatrixXd& poster
 }
 
 }  // namespace
+
+Eigen::MatrixXd greybox_theta_map(const GreyboxOptions& o, const TermScaling& sc) {
+  GreyboxOptions linear = o;
+  linear.thermal_lag = false;
+  const Eigen::Index p = total_columns(greybox_terms(o));
+  Eigen::MatrixXd m(static_cast<Eigen::Index>(greybox_coordinates(linear).size()), p);
+  for (Eigen::Index j = 0; j < p; ++j) m.col(j) = greybox_theta(error_model_of(o, sc, Eigen::VectorXd::Unit(p, j)), 0.0, linear);
+  return m;
+}
 
 namespace {
 
@@ -270,7 +270,7 @@ GreyboxEstimate estimate(const Dataset& data, const GreyboxOptions& o, const Gre
   GreyboxEstimate out;
   SolveSummary result = timed_solve(prior ? "greybox (prior)" : "greybox", [&](SolveMonitor& monitor) {
     // Without a prior: least squares with a ridge. With one: the noise level of that fit at the prior's lag, then the MAP.
-    const Eigen::MatrixXd m = prior || want_covariance ? theta_map(o, scaling, p) : Eigen::MatrixXd();
+    const Eigen::MatrixXd m = prior || want_covariance ? greybox_theta_map(o, scaling) : Eigen::MatrixXd();
     const PriorRows rows = prior ? prior_rows(*prior, m, o.thermal_lag) : PriorRows{};
     const auto sd_of = [&](double rss) { return std::sqrt(rss / static_cast<double>(data.size() - p)); };
     double sd = 0.0;

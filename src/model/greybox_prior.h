@@ -34,6 +34,10 @@ std::vector<double> greybox_bias_nodes_c(const GreyboxOptions& options);
 // theta of a grey-box error model and lag (the lag last when the structure has one).
 Eigen::VectorXd greybox_theta(const GyroErrorModel& errors, double lag_tau_s, const GreyboxOptions& options);
 
+// theta's linear part (every coordinate but the lag) as a matrix on a fit's coefficients, in greybox_terms'
+// order and scaled by `scaling` (physics_terms.h): theta_lin = M c. Square: as many coordinates as coefficients.
+Eigen::MatrixXd greybox_theta_map(const GreyboxOptions& options, const TermScaling& scaling);
+
 // A Gaussian prior N(mean, covariance) over greybox_coordinates(options).
 struct GreyboxPrior {
   Eigen::VectorXd mean;

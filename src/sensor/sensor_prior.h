@@ -23,7 +23,8 @@
 // RandomStream "prior/<parent index>/<j>/<path>" and follow their parent: the same file and seed give the same
 // members.
 // A member's `sensor` may also be the config itself, inline (a map; no draws): `gyrosid lot learn` writes a
-// lot's members so, beside its `population` (lot/lot_model.h), which the design ignores.
+// lot's members so, beside its `population` (lot/lot_model.h), which a grey-box design counts as the prior its
+// calibration fits with (design/regressor.h, ModelOptions::calibration_prior).
 // A file with `kind` (gyro or triad) instead of `format` is a sensor config: the prior of that one sensor.
 #pragma once
 
