@@ -14,6 +14,7 @@ import argparse
 import csv
 import json
 import os
+import re
 import subprocess
 import sys
 import time
@@ -108,7 +109,9 @@ def peer(rate_dph, dt, structure):
 
 
 def analyse(gyrosid, rec, column, out, rate_dph, dt, label, robust=False):
-    args = [gyrosid, "allan", "--recording", rec, "--column", column, "--confidence", "0.95", "--out", out]
+    # A triad recording's gyro is chosen by --axis (`allan` refuses --column gyro_x_dps on a triad).
+    axis = re.fullmatch(r"gyro_([xyz])_dps", column)
+    args = [gyrosid, "allan", "--recording", rec] + (["--axis", axis.group(1)] if axis else ["--column", column]) + ["--confidence", "0.95", "--out", out]
     seconds, peak_kb = run_timed(args + (["--robust"] if robust else []))
     j, curve = read_curve(out)
     band = j["noise"]["fit_band_s"]

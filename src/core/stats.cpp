@@ -56,6 +56,44 @@ double regularized_gamma_p(double a, double x) {
   return 1.0 - std::exp(log_prefactor) * h;
 }
 
+namespace {
+// The continued fraction of I_x(a, b) (DLMF 8.17.22) by the modified Lentz method; converges fast for
+// x < (a + 1) / (a + b + 2).
+double beta_fraction(double a, double b, double x) {
+  constexpr double tiny = 1e-300;
+  double c = 1.0, d = 1.0 - (a + b) * x / (a + 1.0);
+  d = 1.0 / (std::abs(d) < tiny ? tiny : d);
+  double f = d;
+  for (int m = 1; m < 1000; ++m) {
+    for (int half = 0; half < 2; ++half) {  // d_{2m} then d_{2m+1}
+      const double num = half == 0 ? m * (b - m) * x / ((a + 2.0 * m - 1.0) * (a + 2.0 * m))
+                                   : -(a + m) * (a + b + m) * x / ((a + 2.0 * m) * (a + 2.0 * m + 1.0));
+      d = 1.0 + num * d;
+      d = 1.0 / (std::abs(d) < tiny ? tiny : d);
+      c = 1.0 + num / c;
+      if (std::abs(c) < tiny) c = tiny;
+      f *= c * d;
+      if (half == 1 && std::abs(c * d - 1.0) < 1e-15) return f;
+    }
+  }
+  return f;
+}
+}  // namespace
+
+double regularized_beta(double a, double b, double x) {
+  if (!(a > 0.0 && b > 0.0)) fail("regularized_beta: a = ", a, ", b = ", b, " must be positive");
+  if (!(x >= 0.0 && x <= 1.0)) fail("regularized_beta: x = ", x, " is outside [0, 1]");
+  if (x == 0.0 || x == 1.0) return x;
+  const double log_front = std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x);
+  if (x < (a + 1.0) / (a + b + 2.0)) return std::exp(log_front) * beta_fraction(a, b, x) / a;
+  return 1.0 - std::exp(log_front) * beta_fraction(b, a, 1.0 - x) / b;  // I_x(a, b) = 1 - I_{1-x}(b, a)
+}
+
+double student_t_two_sided(double t, double dof) {
+  if (!(dof > 0.0)) fail("student_t_two_sided: dof = ", dof, " must be positive");
+  return regularized_beta(0.5 * dof, 0.5, dof / (dof + t * t));
+}
+
 double chi2_cdf(double x, double dof) { return regularized_gamma_p(0.5 * dof, 0.5 * x); }
 
 double chi2_quantile(double p, double dof) {

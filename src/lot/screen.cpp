@@ -74,7 +74,9 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
   double noise_z = 0.0;
   if (lot.noise_units >= 2 && unit.white_dph_at_1hz > 0.0) {
     noise_z = (std::log(unit.white_dph_at_1hz) - lot.log_noise_mean) / (lot.log_noise_sd * std::sqrt(1.0 + 1.0 / lot.noise_units));
-    out.p_noise = 2.0 * (1.0 - stats::normal_cdf(std::abs(noise_z)));
+    // A new draw from a normal known by n units' mean and sd: (x - mean) / (sd sqrt(1 + 1/n)) ~ t_{n-1}, not N(0, 1):
+    // with five units the normal's 1 % point, 2.58, is t_4's 6 % (a lot of six real units, experiments/production_lot).
+    out.p_noise = stats::student_t_two_sided(noise_z, lot.noise_units - 1.0);
   }
   out.p_value = std::min(1.0, 2.0 * std::min(out.p_physics, out.p_noise));
   out.out_of_family = out.p_value < o.alpha;

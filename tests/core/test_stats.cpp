@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "core/stats.h"
 
@@ -34,6 +35,24 @@ TEST(Stats, ChiSquareCdfInvertsQuantile) {
   }
   // chi2 with 2 dof is exponential: CDF = 1 - exp(-x/2).
   EXPECT_NEAR(chi2_cdf(3.0, 2.0), 1.0 - std::exp(-1.5), 1e-14);
+}
+
+TEST(Stats, StudentTTailsMatchClosedFormsAndTables) {
+  for (double t : {0.0, 0.3, 1.0, 2.5, 12.706, 300.0}) {
+    EXPECT_NEAR(student_t_two_sided(t, 1.0), 1.0 - 2.0 / std::numbers::pi * std::atan(t), 1e-13) << t;  // Cauchy
+    EXPECT_NEAR(student_t_two_sided(t, 2.0), 1.0 - t / std::sqrt(2.0 + t * t), 1e-13) << t;
+  }
+  // Two-sided 5 % and 1 % points (any t table): 2.5706 and 4.0321 at 5 dof, 2.2281 and 3.1693 at 10, 2.0096 at 49.
+  EXPECT_NEAR(student_t_two_sided(2.570582, 5.0), 0.05, 1e-6);
+  EXPECT_NEAR(student_t_two_sided(4.032143, 5.0), 0.01, 1e-6);
+  EXPECT_NEAR(student_t_two_sided(2.228139, 10.0), 0.05, 1e-6);
+  EXPECT_NEAR(student_t_two_sided(3.169273, 10.0), 0.01, 1e-6);
+  EXPECT_NEAR(student_t_two_sided(2.009575, 49.0), 0.05, 1e-6);
+  // Many degrees of freedom: the normal's tail.
+  EXPECT_NEAR(student_t_two_sided(1.959964, 1e7), 0.05, 1e-6);
+  // I_x(a, 1) = x^a and the symmetry I_x(a, b) = 1 - I_{1-x}(b, a) on both sides of the switch.
+  EXPECT_NEAR(regularized_beta(2.5, 1.0, 0.3), std::pow(0.3, 2.5), 1e-14);
+  EXPECT_NEAR(regularized_beta(3.0, 0.5, 0.9) + regularized_beta(0.5, 3.0, 0.1), 1.0, 1e-13);
 }
 
 }  // namespace

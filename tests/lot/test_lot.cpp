@@ -212,6 +212,31 @@ TEST(LotScreen, TheNullIsCalibratedAndDefectsAreNamed) {
   EXPECT_THAT(n.reasons.back(), HasSubstr("noise: white"));
 }
 
+// A lot that knows its noise from six units (a lot of real replicate units, experiments/production_lot
+// real_noise_lot.py): a seventh unit of the same log-normal is flagged for its noise at the nominal rate, because
+// its z against the six units' mean and sd is Student's t with 5 dof (the normal's 5 % point, 1.96, is t_5's 10.7 %).
+TEST(LotScreen, TheNoiseTestHoldsItsRateOnALotOfSixUnits) {
+  const SyntheticLot g;
+  LotModel lot = learn_lot(g.units(60, 1), {});
+  RandomStream r(5, "six units");
+  const int trials = 2000;
+  int alarms = 0;
+  for (int t = 0; t < trials; ++t) {
+    double sum = 0.0, sum2 = 0.0;
+    for (int u = 0; u < 6; ++u) {
+      const double x = std::log(10.0) + 0.3 * r.normal();
+      sum += x, sum2 += x * x;
+    }
+    lot.noise_units = 6;
+    lot.log_noise_mean = sum / 6.0;
+    lot.log_noise_sd = std::sqrt((sum2 - sum * sum / 6.0) / 5.0);
+    LotUnit unit = g.unit("fresh", 20000 + static_cast<std::uint64_t>(t));
+    unit.white_dph_at_1hz = 10.0 * std::exp(0.3 * r.normal());
+    alarms += screen_unit(lot, unit).p_noise < 0.05;
+  }
+  EXPECT_NEAR(static_cast<double>(alarms) / trials, 0.05, 0.015);  // binomial sd 0.005
+}
+
 // A Shupe coefficient 4.5 of the lot's sd off (2 -> 2.9 deg/h per C/min) moves one coordinate of 77: the
 // omnibus distance hardly notices, the term's own test does, and names it.
 TEST(LotScreen, ATermsOwnTestFindsWhatTheOmnibusDilutes) {
