@@ -125,7 +125,11 @@ class Experiment:
         self.ran = 0
         self.programmes = dict(PROGRAMMES, short=os.path.abspath(args.short_programme))
         default = os.path.abspath(PROGRAMMES["short"]) == self.programmes["short"]
-        self.tag = "" if default else "-" + os.path.splitext(os.path.basename(args.short_programme))[0]
+        # A design's output is always trajectory.yaml: its folder names it (design10, design15, ...).
+        stem = os.path.splitext(os.path.basename(args.short_programme))[0]
+        if stem == "trajectory":
+            stem = os.path.basename(os.path.dirname(os.path.abspath(args.short_programme))) + "-" + stem
+        self.tag = "" if default else "-" + stem
 
     def tagged(self, name):
         """A product's name: with the short programme's tag when it is made from a 15-min recording."""

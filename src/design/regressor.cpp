@@ -256,7 +256,6 @@ class HybridRegressor : public Regressor {
   Eigen::Index nodes_;
 };
 
-
 std::vector<int> orders(int from, int to) {
   std::vector<int> out;
   for (int k = from; k <= to; ++k) out.push_back(k);
