@@ -8,8 +8,11 @@
 // W the k leading principal directions of the units' z scaled by sqrt(lambda_i - psi), psi the mean
 // variance left outside them: the modes a production process varies in (a surface's magnitude, a bias
 // law's tilt) and an isotropic rest. k is the fewest modes holding `variance_kept` of the variance.
-// The units' own estimation error is left inside Sigma (no deconvolution): a prior a little wider than the
-// population, never narrower.
+// With the units' estimation sd known (the fit's diagonal), S is that sd, so the estimation noise has variance
+// about 1 in z, and the modes are kept where they clear the Marchenko-Pastur edge of N units' noise; that noise
+// is then subtracted - Sigma_z = W W' + psi I has variance lambda_i - 1 along mode i and, elsewhere, the rest's
+// mean variance less 1, floored at a tenth of that mean - so Sigma is the population's own spread, not the
+// units' scatter about it (lot_model.cpp fit_population). Without it, S is the units' sd; nothing is subtracted.
 // Noise: the log of each unit's white noise (noise/identify.h on the fit's residual), normal across units.
 // Screening: the leave-one-out Mahalanobis distances d_u^2 = r' (Sigma_-u + C_u)^-1 r of the training units
 // (C_u the diagonal of a unit's estimation covariance), over every coordinate and, marginally, over each
