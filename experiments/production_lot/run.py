@@ -17,7 +17,7 @@ independently written family); every unit's config, recordings, models and crite
            units), `lot learn` on the training units' dual scans, `lot screen` of every unit's 15-min recording.
   scale    family A, --scale-units units from nothing: simulate, learn, calibrate with the prior and screen every
            unit, timed (one process); peak memory of `lot learn` at 50 units and on all units' dual scans.
-  design   per family, the lot of seed 1: `design --prior lot.json --model greybox` at --design-budgets (the calibration
+  design   per family, the lot of --design-lot-seed (1): `design --prior lot.json --model greybox` at --design-budgets (the calibration
            fits with the lot's prior) and `design --evaluate` of the dual scan and the 15-min programme with and without
            it: the predicted criteria of fit. `prior --short-programme <work>/<family>/lot1/design15/trajectory.yaml
            --families <family> --results <dir>` then measures a design on held-out units.
@@ -382,13 +382,13 @@ def predicted_cof(path, key=None):
 
 
 def design_part(ex):
-    """Per family, the lot of seed 1 (its 50 training units): `design --prior lot.json --model greybox` at each budget
+    """Per family, the lot of --design-lot-seed (its 50 training units): `design --prior lot.json --model greybox` at each budget
     (the calibration fits with the lot's prior), and `design --evaluate` of the dual scan and short_15min.yaml for
     the lot's mean unit with and without the prior. Predicted ratios dual scan (own data) / programme (lot prior)."""
     a = ex.args
     out = {}
     for family in a.families.split(","):
-        lot = Lot(ex, family, 1)
+        lot = Lot(ex, family, a.design_lot_seed)
         prior = lot.learn(range(a.train))
         fam = {"lot": os.path.relpath(prior, ex.work), "designs": {}, "evaluated": {}}
         for without in (False, True):
@@ -529,6 +529,7 @@ def main():
     ap.add_argument("--learn-sizes", default="", help="more lot sizes (comma list) whose `lot learn` memory the scale part measures")
     ap.add_argument("--results", default=os.path.join(HERE, "results"), help="where summary.json/.md go (default: %(default)s)")
     ap.add_argument("--design-budgets", default="5,10,15", help="budgets (min, comma list) of the design part")
+    ap.add_argument("--design-lot-seed", type=int, default=1, help="the lot (seed) the design part designs for")
     ap.add_argument("--force", action="store_true")
     a = ap.parse_args()
     ex = Experiment(a)
