@@ -132,14 +132,9 @@ bool take_lot(const DesignCommand& c, design::ModelFamily family, const OptionMa
     fail("--prior ", c.prior, ": the lot's grey-box structure has ", s.asymmetry ? "asymmetry" : s.g_sensitivity ? "g-sensitivity" : "a polynomial scale factor",
          ", which the design's grey-box model has not (--model rbf, classical or hybrid design for its members alone)");
   }
-  const auto list = [](const std::vector<double>& v) {
-    std::vector<std::string> items;
-    for (double x : v) items.push_back(format_number(x));
-    return join(items, ",");
-  };
   model.bias_order = s.bias_order;
-  model.grid_temperatures_c = list(s.surface_temperatures_c);
-  model.grid_rates_dps = list(s.surface_rates_dps);
+  model.grid_temperatures_c = format_numbers(s.surface_temperatures_c, ",");
+  model.grid_rates_dps = format_numbers(s.surface_rates_dps, ",");
   model.shupe = s.shupe;
   model.thermal_lag = s.thermal_lag;
   std::cout << "prior: the lot " << c.prior << " (" << lot.unit_names.size() << " units): its grey-box structure";

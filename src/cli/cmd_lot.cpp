@@ -13,7 +13,6 @@
 #include "core/format.h"
 #include "core/progress.h"
 #include "core/recording.h"
-#include "core/units.h"
 #include "lot/lot_members.h"
 #include "lot/lot_unit.h"
 #include "lot/screen.h"
@@ -62,12 +61,9 @@ std::vector<LotUnit> units_of_models(const std::vector<std::string>& paths, Opti
   }
   const GyroErrorModel& first = models.front()->errors();
   if (!first.scale_factor_surface) fail(paths.front(), ": a lot needs the scale-factor surface form");
-  std::vector<std::string> temps, rates;
-  for (double t : first.scale_factor_surface->x()) temps.push_back(format_number(t));
-  for (double w : first.scale_factor_surface->y()) rates.push_back(format_number(std::round(units::radps_to_dps(w) * 1e9) / 1e9));
   structure["bias_order"] = std::to_string(std::max<int>(0, static_cast<int>(first.bias_temperature_radps.coefficients.size()) - 1));
-  structure["surface_temperatures_c"] = join(temps, ",");
-  structure["surface_rates_dps"] = join(rates, ",");
+  structure["surface_temperatures_c"] = format_numbers(first.scale_factor_surface->x(), ",");
+  structure["surface_rates_dps"] = format_numbers(surface_grid_rates_dps(*first.scale_factor_surface), ",");
   for (const auto& m : models) {
     if (m->errors().shupe_rad_per_c != 0.0) structure["shupe"] = "true";
     if (m->errors().scale_factor_asymmetry != 0.0) structure["asymmetry"] = "true";

@@ -34,6 +34,13 @@ std::string join(const std::vector<std::string>& items, std::string_view separat
   return out;
 }
 
+std::string format_numbers(const std::vector<double>& values, std::string_view separator) {
+  std::vector<std::string> items;
+  items.reserve(values.size());
+  for (double v : values) items.push_back(format_number(v));
+  return join(items, separator);
+}
+
 std::vector<std::string> split_list(const std::string& text, char separator) {
   std::vector<std::string> out;
   for (std::size_t a = 0, b; a <= text.size(); a = b + 1) {

@@ -16,6 +16,8 @@ std::string format_significant(double value, int digits = 4);
 
 // The items with `separator` between them ("a, b, c").
 std::string join(const std::vector<std::string>& items, std::string_view separator = ", ");
+// The numbers, each as format_number writes it, with `separator` between them ("-20, 0, 1e-07").
+std::string format_numbers(const std::vector<double>& values, std::string_view separator = ", ");
 
 // The non-empty items of `text` between `separator`s, without the blanks around them ("short,, long" ->
 // {"short", "long"}): join's inverse.

@@ -329,11 +329,6 @@ std::string calibration_yaml(ModelFamily family, const ModelOptions& o, const Do
   out << "# The calibration this design assumed:\n"
       << "#   gyrosid calibrate --config calibration.yaml --recording rec.csv" << (lot ? " --prior " + o.calibration_prior->source : "")
       << " --out model.json\n";
-  auto list = [](const std::vector<double>& v) {
-    std::string s;
-    for (double x : v) s += (s.empty() ? "" : ",") + format_number(x);
-    return s;
-  };
   switch (family) {
     case ModelFamily::hybrid: {
       std::string why_auto;
@@ -355,8 +350,8 @@ std::string calibration_yaml(ModelFamily family, const ModelOptions& o, const Do
       break;
     case ModelFamily::greybox: {
       const SurfaceGrid g = greybox_grid(o, d);
-      out << "model: greybox\noptions:\n  bias_order: " << o.bias_order << "\n  surface_temperatures_c: \"" << list(g.temperatures_c)
-          << "\"\n  surface_rates_dps: \"" << list(g.rates_dps) << "\"\n  shupe: " << (o.shupe ? "true" : "false")
+      out << "model: greybox\noptions:\n  bias_order: " << o.bias_order << "\n  surface_temperatures_c: \"" << format_numbers(g.temperatures_c, ",")
+          << "\"\n  surface_rates_dps: \"" << format_numbers(g.rates_dps, ",") << "\"\n  shupe: " << (o.shupe ? "true" : "false")
           << "\n  thermal_lag: " << (o.thermal_lag ? "true" : "false") << "\n";
       if (o.hysteresis) out << "# (hysteresis: fit with gyrosid explain; the grey-box fit has no hysteresis term)\n";
       break;

@@ -136,6 +136,12 @@ std::vector<Eigen::VectorXd> conditional_scores(const std::vector<std::string>& 
   return z;
 }
 
+std::vector<double> surface_grid_rates_dps(const SplineSurface& surface) {
+  std::vector<double> rates;
+  for (double w : surface.y()) rates.push_back(std::round(units::radps_to_dps(w) * 1e9) / 1e9);
+  return rates;
+}
+
 LotUnit calibrate_unit(const Recording& recording, const std::string& name, const GreyboxOptions& structure, SolveSummary* summary) {
   const Dataset data = make_dataset(recording, greybox_features(structure), ModelTarget::error);
   GreyboxEstimate fit = estimate_greybox(data, structure, nullptr, summary);
@@ -147,18 +153,9 @@ LotUnit calibrate_unit(const Recording& recording, const std::string& name, cons
 
 LotUnit unit_of_model(const GreyboxModel& model, const std::string& name, const GreyboxOptions& structure) {
   const auto& surface = model.errors().scale_factor_surface;
-  std::vector<double> rates_dps;
-  if (surface) {
-    for (double w : surface->y()) rates_dps.push_back(std::round(units::radps_to_dps(w) * 1e9) / 1e9);
-  }
-  if (!surface || surface->x() != structure.surface_temperatures_c || rates_dps != structure.surface_rates_dps) {
-    auto list = [](const std::vector<double>& v) {
-      std::vector<std::string> s;
-      for (double x : v) s.push_back(format_number(x));
-      return join(s);
-    };
-    fail(name, ": a lot's units need the scale-factor surface on the lot's grid (temperatures ", list(structure.surface_temperatures_c),
-         " C; rates ", list(structure.surface_rates_dps), " dps)");
+  if (!surface || surface->x() != structure.surface_temperatures_c || surface_grid_rates_dps(*surface) != structure.surface_rates_dps) {
+    fail(name, ": a lot's units need the scale-factor surface on the lot's grid (temperatures ", format_numbers(structure.surface_temperatures_c),
+         " C; rates ", format_numbers(structure.surface_rates_dps), " dps)");
   }
   return {name, greybox_theta(model.errors(), model.lag_tau_s(), structure), Eigen::VectorXd(), 0.0, 0.0, {}};
 }

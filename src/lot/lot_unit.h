@@ -15,6 +15,10 @@
 
 namespace gyrosid {
 
+// A calibrated model's scale-factor surface rates in deg/s, rounded at 1e-9 deg/s (the rad/s round trip's last
+// bits): its grid as a structure's surface_rates_dps writes it.
+std::vector<double> surface_grid_rates_dps(const SplineSurface& surface);
+
 // White noise: noise/identify.h (the one noise estimator) on the fit's residual in deg/h; its N term, or,
 // where the identified structure has none, the residual's sd per sample times sqrt(dt).
 LotUnit calibrate_unit(const Recording& recording, const std::string& name, const GreyboxOptions& structure,
