@@ -30,7 +30,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "lib"))
 sys.path.insert(0, os.path.join(HERE, "..", "real_recordings"))
 sys.path.insert(0, os.path.join(HERE, "..", "noise_identification"))
-from gyrosid_experiments import DEFAULT_GYROSID, write_text  # noqa: E402
+from gyrosid_experiments import add_gyrosid_argument, write_text  # noqa: E402
 from noise import kalibr_to_recording, term  # noqa: E402
 from realdata import run_timed  # noqa: E402
 
@@ -58,7 +58,7 @@ def screen(log_n, u, shift=0.0):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--gyrosid", default=DEFAULT_GYROSID)
+    add_gyrosid_argument(ap)
     ap.add_argument("--work", default="/tmp/real_recordings")
     ap.add_argument("--results", default=os.path.join(HERE, "results"))
     a = ap.parse_args()

@@ -23,7 +23,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "lib"))
 sys.path.insert(0, os.path.join(HERE, "..", "noise_identification"))
 import generator  # noqa: E402
-from gyrosid_experiments import DEFAULT_GYROSID, markdown_table, write_text  # noqa: E402
+from gyrosid_experiments import add_gyrosid_argument, markdown_table, write_text  # noqa: E402
 
 DT, SAMPLES = 0.01, 10 ** 6
 N = 2.42 * 60.0           # deg/h sqrt(s)
@@ -61,7 +61,7 @@ def misses(gyrosid, work, seed):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--gyrosid", default=DEFAULT_GYROSID)
+    add_gyrosid_argument(ap)
     ap.add_argument("--seeds", type=int, default=20)
     ap.add_argument("--work", default="/tmp/chance")
     ap.add_argument("--results", default=os.path.join(HERE, "results"))

@@ -25,7 +25,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "lib"))
 sys.path.insert(0, os.path.join(HERE, "..", "noise_identification"))
 import gmwm  # noqa: E402
-from gyrosid_experiments import DEFAULT_GYROSID, fmt, markdown_table, write_csv, write_text  # noqa: E402
+from gyrosid_experiments import add_gyrosid_argument, fmt, markdown_table, write_csv, write_text  # noqa: E402
 from realdata import realdata, run_timed  # noqa: E402
 
 # ADIS16405 datasheet (Analog Devices, rev. B): angular random walk 2.0 deg/sqrt(h); in-run bias stability
@@ -132,7 +132,7 @@ def analyse(gyrosid, rec, column, out, rate_dph, dt, label, robust=False):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--gyrosid", default=DEFAULT_GYROSID)
+    add_gyrosid_argument(ap)
     ap.add_argument("--work", default="/tmp/real_recordings")
     ap.add_argument("--units", default="1,2,3,4,5,6")
     ap.add_argument("--results", default=os.path.join(HERE, "results"))

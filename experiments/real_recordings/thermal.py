@@ -24,7 +24,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "lib"))
-from gyrosid_experiments import DEFAULT_GYROSID, fmt, markdown_table, read_recording, write_recording, write_text  # noqa: E402
+from gyrosid_experiments import add_gyrosid_argument, fmt, markdown_table, read_recording, write_recording, write_text  # noqa: E402
 from realdata import realdata, run_timed  # noqa: E402
 
 
@@ -49,7 +49,7 @@ def subset(meta, cols, keep):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--gyrosid", default=DEFAULT_GYROSID)
+    add_gyrosid_argument(ap)
     ap.add_argument("--work", default="/tmp/real_recordings/thermal")
     ap.add_argument("--results", default=os.path.join(HERE, "results"))
     a = ap.parse_args()
