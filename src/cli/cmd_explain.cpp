@@ -94,7 +94,7 @@ void register_explain(CLI::App& app, Action& action) {
   cmd->add_option("--bootstrap", c->options.selection.bootstrap, "Block-bootstrap resamples for the p-values (raised to 2m/alpha for m candidates when fewer: below it no p-value could pass Holm)")->capture_default_str();
   cmd->add_option("--max-effects", c->options.selection.max_effects, "Forward-selection steps at most")->capture_default_str();
   cmd->add_option("--likelihood-tries", c->options.selection.likelihood_tries,
-                  "Candidates per forward step the likelihood gate maximises the noise for (the best by their dBIC at the null's noise)")
+                  "Candidates per forward step the likelihood gate maximises the noise for, from each of two rankings: their dBIC at the null's noise, and at the step's whitening (where a change the null's noise absorbed still scores)")
       ->capture_default_str();
   cmd->add_option("--seed", c->options.selection.seed, "Seed of the bootstrap")->capture_default_str();
   cmd->add_option("--heldout-every", c->options.input.heldout_every,

@@ -38,12 +38,14 @@ double NoiseLikelihood::negative(const Eigen::MatrixXd& x, const Eigen::VectorXd
   return 0.5 * n * std::log(whitened_rss(whiten_columns(w, x), w.apply(y)) / n) + 0.5 * w.log_determinant();
 }
 
-NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) const {
+NoiseLikelihood::Optimum NoiseLikelihood::start() const {
   Optimum from;
   from.log_ratios = {std::clamp(std::log(std::max(start_.rw_q / start_.white_var, 1e-9)), -24.0, 2.0),
                      std::clamp(std::log(std::max(start_.gm_var / start_.white_var, 1e-6)), -24.0, 2.0), std::log(gm_tau_s_)};
-  return maximise(x, y, from);
+  return from;
 }
+
+NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) const { return maximise(x, y, start()); }
 
 NoiseLikelihood::Optimum NoiseLikelihood::maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Optimum& from) const {
   BoundedSearchOptions bobyqa;

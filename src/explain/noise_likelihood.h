@@ -38,6 +38,8 @@ class NoiseLikelihood {
   // maximum is then never below the smaller's).
   Optimum maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) const;
   Optimum maximise(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Optimum& from) const;
+  // The start model's ratios (log likelihood not evaluated).
+  Optimum start() const;
   std::size_t samples() const { return rows_.size(); }
   // The noise model at an optimum's ratios, the white variance 1 (a whitener's residual is then in units of it).
   NoiseModel model(const Optimum& at) const;

@@ -305,6 +305,16 @@ LagScore replaced_lag_score(const Candidate& c, const Step& s) {
 // `tries` best by that score are maximised with the noise free, and the largest ML dBIC wins - not the
 // first positive one in the whitened order, which let a strong whitened score decide between two effects
 // the likelihood ranks the other way.
+//
+// The null's noise has already absorbed, as a random walk, whatever slow change the null lacks: an onset
+// the step's whitening scores highest (a trend from 55 % of the record on the independent generator: dBIC
+// 4,623 there) scores below zero at the null's noise (-10), so ranked by that score alone it never reached
+// the comparison, an ageing trend won it and the final noise kept a random walk the data do not have
+// (issue 34, class 1). So the `tries` best by the step's whitened dBIC compete as well: both rankings
+// propose, one likelihood comparison decides. One admitted by the whitened ranking alone is judged as that
+// view saw it: its parameter refined under the step's whitening, the search started from the null's optimum
+// with the step's random walk (from the null's own it stays in the basin where the walk stands in for the
+// change: an onset at 30 % of the simulator's record, seed 41, then lost to an ageing trend).
 struct Gated {
   std::ptrdiff_t index = -1;
   std::optional<NoiseLikelihood::Optimum> with;
@@ -329,6 +339,7 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
   const WhitenedFit fit0 = fit_model(c.model, c.in, yw0, c.sc, w0);
   const Step s0{c.in, c.y, c.sc, w0, yw0, c.model, fit0};
   std::vector<double> held(ev.size(), -std::numeric_limits<double>::infinity());
+  std::vector<double> step_tau(ev.size(), std::numeric_limits<double>::quiet_NaN());  // refined under the step's whitening
   // Each candidate on its own (the candidates side by side).
   parallel_for(static_cast<std::ptrdiff_t>(order.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
     for (std::ptrdiff_t k = begin; k < end; ++k) {
@@ -344,8 +355,8 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
         // Its parameter refined under the step's whitening and under the null's noise; the one the null's
         // noise scores higher is kept (a change time the near-white scan placed well can be lost in the
         // coloured scan's coarser optimum, a hysteresis width the other way round).
-        at.tau_grid_s = {refine_parameter(open[i], ev[i].score.tau_s, c),
-                         refine_parameter(open[i], evaluate(open[i], c.model, c.in, c.sc, w0, fit0).score.tau_s, s0)};
+        step_tau[i] = refine_parameter(open[i], ev[i].score.tau_s, c);
+        at.tau_grid_s = {step_tau[i], refine_parameter(open[i], evaluate(open[i], c.model, c.in, c.sc, w0, fit0).score.tau_s, s0)};
       }
       const Evaluated e = evaluate(at, c.model, c.in, c.sc, w0, fit0);
       ev[i].score.tau_s = e.score.tau_s;
@@ -353,20 +364,34 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
     }
   });
   for (std::size_t i : order) ev[i].score.held_delta_bic = held[i];
+  // The tries: the best by the held score, then the best by the step's whitened score not among them.
+  std::vector<std::size_t> by_whitened = order;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return held[a] > held[b]; });
+  std::stable_sort(by_whitened.begin(), by_whitened.end(), [&](std::size_t a, std::size_t b) { return ev[a].score.delta_bic > ev[b].score.delta_bic; });
+  const auto first = [&](std::vector<std::size_t>& v) { return v.begin() + static_cast<std::ptrdiff_t>(std::min(v.size(), static_cast<std::size_t>(tries))); };
+  std::vector<std::size_t> chosen(order.begin(), first(order));
+  const std::size_t held_count = chosen.size();
+  // Where one admitted by the whitened ranking alone starts: the null's optimum with the random walk the
+  // step's noise has (its change no longer standing in for one).
+  NoiseLikelihood::Optimum unabsorbed = l0;
+  unabsorbed.log_ratios[0] = likelihood.start().log_ratios[0];
+  for (auto it = by_whitened.begin(); it != first(by_whitened); ++it) {
+    if (std::find(chosen.begin(), chosen.end(), *it) != chosen.end()) continue;
+    chosen.push_back(*it);
+    if (!std::isnan(step_tau[*it])) ev[*it].score.tau_s = step_tau[*it];
+  }
   // The tries are independent maximisations: run side by side (each result as it would be alone).
-  const std::size_t count = std::min(order.size(), static_cast<std::size_t>(tries));
-  std::vector<NoiseLikelihood::Optimum> l1(count);
-  parallel_for(static_cast<std::ptrdiff_t>(count), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+  std::vector<NoiseLikelihood::Optimum> l1(chosen.size());
+  parallel_for(static_cast<std::ptrdiff_t>(chosen.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
     for (std::ptrdiff_t k = begin; k < end; ++k) {
-      const std::size_t i = order[static_cast<std::size_t>(k)];
-      const ModelSpec with = with_effect(c.model, open[i], ev[i].score.tau_s);
-      l1[static_cast<std::size_t>(k)] = likelihood.maximise(model_columns(with, c.in.signals, c.sc), c.y, l0);
+      const std::size_t i = chosen[static_cast<std::size_t>(k)];
+      const Eigen::MatrixXd x = model_columns(with_effect(c.model, open[i], ev[i].score.tau_s), c.in.signals, c.sc);
+      l1[static_cast<std::size_t>(k)] = likelihood.maximise(x, c.y, static_cast<std::size_t>(k) < held_count ? l0 : unabsorbed);
     }
   });
   Gated best;
-  for (std::size_t k = 0; k < count; ++k) {
-    const std::size_t i = order[k];
+  for (std::size_t k = 0; k < chosen.size(); ++k) {
+    const std::size_t i = chosen[k];
     const double penalty = (ev[i].score.columns + open[i].bic_parameters()) * std::log(n);
     ev[i].score.ml_delta_bic = 2.0 * (l1[k].log_likelihood - l0.log_likelihood) - penalty;
     if (ev[i].score.ml_delta_bic > 0 && (best.index < 0 || ev[i].score.ml_delta_bic > ev[static_cast<std::size_t>(best.index)].score.ml_delta_bic)) {

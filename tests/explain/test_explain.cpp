@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <tuple>
 
 #include "core/config.h"
 #include "core/random.h"
@@ -506,6 +507,32 @@ TEST(Explain, AHalfSigmaStepOnARandomWalkIsStillFound) {
   for (const auto& u : r.summary.unexplained) step = u.kind == UnexplainedKind::change_point ? &u : step;
   ASSERT_NE(step, nullptr) << ids(r.summary) << unexplained(r.summary);
   EXPECT_NEAR(step->t_start_s, t_step, 120.0);
+}
+
+// A trend that sets in partway through (issue 34, class 1) under white noise alone: the whitening of the
+// step (the residual of every candidate at once) scores the onset highest (dBIC 644 and 917 here), but the
+// null's likelihood noise has already absorbed it as a random walk, and there the onset scored below zero,
+// so ranked by that alone it never reached the likelihood comparison. Before the fix seed 43 (10 deg/h per
+// hour from 55 % of the record) gave no missing physics with a random walk in the noise, and seed 41 (8 deg/h
+// per hour from 30 %) an ageing trend. (These are the two of six recordings - seeds 41-43 at each onset -
+// the fix turns; on the other four the onset is not confirmed on the held-out blocks, or an ageing trend
+// still wins the likelihood comparison: at about a third of sigma in rms, the power of one recording ends.)
+TEST(Explain, AnOnsetTheNullsNoiseAbsorbedCompetesInTheLikelihoodComparison) {
+  for (const auto& [seed, at, slope_dph_per_h] : {std::tuple{43, 0.55, 10.0}, std::tuple{41, 0.30, 8.0}}) {
+    Recording rec = simulate_with("", static_cast<std::uint64_t>(seed));
+    const auto& t = rec.column("t_s");
+    const double t_on = t.front() + at * (t.back() - t.front());
+    std::vector<double> gyro = rec.column("gyro_dps");
+    for (std::size_t i = 0; i < rec.rows(); ++i) gyro[i] += slope_dph_per_h * std::max(t[i] - t_on, 0.0) / 3600.0 / 3600.0;
+    rec.set_column("gyro_dps", gyro);
+    const ExplainResult r = explain_recording(rec, fast());
+    EXPECT_EQ(r.summary.verdict, Verdict::unexplained_residual) << "seed " << seed << ": " << ids(r.summary) << unexplained(r.summary);
+    const Unexplained* onset = nullptr;
+    for (const auto& u : r.summary.unexplained) onset = u.kind == UnexplainedKind::trend_change ? &u : onset;
+    ASSERT_NE(onset, nullptr) << "seed " << seed << ": " << unexplained(r.summary);
+    EXPECT_NEAR(onset->t_start_s, t_on, 300.0) << "seed " << seed;
+    for (const auto& term : r.summary.noise.terms) EXPECT_NE(term.id, "rate_random_walk") << "seed " << seed;
+  }
 }
 
 // Two effects at once under coloured noise: a play-operator hysteresis (half-width 1.5 C on the probe
