@@ -212,7 +212,7 @@ def make_recording(case, seed, sensor=None):
     for e in case.get("effects", []):
         spec = dict(e)
         if e["id"] in ("bias_step", "bias_ramp"):
-            at = rng.uniform(0.3, 0.7)
+            at = rng.uniform(0.3, 0.7)  # drawn even when the case states "at" (onsets.py): the later draws stay the same
             spec["t_step_s"] = t[0] + e.get("at", at) * (t[-1] - t[0])
         v = shape(e["id"], s, spec)
         c = e["magnitude"] * SIGMA_DPH / rms(unabsorbed(x_base, v))

@@ -15,6 +15,8 @@ import os
 import subprocess
 import sys
 
+import yaml
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "lib"))
@@ -25,8 +27,6 @@ from gyrosid_experiments import add_gyrosid_argument  # noqa: E402
 CHANGES = [("bias_step", 0.5, 0.07), ("bias_ramp", 0.5, 0.55), ("bias_ramp", 0.5, 0.7), ("bias_step", 0.25, 0.2),
            ("bias_step", 0.5, 0.12), ("bias_step", 1.0, 0.88), ("bias_step", 0.5, 0.93), ("bias_step", 1.0, 0.42),
            ("bias_ramp", 0.5, 0.8), ("bias_ramp", 1.0, 0.9), ("bias_ramp", 0.5, 0.15)]
-CONTROLS = {"nothing_missing": ({}, 12), "gauss_markov": ({"gauss_markov": {"sigma_dph": 2.0, "tau_s": 300}}, 6),
-            "rate_random_walk": ({"rrw_dph_rt_h": 2.0}, 6)}
 
 
 def jobs(out, seeds, controls):
@@ -36,11 +36,9 @@ def jobs(out, seeds, controls):
             yield {"generator": "independent", "group": "outside", "case": "%s@%s@%s" % (eid, m, at), "seed": sd,
                    "spec": {"effects": [{"id": eid, "magnitude": m, "at": at}]},
                    "dir": os.path.join(out, "cases", "%s_%s_%s_%d" % (eid, m, at, sd))}
-    if controls:
-        for name, (noise, n) in CONTROLS.items():
-            for seed in range(1, n + 1):
-                yield {"generator": "independent", "group": "control", "case": name, "seed": 9000 + seed,
-                       "spec": {"noise": noise}, "dir": os.path.join(out, "controls", "%s_%d" % (name, 9000 + seed))}
+    if controls:  # the suite's own (config.yaml, independent.controls)
+        cfg = yaml.safe_load(open(os.path.join(HERE, "config.yaml")))["independent"]
+        yield from (j for j in ic.jobs(cfg, out, 1) if j["group"] == "control")
 
 
 def main():

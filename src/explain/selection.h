@@ -15,10 +15,10 @@
 //   5. Holm's step-down procedure over the candidates controls the family-wise error at alpha;
 //   6. the significant candidates are re-scored against the noise the null's likelihood chose (each one's
 //      nonlinear parameter scanned again there; a coil lag as the model it creates - the temperature columns
-//      lagged, not its Gauss-Newton column beside them), the best `likelihood_tries` of them there - and the best
-//      `likelihood_tries` by their dBIC at the step's whitening, where a change the null's noise has absorbed as
-//      a random walk still scores - are judged with the noise model (its random-walk and Gauss-Markov variances and time constant) re-estimated by maximum
-//      likelihood with and without them - coloured noise can mimic a trend, but a wander is not explained
+//      lagged, not its Gauss-Newton column beside them), the best `likelihood_tries` of them there - and the
+//      best `likelihood_tries` by their dBIC at the step's whitening, where a change the null's noise has
+//      absorbed as a random walk still scores - are judged with the noise model (its random-walk and
+//      Gauss-Markov variances and time constant) re-estimated by maximum likelihood with and without them - coloured noise can mimic a trend, but a wander is not explained
 //      better by one - and the one with the largest positive dBIC there is added; every other candidate within
 //      `ambiguity_bic` of it that it makes redundant - and that makes it redundant - is reported as an
 //      alternative the data cannot tell apart.
