@@ -63,6 +63,8 @@ std::vector<PhysicalParameter> Effect::parameters(const Term&, const Eigen::Vect
 
 std::string Effect::separating_experiment(std::string_view) const { return ""; }
 
+std::vector<double> Effect::located_parameters(const ExplainInput&, const Eigen::VectorXd&) const { return {}; }
+
 const std::vector<const Effect*>& effect_library() {
   static const std::vector<std::unique_ptr<Effect>> owned = [] {
     std::vector<std::unique_ptr<Effect>> v;

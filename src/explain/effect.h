@@ -124,6 +124,9 @@ class Effect {
                                                     const TermScaling& scaling) const;
   // What would tell it apart from `other`, where this effect knows (each pair is written by one of the two).
   virtual std::string separating_experiment(std::string_view other) const;
+  // Values of its nonlinear parameter a scan of the base model's residual points at, without a noise model
+  // (added to its grid; none by default). The training rows only: a held-out row never fits.
+  virtual std::vector<double> located_parameters(const ExplainInput&, const Eigen::VectorXd& residual) const;
 
  protected:
   Candidate candidate(Term term) const;

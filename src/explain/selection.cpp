@@ -245,7 +245,7 @@ double refine_parameter(const Candidate& c, double best, const Step& s) {
   const bool scale = c.scale_parameter();
   for (int level = 0; level < 2; ++level) {
     Candidate fine = c;
-    fine.tau_grid_s.clear();
+    fine.tau_grid_s = {best};  // never worse than the point refined (a located time sits between grid steps)
     for (int k = 0; k <= 8; ++k) {
       fine.tau_grid_s.push_back(scale ? lo * std::pow(hi / lo, k / 8.0) : lo + (hi - lo) * k / 8.0);
     }
@@ -422,6 +422,27 @@ void find_alternatives(SelectedEffect& chosen, std::size_t b, const std::vector<
 }
 
 // The noise model from what the current model leaves (ordinary least squares on the training rows).
+// Each candidate's grid joined by the values a scan of the base model's residual (an ordinary least-squares
+// fit on the training rows) points at (Effect::located_parameters), inside the grid's span. Those values are
+// chosen by the data, and the bootstrap keeps them fixed on every resample: a few points among a grid of
+// dozens, which the likelihood gate and the held-out check judge as any other.
+void locate_parameters(std::vector<Candidate>& open, const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const TermScaling& sc,
+                       const std::vector<Eigen::Index>& rows) {
+  const Eigen::MatrixXd x = model_columns(base, in.signals, sc);
+  const Eigen::VectorXd residual = y - x * fit_whitened(training_rows(x, rows), training_rows(y, rows)).beta;
+  for (Candidate& c : open) {
+    if (!c.effect || c.tau_grid_s.empty()) continue;
+    std::vector<double>& g = c.tau_grid_s;
+    const auto [lo, hi] = std::minmax_element(g.begin(), g.end());
+    const double first = *lo, last = *hi;
+    for (double v : c.effect->located_parameters(in, residual)) {
+      if (v >= first && v <= last) g.push_back(v);
+    }
+    std::sort(g.begin(), g.end());
+    g.erase(std::unique(g.begin(), g.end()), g.end());
+  }
+}
+
 NoiseModel current_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& model, const TermScaling& sc,
                                const std::vector<Eigen::Index>& rows) {
   const Eigen::MatrixXd x = model_columns(model, in.signals, sc);
@@ -481,6 +502,7 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
   for (const Candidate& c : candidates) {
     if (!c.further_component) open.push_back(c);
   }
+  locate_parameters(open, in, y, base, sc, rows);
   std::optional<NoiseLikelihood::Optimum> current;  // the likelihood's optimum for result.model, when known
   StageClock clock(result.times, "explain: selection: ");
   clock.lap("noise model");

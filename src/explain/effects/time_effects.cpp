@@ -77,6 +77,40 @@ class AgingTrend : public Effect {
   }
 };
 
+// Where a two-window scan of the residual r puts a bias step, one time per window length W: the
+// difference of r's means over the W seconds of training rows from t on and the W seconds before t, in
+// units of its robust spread over t (1.4826 times the median absolute deviation), is largest in magnitude
+// at a step. Windows count training rows, so they reach across a held-out block: a step inside one is
+// placed at its edge. The scan needs no noise model, and that is its purpose: a coloured noise model
+// fitted with the step in the data takes the step as a random walk, whose whitening lets a step score only
+// at its time to within the whitening filter's memory (tens of seconds), which the D/48 grid misses (a
+// planted 0.3-deg/s step in an ADIS16405 log: the grid's best was 1,000 s off, and the step was demoted).
+std::vector<double> step_times(const ExplainInput& in, const Eigen::VectorXd& r) {
+  std::vector<double> t, sum{0.0};  // training times; prefix sums of r over them
+  for (Eigen::Index i = 0; i < in.size(); ++i) {
+    if (!in.diagnosed(i)) continue;
+    t.push_back(in.signals.t_s[static_cast<std::size_t>(i)]);
+    sum.push_back(sum.back() + r(i));
+  }
+  const auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  std::vector<double> out;
+  for (const double w : {30.0, 120.0, 480.0}) {
+    const auto m = static_cast<std::size_t>(std::max(5.0, std::round(w / in.dt_s)));
+    if (t.size() < 8 * m) continue;
+    std::vector<double> d;
+    for (std::size_t i = m; i + m <= t.size(); ++i) d.push_back((sum[i + m] - 2.0 * sum[i] + sum[i - m]) / static_cast<double>(m));
+    const double centre = median(d);
+    std::vector<double> dev(d.size());
+    for (std::size_t k = 0; k < d.size(); ++k) dev[k] = std::abs(d[k] - centre);
+    if (!(median(dev) > 0.0)) continue;
+    out.push_back(t[m + static_cast<std::size_t>(std::max_element(dev.begin(), dev.end()) - dev.begin())]);
+  }
+  return out;
+}
+
 // A change of the bias at an unknown time - a step (a mode hop) or the start of a trend - is not physics
 // of the library: when the data demand one beyond the coloured noise (the selection's likelihood gate
 // re-estimates the random walk with and without it), it is reported as unexplained, localised in time.
@@ -94,7 +128,8 @@ class ChangePoint : public Effect {
   bool is_physics() const override { return false; }
   std::string_view unexplained_kind() const override { return ramp_ ? "trend_change" : "change_point"; }
   Proposal propose(const CandidateContext& c) const override {
-    if (c.duration_s < 7200.0) return {{}, "the recording is shorter than 2 hours"};
+    // An hour at least: the grid then has ten times, and each side of the last a quarter of an hour of record.
+    if (c.duration_s < 3600.0) return {{}, "the recording is shorter than an hour"};
     // Times every D/48 (at least 5 min) inside the central 90 % of the record; refined when selected.
     const double t0 = c.in.signals.t_s.front(), d = c.duration_s, spacing = std::max(300.0, d / 48.0);
     Candidate k = candidate(change_term(t0 + 0.05 * d, ramp_));
@@ -105,6 +140,10 @@ class ChangePoint : public Effect {
   std::vector<PhysicalParameter> parameters(const Term&, const Eigen::VectorXd& beta, const Eigen::VectorXd& sigma,
                                             const TermScaling&) const override {
     return {PhysicalParameter::estimate(ramp_ ? "slope_dph_per_h" : "step_dph", beta(0), sigma(0))};
+  }
+  // A step's time by the two-window scan (a ramp's onset has no such scan yet: its grid alone).
+  std::vector<double> located_parameters(const ExplainInput& in, const Eigen::VectorXd& residual) const override {
+    return ramp_ ? std::vector<double>{} : step_times(in, residual);
   }
 
  private:
