@@ -77,11 +77,11 @@ class AgingTrend : public Effect {
   }
 };
 
-// Where a two-window scan of the residual r puts a bias step, one time per window length W: the
-// difference of r's means over the W seconds of training rows from t on and the W seconds before t, in
-// units of its robust spread over t (1.4826 times the median absolute deviation), is largest in magnitude
-// at a step. Windows count training rows, so they reach across a held-out block: a step inside one is
-// placed at its edge. The scan needs no noise model, and that is its purpose: a coloured noise model
+// Where a two-window scan of the residual r puts a bias step, one time per window length W (30, 120 and
+// 480 s): the difference of r's means over the W seconds of training rows from t on and the W seconds
+// before t lies furthest from its median over t at a step (a residual without spread places nothing).
+// Windows count training rows, so they reach across a held-out block: a step inside one is placed at its
+// edge. The scan needs no noise model, and that is its purpose: a coloured noise model
 // fitted with the step in the data takes the step as a random walk, whose whitening lets a step score only
 // at its time to within the whitening filter's memory (tens of seconds), which the D/48 grid misses (a
 // planted 0.3-deg/s step in an ADIS16405 log: the grid's best was 1,000 s off, and the step was demoted).
