@@ -27,8 +27,13 @@ written as oracle_power: the floor the real noise sets, whatever the noise model
 
 Right: a planted effect named (or in a named effect's alternatives); for the step, also
 `unexplained_residual` with a change point, time window or trend change within 600 s of the step; for the
-warm-up, such an unexplained span starting in the first 600 s. for the channel, `unexplained_residual` following supply_v (how explain reports an auxiliary
-channel's pull on the bias). A control is right when nothing is reported.
+warm-up, such an unexplained span starting in the first 600 s; for the channel, `unexplained_residual`
+following supply_v (how explain reports an auxiliary channel's pull on the bias). A control is right when
+nothing is reported.
+
+Seeds: a log's placements derive from the sum of its name's characters, so logs whose names sum alike
+(adis4_x, adis3_y) share them: 9 distinct step times a magnitude over the 19 logs (kept: the committed
+results reproduce).
 
     real_noise.py --gyrosid B --tag T --out /tmp/real_noise [--magnitudes 0.125,0.25,1] [--units 1,2,3,4,5,6] [--halves] [--oracle]
 """
