@@ -51,6 +51,14 @@ Eigen::MatrixXd training_rows(const Eigen::MatrixXd& x, const std::vector<Eigen:
   return out;
 }
 
+// The residual of an ordinary least-squares fit of x to y on the training rows, at those rows (0 elsewhere).
+Eigen::VectorXd training_residual(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const std::vector<Eigen::Index>& rows) {
+  const WhitenedFit f = fit_whitened(training_rows(x, rows), training_rows(y, rows));
+  Eigen::VectorXd residual = Eigen::VectorXd::Zero(y.size());
+  for (std::size_t r = 0; r < rows.size(); ++r) residual(rows[r]) = f.residual(static_cast<Eigen::Index>(r));
+  return residual;
+}
+
 NoiseModel full_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const TermScaling& sc,
                             const std::vector<Candidate>& candidates) {
   std::vector<Eigen::Index> rows;
@@ -76,10 +84,7 @@ NoiseModel full_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, co
     x.middleCols(at, b.cols()) = b;
     at += b.cols();
   }
-  const WhitenedFit f = fit_whitened(training_rows(x, rows), yt);
-  Eigen::VectorXd residual = Eigen::VectorXd::Zero(in.size());
-  for (std::size_t r = 0; r < rows.size(); ++r) residual(rows[r]) = f.residual(static_cast<Eigen::Index>(r));
-  return fit_noise_model(residual, contiguous_runs(rows, in.segment), in.dt_s, NoiseStart::gauss_markov_start);
+  return fit_noise_model(training_residual(x, y, rows), contiguous_runs(rows, in.segment), in.dt_s, NoiseStart::gauss_markov_start);
 }
 
 // Circular block bootstrap of r, drawn a batch of resamples at a time (n x batch each): the draws follow one
@@ -421,15 +426,13 @@ void find_alternatives(SelectedEffect& chosen, std::size_t b, const std::vector<
   }
 }
 
-// Each candidate's grid joined by the values a scan of the base model's residual (an ordinary least-squares
-// fit on the training rows) points at (Effect::located_parameters), inside the grid's span. The bootstrap
+// Each candidate's grid joined by the values a scan of the base model's training residual points at (Effect::located_parameters), inside the grid's span. The bootstrap
 // maximises over the same grid on every resample without scanning it again, so those few data-chosen points
 // make a p-value a little optimistic; the likelihood gate and the held-out check judge them as any other
 // (controls after the change: the independent suite's 24/24 silent, 56/57 unplanted real logs).
 void locate_parameters(std::vector<Candidate>& open, const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& base, const TermScaling& sc,
                        const std::vector<Eigen::Index>& rows) {
-  const Eigen::MatrixXd x = model_columns(base, in.signals, sc);
-  const Eigen::VectorXd residual = y - x * fit_whitened(training_rows(x, rows), training_rows(y, rows)).beta;
+  const Eigen::VectorXd residual = training_residual(model_columns(base, in.signals, sc), y, rows);
   for (Candidate& c : open) {
     if (!c.effect || c.tau_grid_s.empty()) continue;
     std::vector<double>& g = c.tau_grid_s;
@@ -446,11 +449,8 @@ void locate_parameters(std::vector<Candidate>& open, const ExplainInput& in, con
 // The noise model from what the current model leaves (ordinary least squares on the training rows).
 NoiseModel current_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, const ModelSpec& model, const TermScaling& sc,
                                const std::vector<Eigen::Index>& rows) {
-  const Eigen::MatrixXd x = model_columns(model, in.signals, sc);
-  const WhitenedFit ols = fit_whitened(training_rows(x, rows), training_rows(y, rows));
-  Eigen::VectorXd residual = Eigen::VectorXd::Zero(in.size());
-  for (std::size_t r = 0; r < rows.size(); ++r) residual(rows[r]) = ols.residual(static_cast<Eigen::Index>(r));
-  return fit_noise_model(residual, contiguous_runs(rows, in.segment), in.dt_s, NoiseStart::gauss_markov_start);
+  return fit_noise_model(training_residual(model_columns(model, in.signals, sc), y, rows), contiguous_runs(rows, in.segment), in.dt_s,
+                         NoiseStart::gauss_markov_start);
 }
 
 }  // namespace
