@@ -113,7 +113,8 @@ void register_explain(CLI::App& app, Action& action) {
       "Blocks: whole thermal cycles when the recording has four or more, else eight spans of time; every\n"
       "--heldout-every-th block (default ", explain::InputOptions{}.heldout_every, ") from the third is held out and only confirms.\n"
       "An effect the held-out blocks do not hold (a warm-up at the start, an onset after the last of them) is\n"
-      "confirmed instead by blocked cross-validation on its own support (explain.json: support_z).\n"
+      "confirmed instead by blocked cross-validation on its own support (explain.json: support_z). A change whose time\n"
+      "lies in a held-out block is confirmed by the blocks after it and reported as lying in that block.\n"
       "Example: gyrosid explain --recording lab.csv --model sim.json --out why/"));
   cmd->callback([c, &action] { action = [c] { run_explain(*c); }; });
 }

@@ -65,6 +65,8 @@ std::string Effect::separating_experiment(std::string_view) const { return ""; }
 
 std::vector<double> Effect::located_parameters(const ExplainInput&, const Eigen::VectorXd&) const { return {}; }
 
+std::vector<Term> Effect::richer_forms(const Term&, const ExplainInput&) const { return {}; }
+
 const std::vector<const Effect*>& effect_library() {
   static const std::vector<std::unique_ptr<Effect>> owned = [] {
     std::vector<std::unique_ptr<Effect>> v;

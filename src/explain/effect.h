@@ -127,6 +127,10 @@ class Effect {
   // Values of its nonlinear parameter a scan of the base model's residual points at, without a noise model
   // (added to its grid; none by default). The training rows only: a held-out row never fits.
   virtual std::vector<double> located_parameters(const ExplainInput&, const Eigen::VectorXd& residual) const;
+  // Richer forms of its term once it is accepted (a hysteresis loop of two widths for one): each tried in
+  // the term's place before the refit, kept when the BIC prefers it with its added columns and one added
+  // parameter counted (explain.cpp). None by default.
+  virtual std::vector<Term> richer_forms(const Term& accepted, const ExplainInput& in) const;
 
  protected:
   Candidate candidate(Term term) const;

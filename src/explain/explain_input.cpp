@@ -20,6 +20,22 @@ Eigen::Index ExplainInput::training_size() const {
   return static_cast<Eigen::Index>(std::count(heldout.begin(), heldout.end(), 0));
 }
 
+std::optional<std::pair<Eigen::Index, Eigen::Index>> ExplainInput::heldout_run_at(double t_s) const {
+  // A change's time is placed to a few rows at best (each row moves the training fit by one sample's worth),
+  // so the search can stop a few rows past a held-out run's edge: on a static log, 0.3 s (one row) after it.
+  constexpr Eigen::Index kSlack = 10;
+  const auto n = size();
+  const auto at = static_cast<Eigen::Index>(std::lower_bound(signals.t_s.begin(), signals.t_s.end(), t_s) - signals.t_s.begin());
+  const auto held = [&](Eigen::Index i) { return i >= 0 && i < n && heldout[static_cast<std::size_t>(i)] != 0; };
+  Eigen::Index first = -1;
+  for (Eigen::Index d = 0; d <= kSlack && first < 0; ++d) first = held(at + d) ? at + d : held(at - 1 - d) ? at - 1 - d : -1;
+  if (first < 0) return std::nullopt;
+  Eigen::Index last = first;
+  while (held(first - 1)) --first;
+  while (held(last + 1)) ++last;
+  return std::make_pair(first, last);
+}
+
 namespace {
 
 Eigen::VectorXd vec(const std::vector<double>& v, double scale = 1.0) {

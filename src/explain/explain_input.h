@@ -5,7 +5,9 @@
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/recording.h"
@@ -54,6 +56,10 @@ struct ExplainInput {
   // training blocks visited sparsely, so a cell or window test there would read extrapolation as structure;
   // the held-out blocks speak through the held-out gain of each effect instead.
   bool diagnosed(Eigen::Index i) const { return heldout[static_cast<std::size_t>(i)] == 0; }
+  // The run of held-out rows (first, last) a change at t_s may lie anywhere in for all the training rows
+  // say: the run holding a row within ten rows of t_s. None when the training rows place t_s (no held-out
+  // row that near).
+  std::optional<std::pair<Eigen::Index, Eigen::Index>> heldout_run_at(double t_s) const;
 };
 
 // Reads one gyro of a recording. Errors name the recording and the column.

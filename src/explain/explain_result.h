@@ -93,7 +93,9 @@ struct Unexplained {
   double t_start_s = 0.0, t_end_s = 0.0;
   double statistic = 0.0;  // dBIC (follows_channel), peak correlation, or z
   // follows_channel, change_point, trend_change: the selection's p-value and the coefficient (a channel's
-  // gain, a step's height, a trend's slope); the change's time is t_start_s = t_end_s.
+  // gain, a step's height, a trend's slope); the change's time is t_start_s = t_end_s, or, where it lies in
+  // a held-out run the training rows cannot place it in, that run (from its first row to the next training
+  // row, widened to the time found).
   double p_value = 1.0;
   std::vector<PhysicalParameter> parameters;
   // correlation: at which lag, against which threshold.

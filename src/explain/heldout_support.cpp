@@ -59,7 +59,15 @@ const std::vector<char>& HeldoutSupport::of(const ModelSpec& model) {
   for (const auto& [k, mask] : cache_) {
     if (k == key) return mask;
   }
-  cache_.emplace_back(std::move(key), outside_training_support(model_columns(model, in_.signals, scaling_), in_.heldout, ratio_));
+  std::vector<char> mask = outside_training_support(model_columns(model, in_.signals, scaling_), in_.heldout, ratio_);
+  for (const Term& t : model.terms) {
+    const auto p = t.parameter();
+    if (!p || p->scale) continue;
+    if (const auto run = in_.heldout_run_at(p->value)) {
+      for (Eigen::Index i = run->first; i <= run->second; ++i) mask[static_cast<std::size_t>(i)] = 1;
+    }
+  }
+  cache_.emplace_back(std::move(key), std::move(mask));
   return cache_.back().second;
 }
 

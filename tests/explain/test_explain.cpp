@@ -202,6 +202,32 @@ TEST(PhysicsTerms, HysteresisIsThePlayOperatorFromItsNeutralState) {
   for (Eigen::Index k = 0; k < n; ++k) EXPECT_NEAR(x(k, 0), expected[static_cast<std::size_t>(k)], 1e-12) << k;
 }
 
+// A loop of two widths is the two plays side by side; the model file keeps both widths, and a new width_c
+// (the refit's parameter) leaves the second where it is.
+TEST(PhysicsTerms, ATwoWidthHysteresisIsTwoPlaysAndSurvivesItsJson) {
+  Signals s;
+  const std::vector<double> temp{0.0, 0.5, 1.0, 4.0, 10.0, 9.0, 8.0, 5.0, 0.0, 3.0};
+  const auto n = static_cast<Eigen::Index>(temp.size());
+  s.t_s.resize(temp.size());
+  for (std::size_t k = 0; k < temp.size(); ++k) s.t_s[k] = 600.0 * static_cast<double>(k);
+  s.rate = Eigen::VectorXd::Zero(n);
+  s.temp_c = Eigen::Map<const Eigen::VectorXd>(temp.data(), n);
+  const CoilTemperature coil = coil_temperature(s, 0.0);
+  const TermScaling sc = TermScaling::of(s);
+  const Term two = hysteresis_term(2.0, 6.0);
+  const Eigen::MatrixXd x = design_matrix({two}, s, coil, sc);
+  ASSERT_EQ(x.cols(), 2);
+  EXPECT_EQ(two->column_names(), (std::vector<std::string>{"hysteresis", "hysteresis_2"}));
+  EXPECT_LT((x.col(0) - design_matrix({hysteresis_term(2.0)}, s, coil, sc).col(0)).cwiseAbs().maxCoeff(), 1e-15);
+  // Width 6 C (half-width 3): (T - 0)/6 until T passes 3 C, then +1/2; after the turn at 10 C the play holds
+  // at 7 C, so (T - 7)/6, until T falls below 4 C; back up from 0 C it holds at 3 C.
+  const std::vector<double> wide{0.0, 0.5 / 6, 1.0 / 6, 0.5, 0.5, 2.0 / 6, 1.0 / 6, -2.0 / 6, -0.5, 0.0};
+  for (Eigen::Index k = 0; k < n; ++k) EXPECT_NEAR(x(k, 1), wide[static_cast<std::size_t>(k)], 1e-12) << k;
+  const Eigen::MatrixXd back = design_matrix({Term::from_json(two.to_json())}, s, coil, sc);
+  EXPECT_LT((back - x).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_EQ(two.with_parameter(3.0).to_json().at("second_width_c").get<double>(), 6.0);
+}
+
 TEST(PhysicsTerms, SurfaceBasisReproducesTheBicubicSpline) {
   const std::vector<double> temps{-20, 0, 20, 25, 40, 60}, rates{-100, -40, -10, 10, 40, 100};
   RandomStream rng(5, "surface");
@@ -307,6 +333,15 @@ TEST(Explain, PlantedThermalLagIsFoundWithItsTimeConstant) {
   EXPECT_NEAR(parameter(*e, "tau_s").value, 400.0, 60.0);
 }
 
+// The rate error (deg/h) of the independent generator's FOG (experiments/concealed_effects/independent.py):
+// bias cubic in the coil temperature about 25 C, scale factor quadratic in (T, rate) in ppm, u = rate / 100 deg/s.
+double independent_fog_error_dph(double coil_c, double rate_dps) {
+  const double d = coil_c - 25.0, u = rate_dps / 100.0;
+  const double bias_dph = 8.0 + 0.35 * d - 0.004 * d * d + 5e-5 * d * d * d;
+  const double sf_ppm = 150.0 + 4.0 * d - 0.03 * d * d + 25.0 * u - 40.0 * u * u + 0.5 * d * u;
+  return bias_dph + sf_ppm * 1e-6 * rate_dps * 3600.0;
+}
+
 // A coil lagging the probe by 900 s, on a programme whose held-out cycle reaches coil temperatures the
 // training cycles never do (issue 34, class 2), written here from first principles at 0.5 Hz: the FOG of the
 // independent generator (experiments/concealed_effects/independent.py: bias cubic in the coil temperature,
@@ -329,11 +364,9 @@ Recording lag_beyond_training_coverage(std::uint64_t seed) {
     while (knot_t[k + 1] < s) ++k;
     const double p = knot_c[k] + (knot_c[k + 1] - knot_c[k]) * (s - knot_t[k]) / (knot_t[k + 1] - knot_t[k]);
     coil = p + (coil - p) * std::exp(-dt / tau);  // the probe held over the interval
-    const double w = 100.0 * std::sin(2.0 * units::kPi * s / 97.0), d = coil - 25.0, u = w / 100.0;
-    const double bias_dph = 8.0 + 0.35 * d - 0.004 * d * d + 5e-5 * d * d * d;
-    const double sf_ppm = 150.0 + 4.0 * d - 0.03 * d * d + 25.0 * u - 40.0 * u * u + 0.5 * d * u;
+    const double w = 100.0 * std::sin(2.0 * units::kPi * s / 97.0);
     t.push_back(s), rate.push_back(w), probe.push_back(p);
-    gyro.push_back(w + (bias_dph + sf_ppm * 1e-6 * w * 3600.0 + 10.0 * rng.normal()) / 3600.0);
+    gyro.push_back(w + (independent_fog_error_dph(coil, w) + 10.0 * rng.normal()) / 3600.0);
   }
   Recording rec("lag beyond the training coverage");
   rec.set_column("t_s", t);
@@ -535,6 +568,23 @@ TEST(Explain, AnOnsetTheNullsNoiseAbsorbedCompetesInTheLikelihoodComparison) {
   }
 }
 
+// A static log at 5 Hz with ADIS16405-like noise (320 deg/h white, a 50 deg/h Gauss-Markov wander of 175 s)
+// and a 1,000 deg/h bias step at t_step, 3 h.
+Recording static_log_with_step(std::uint64_t seed, double t_step) {
+  RandomStream rng(seed, "static log");
+  const double rate_hz = 5.0, a = std::exp(-1.0 / (rate_hz * 175.0));
+  std::vector<double> t, ref, gyro;
+  double wander = 0.0;
+  for (int i = 0; i < static_cast<int>(3 * 3600 * rate_hz); ++i) {
+    t.push_back(i / rate_hz), ref.push_back(0.0);
+    wander = a * wander + 50.0 * std::sqrt(1 - a * a) * rng.normal();
+    gyro.push_back((320.0 * rng.normal() + wander + (t.back() >= t_step ? 1000.0 : 0.0)) / 3600.0);
+  }
+  Recording rec("static.csv");
+  rec.set_column("t_s", t), rec.set_column("ref_rate_dps", ref), rec.set_column("gyro_dps", gyro);
+  return rec;
+}
+
 // A static log's bias step in a Gauss-Markov wander (issue 34, effects in real noise): 3 h at 5 Hz, white
 // noise 320 deg/h a sample, a 50 deg/h wander of 175 s (the ADIS16405 x gyros' noise, read in
 // experiments/real_recordings) and a 1,000 deg/h step at 6,400 s, 140 s from the nearest time of the
@@ -544,24 +594,30 @@ TEST(Explain, AnOnsetTheNullsNoiseAbsorbedCompetesInTheLikelihoodComparison) {
 // and the final noise has no random walk.
 TEST(Explain, AStepInAStaticLogsWanderIsLocatedByTheTwoWindowScan) {
   for (std::uint64_t seed : {1, 2, 3}) {
-    RandomStream rng(seed, "static log");
-    const double rate_hz = 5.0, a = std::exp(-1.0 / (rate_hz * 175.0)), t_step = 6400.0;
-    std::vector<double> t, ref, gyro;
-    double wander = 0.0;
-    for (int i = 0; i < static_cast<int>(3 * 3600 * rate_hz); ++i) {
-      t.push_back(i / rate_hz), ref.push_back(0.0);
-      wander = a * wander + 50.0 * std::sqrt(1 - a * a) * rng.normal();
-      gyro.push_back((320.0 * rng.normal() + wander + (t.back() >= t_step ? 1000.0 : 0.0)) / 3600.0);
-    }
-    Recording rec("static.csv");
-    rec.set_column("t_s", t), rec.set_column("ref_rate_dps", ref), rec.set_column("gyro_dps", gyro);
-    const ExplainResult r = explain_recording(rec, fast());
+    const ExplainResult r = explain_recording(static_log_with_step(seed, 6400.0), fast());
     EXPECT_EQ(r.summary.verdict, Verdict::unexplained_residual) << "seed " << seed << ": " << ids(r.summary) << unexplained(r.summary);
     const Unexplained* step = nullptr;
     for (const auto& u : r.summary.unexplained) step = u.kind == UnexplainedKind::change_point ? &u : step;
     ASSERT_NE(step, nullptr) << "seed " << seed << ": " << unexplained(r.summary);
-    EXPECT_NEAR(step->t_start_s, t_step, 2.0) << "seed " << seed;  // the decimated sample interval is 0.4 s
+    EXPECT_NEAR(step->t_start_s, 6400.0, 2.0) << "seed " << seed;  // the decimated sample interval is 0.4 s
     for (const auto& term : r.summary.noise.terms) EXPECT_NE(term.id, "rate_random_walk") << "seed " << seed;
+  }
+}
+
+// The same log with the step inside the first held-out block (the third eighth, 2,700-4,050 s; issue 34,
+// class 3): the training rows bracket it, so anywhere in the block fits them alike, and the block's rows
+// scored where the search put the step (held-out z -11 on ADIS16405 #1 x with a step planted at 3,488 s):
+// it was demoted and nothing reported. Those rows are now outside the step's support; the last held-out
+// block confirms its height, and the change is reported as lying in the block.
+TEST(Explain, AStepInsideAHeldOutBlockIsReportedAsLyingInThatBlock) {
+  for (std::uint64_t seed : {1, 2}) {
+    const ExplainResult r = explain_recording(static_log_with_step(seed, 3300.0), fast());
+    EXPECT_EQ(r.summary.verdict, Verdict::unexplained_residual) << "seed " << seed << ": " << ids(r.summary) << unexplained(r.summary);
+    const Unexplained* step = nullptr;
+    for (const auto& u : r.summary.unexplained) step = u.kind == UnexplainedKind::change_point ? &u : step;
+    ASSERT_NE(step, nullptr) << "seed " << seed << ": " << unexplained(r.summary);
+    EXPECT_NEAR(step->t_start_s, 2700.0, 1.0) << "seed " << seed;
+    EXPECT_NEAR(step->t_end_s, 4050.0, 1.0) << "seed " << seed;
   }
 }
 
@@ -597,6 +653,68 @@ TEST(Explain, HysteresisAndAgeingOnARandomWalkAreBothNamedAtTheirParameters) {
   // The walk alone makes a trend over the 2.1-h record uncertain by 3 / 60 / sqrt(7680 s) * 3600 = 2.0 deg/h per
   // hour; the refit's interval (0.42 here) does not include it - it whitens with the selection's near-white model.
   EXPECT_NEAR(parameter(*a, "k_dph_per_h").value, ageing, 2.0 * 2.0);
+}
+
+// A loop of two play widths (issue 34, class 4) on a chamber programme with reversals of 4-14 C inside its
+// range, written here from first principles at 0.5 Hz (the independent generator's FOG law and 10 deg/h white
+// noise; the probe is the coil): widths 2 and 16 C sharing a 20 deg/h loop 35/65. One play of one width
+// cannot follow the minor loops' inner shape (on the independent generator it left up to 47 % of such a
+// loop's held-out excess and its height 35 % off); the richer form, a second play, must be kept and the
+// height and both widths recovered. With widths_c = {2} alone the second play must not be kept.
+Recording minor_loops(std::uint64_t seed, const std::vector<double>& widths_c, const std::vector<double>& shares, double height_dph) {
+  std::vector<double> knot_t{0.0, 1800.0}, knot_c{20.0, 20.0};
+  const std::vector<std::tuple<double, double, double>> segments{  // to C, C/min, hold min
+      {50, 1, 20}, {44, 1, 10}, {48, 1, 10}, {40, 1, 10}, {46, 1, 10}, {34, 1, 10}, {42, 1, 10}, {-10, 2, 20},
+      {-4, 1, 10}, {-8, 1, 10}, {0, 1, 10}, {-6, 1, 10}, {6, 1, 10}, {0, 1, 10}, {20, 1, 10}};
+  for (const auto& [to, rate, hold] : segments) {
+    knot_t.push_back(knot_t.back() + std::abs(to - knot_c.back()) / rate * 60.0), knot_c.push_back(to);
+    knot_t.push_back(knot_t.back() + hold * 60.0), knot_c.push_back(to);
+  }
+  RandomStream rng(seed, "minor loops");
+  std::vector<double> t, rate, probe, gyro, play(widths_c.size(), knot_c.front());
+  std::size_t k = 0;
+  for (double s = 0.0; s < knot_t.back(); s += 2.0) {
+    while (knot_t[k + 1] < s) ++k;
+    const double c = knot_c[k] + (knot_c[k + 1] - knot_c[k]) * (s - knot_t[k]) / (knot_t[k + 1] - knot_t[k]);
+    double loop = 0.0;
+    for (std::size_t j = 0; j < widths_c.size(); ++j) {
+      const double r = 0.5 * widths_c[j];
+      play[j] = std::clamp(play[j], c - r, c + r);
+      loop += shares[j] * (c - play[j]) / widths_c[j];
+    }
+    const double w = 100.0 * std::sin(2.0 * units::kPi * s / 97.0);
+    t.push_back(s), rate.push_back(w), probe.push_back(c);
+    gyro.push_back(w + (independent_fog_error_dph(c, w) + height_dph * loop + 10.0 * rng.normal()) / 3600.0);
+  }
+  Recording rec("minor loops");
+  rec.set_column("t_s", t);
+  rec.set_column("ref_rate_dps", rate);
+  rec.set_column("temp_c", probe);
+  rec.set_column("gyro_dps", gyro);
+  return rec;
+}
+
+TEST(Explain, ALoopOfTwoPlayWidthsIsFittedWithBoth) {
+  const ExplainResult two = explain_recording(minor_loops(3, {2.0, 16.0}, {0.35, 0.65}, 20.0), fast());
+  const FoundEffect* h = effect(two.summary, "thermal_hysteresis");
+  ASSERT_NE(h, nullptr) << ids(two.summary);
+  EXPECT_EQ(two.summary.effects.size(), 1u) << ids(two.summary);
+  EXPECT_NEAR(parameter(*h, "offset_dph").value, 20.0, 2.0);
+  const double narrow = std::min(parameter(*h, "width_c").value, parameter(*h, "second_width_c").value);
+  const double wide = std::max(parameter(*h, "width_c").value, parameter(*h, "second_width_c").value);
+  EXPECT_NEAR(narrow, 2.0, 1.0);
+  EXPECT_NEAR(wide, 16.0, 6.0);
+  const double wide_share = parameter(*h, "width_c").value > parameter(*h, "second_width_c").value
+                                ? parameter(*h, "offset_dph").value - parameter(*h, "second_offset_dph").value
+                                : parameter(*h, "second_offset_dph").value;
+  EXPECT_NEAR(wide_share, 0.65 * 20.0, 3.0);
+
+  const ExplainResult one = explain_recording(minor_loops(4, {2.0}, {1.0}, 20.0), fast());
+  const FoundEffect* h1 = effect(one.summary, "thermal_hysteresis");
+  ASSERT_NE(h1, nullptr) << ids(one.summary);
+  EXPECT_NEAR(parameter(*h1, "offset_dph").value, 20.0, 2.0);
+  EXPECT_NEAR(parameter(*h1, "width_c").value, 2.0, 0.5);
+  for (const auto& p : h1->parameters) EXPECT_NE(p.name, "second_width_c");
 }
 
 // Two thermal cycles -20..40 C at 1 C/min with rate cycles, 1 Hz: 240 min, 14,400 samples - long enough for

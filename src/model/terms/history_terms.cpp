@@ -20,29 +20,46 @@ std::string HistoryTerm::export_c(TermCode&) const {
 
 void ShupeTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const { out.col(0) = in.coil.rate_c_per_s; }
 
-HysteresisTerm::HysteresisTerm(double width_c) : width_c_(width_c) {
+HysteresisTerm::HysteresisTerm(double width_c, double second_width_c) : width_c_(width_c), second_width_c_(second_width_c) {
   if (!(width_c_ >= 0)) fail("physics term hysteresis: width_c must be >= 0");
+  if (!(second_width_c_ >= 0)) fail("physics term hysteresis: second_width_c must be >= 0");
+  if (second_width_c_ > 0 && !(width_c_ > 0)) fail("physics term hysteresis: second_width_c needs width_c > 0 (two plays, not the threshold switch)");
 }
 
-// The play operator P_r (a backlash of half-width r) on the coil temperature, started in its neutral state
-// y = x(0) (output 0, midway between the branches): the recording does not say which branch the sensor was
-// on at switch-on, and the neutral state assumes neither (Krasnosel'skii-Pokrovskii's usual initial state).
+std::vector<std::string> HysteresisTerm::column_names() const {
+  if (second_width_c_ > 0) return {"hysteresis", "hysteresis_2"};
+  return {"hysteresis"};
+}
+
+namespace {
+
+// The play operator P_r (a backlash of half-width r = width/2) on x, as (x - P_r(x)) / width in [-1/2, 1/2],
+// started in its neutral state y = x(0) (output 0, midway between the branches): the recording does not say
+// which branch the sensor was on at switch-on, and the neutral state assumes neither (Krasnosel'skii-
+// Pokrovskii's usual initial state).
+void play_column(const Eigen::VectorXd& x, double width, Eigen::Ref<Eigen::VectorXd> out) {
+  const double r = 0.5 * width;
+  double y = x.size() ? x(0) : 0.0;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    y = std::clamp(y, x(i) - r, x(i) + r);
+    out(i) = (x(i) - y) / width;
+  }
+}
+
+}  // namespace
+
 void HysteresisTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const {
   if (width_c_ == 0.0) {
     out.col(0) = thermal_branch(in.signals, in.coil, in.scaling);
     return;
   }
-  const Eigen::VectorXd& x = in.coil.temp_c;
-  const double r = 0.5 * width_c_;
-  double y = x.size() ? x(0) : 0.0;
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
-    y = std::clamp(y, x(i) - r, x(i) + r);
-    out(i, 0) = (x(i) - y) / width_c_;
-  }
+  play_column(in.coil.temp_c, width_c_, out.col(0));
+  if (second_width_c_ > 0) play_column(in.coil.temp_c, second_width_c_, out.col(1));
 }
 
 void HysteresisTerm::parameters_json(nlohmann::json& j) const {
   if (width_c_ > 0) j["width_c"] = width_c_;
+  if (second_width_c_ > 0) j["second_width_c"] = second_width_c_;
 }
 
 std::optional<TermParameter> HysteresisTerm::parameter() const {
@@ -50,7 +67,9 @@ std::optional<TermParameter> HysteresisTerm::parameter() const {
   return TermParameter{"width_c", width_c_, true};
 }
 
-std::shared_ptr<const TermBasis> HysteresisTerm::with_parameter(double width_c) const { return std::make_shared<HysteresisTerm>(width_c); }
+std::shared_ptr<const TermBasis> HysteresisTerm::with_parameter(double width_c) const {
+  return std::make_shared<HysteresisTerm>(width_c, second_width_c_);
+}
 
 WarmupTerm::WarmupTerm(double tau_s) : tau_s_(tau_s) {
   if (!(tau_s_ > 0)) fail("physics term warmup: tau_s must be positive");
@@ -76,7 +95,7 @@ void AgingTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) c
 }
 
 Term shupe_term() { return Term(std::make_shared<ShupeTerm>()); }
-Term hysteresis_term(double width_c) { return Term(std::make_shared<HysteresisTerm>(width_c)); }
+Term hysteresis_term(double width_c, double second_width_c) { return Term(std::make_shared<HysteresisTerm>(width_c, second_width_c)); }
 Term change_term(double t_s, bool ramp) { return Term(std::make_shared<ChangeTerm>(t_s, ramp)); }
 Term warmup_term(double tau_s) { return Term(std::make_shared<WarmupTerm>(tau_s)); }
 Term aging_term() { return Term(std::make_shared<AgingTerm>()); }

@@ -10,7 +10,8 @@
 //   shupe                 dT_coil/dt, deg C/s        (eq 3.3)
 //   hysteresis            (T - P_r(T)) / 2r: the play operator of half-width r = width/2 (Preisach's elementary
 //                         hysteron): +1/2 once heating has moved T by `width`, -1/2 once cooling has, linear
-//                         in between, held through plateaus (width 0: the legacy switch at a rate threshold)
+//                         in between, held through plateaus (width 0: the legacy switch at a rate threshold);
+//                         with second_width_c, a second column, the play of that width (a two-width loop)
 //   warmup                exp(-(t - t0) / tau)       t0 the first sample
 //   aging                 (t - t0) / 3600 s
 //   channel               named recorded channels as they are (specific force, magnetic field, other axes)
@@ -114,18 +115,24 @@ class ShupeTerm : public HistoryTerm {
   bool uses_temperature() const override { return true; }
 };
 
+// One play of width_c, or two (a Prandtl-Ishlinskii loop of two widths, one column each) when second_width_c
+// > 0: the loop's height is the sum of the two coefficients. The nonlinear parameter is width_c (the second
+// width is chosen on a grid where the loop is extended: explain's richer forms).
 class HysteresisTerm : public HistoryTerm {
  public:
-  explicit HysteresisTerm(double width_c = 0.0);  // 0: the legacy threshold switch (model files before width_c)
+  explicit HysteresisTerm(double width_c = 0.0, double second_width_c = 0.0);  // width 0: the legacy threshold switch
   std::string_view kind() const override { return "hysteresis"; }
+  int size() const override { return second_width_c_ > 0 ? 2 : 1; }
+  std::vector<std::string> column_names() const override;
   void columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const override;
   void parameters_json(nlohmann::json& j) const override;
   TermMemory memory() const override { return TermMemory::temperature_history; }
   std::optional<TermParameter> parameter() const override;
   std::shared_ptr<const TermBasis> with_parameter(double width_c) const override;
+  double second_width_c() const { return second_width_c_; }
 
  private:
-  double width_c_;
+  double width_c_, second_width_c_;
 };
 
 class WarmupTerm : public HistoryTerm {
@@ -189,7 +196,7 @@ Term scale_factor_polynomial(ScaleFactorPolynomial::Orders orders);
 Term scale_factor_surface(std::vector<double> temps_c, std::vector<double> rates_dps);
 Term asymmetry_term();
 Term shupe_term();
-Term hysteresis_term(double width_c = 0.0);
+Term hysteresis_term(double width_c = 0.0, double second_width_c = 0.0);
 Term change_term(double t_s, bool ramp);
 Term warmup_term(double tau_s);
 Term aging_term();

@@ -58,8 +58,11 @@ const TermKindRegistry& term_kinds() {
                 return std::make_unique<ScaleFactorSurface>(list<double>(g, "temperatures_c"), list<double>(g, "rates_dps"));
               }})
         .add({"shupe", "dT_coil/dt, deg C/s", none, [](const nlohmann::json&) -> P { return std::make_unique<ShupeTerm>(); }})
-        .add({"hysteresis", "+-1/2 on the heating/cooling branch, moving between them over width_c after a reversal", none,
-              [](const nlohmann::json& j) -> P { return std::make_unique<HysteresisTerm>(j.value("width_c", 0.0)); }})
+        .add({"hysteresis", "+-1/2 on the heating/cooling branch, moving between them over width_c after a reversal (and a second "
+                            "column over second_width_c, if given)", none,
+              [](const nlohmann::json& j) -> P {
+                return std::make_unique<HysteresisTerm>(j.value("width_c", 0.0), j.value("second_width_c", 0.0));
+              }})
         .add({"warmup", "exp(-(t - t0) / tau)", none,
               [](const nlohmann::json& j) -> P { return std::make_unique<WarmupTerm>(j.value("tau_s", 0.0)); }})
         .add({"aging", "(t - t0) / 1 h", none, [](const nlohmann::json&) -> P { return std::make_unique<AgingTerm>(); }})
