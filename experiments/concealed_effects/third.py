@@ -374,10 +374,28 @@ def score(job, truth, ex, d, tag):
     lag = next((e for e in truth["effects"] if e["form"] == "lag_two_pole"), None)
     if lag:
         row["lag_tau_s_per_pole"] = round(lag["tau_s_per_pole"], 1)
-    held = ic.heldout_excess(ex, d, True, tag)
+    held = heldout_excess(d, tag)
     if held is not None:
         row["heldout_excess_removed"] = round(held, 3)
     return row
+
+
+def heldout_excess(d, tag):
+    """independent_cases.heldout_excess (the same rule) on explain's outputs in d/tag: the fraction of the
+    held-out excess residual over the generator's own noise there that the refit removed, on the held-out
+    samples explain confirms with (heldout == 1); None when the excess is within 5 % of the noise's variance."""
+    res_path = os.path.join(d, tag, "residuals.csv")
+    if not os.path.exists(res_path):
+        return None
+    res = np.genfromtxt(res_path, delimiter=",", names=True)
+    held = res["heldout"] == 1
+    noise = np.load(os.path.join(d, "noise.npy"))
+    floor = float(np.mean(np.square(noise[held] - noise[held].mean())))
+    before = float(np.mean(np.square(res["residual_before_dph"][held])))
+    after = float(np.mean(np.square(res["residual_after_dph"][held])))
+    if before - floor <= 0.05 * floor:
+        return None
+    return (before - after) / (before - floor)
 
 
 COLUMNS = ["group", "case", "seed", "programme", "rates", "noise", "truth", "verdict", "named", "unexplained", "correct", "wrong_extra",
