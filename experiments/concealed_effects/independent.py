@@ -39,12 +39,19 @@ PROGRAMMES = {
     "cycles": [(50, 2.0, 30), (-10, 1.0, 30), (50, 0.5, 40), (-10, 2.0, 30), (20, 1.0, 30)],
     "wide": [(70, 1.0, 60), (-30, 2.0, 60), (30, 0.5, 45), (10, 1.0, 30)],
 }
+# Programmes a case names itself (never drawn by seed): reversals of 2-12 C inside the range, so a loop's inner
+# shape (minor loops), not only its saturated branches, is in the data.
+CASE_PROGRAMMES = {
+    "minor_loops": [(50, 1.0, 20), (44, 1.0, 10), (48, 1.0, 10), (40, 1.0, 10), (46, 1.0, 10), (34, 1.0, 10), (42, 1.0, 10),
+                    (-10, 2.0, 20), (-4, 1.0, 10), (-8, 1.0, 10), (0, 1.0, 10), (-6, 1.0, 10), (6, 1.0, 10), (0, 1.0, 10),
+                    (20, 1.0, 10)],
+}
 
 
 def chamber_programme(name, dt=1.0):
     """Piecewise-linear chamber temperature along a programme, sampled every dt."""
     knots_t, knots_v = [0.0, 1800.0], [20.0, 20.0]
-    for target, rate, hold in PROGRAMMES[name]:
+    for target, rate, hold in {**PROGRAMMES, **CASE_PROGRAMMES}[name]:
         ramp = abs(target - knots_v[-1]) / rate * 60.0
         knots_t += [knots_t[-1] + ramp, knots_t[-1] + ramp + hold * 60.0]
         knots_v += [target, target]
@@ -113,8 +120,10 @@ def shape(effect, s, spec):
     if effect == "shupe":                       # per (C/min) of the coil's temperature rate
         return np.gradient(coil, t) * 60.0
     if effect == "thermal_hysteresis":          # heating-branch bias minus cooling-branch bias = 1
-        r = spec.get("play_c", 1.5)
-        return 0.5 * (coil - play_operator(coil, r)) / r
+        # One play of half-width play_c, or a weighted sum of plays (a Prandtl-Ishlinskii loop; weights sum to 1).
+        widths = np.atleast_1d(spec.get("play_c", 1.5)).astype(float)
+        weights = np.atleast_1d(spec.get("play_weights", np.full(len(widths), 1.0 / len(widths)))).astype(float)
+        return sum(wk * 0.5 * (coil - play_operator(coil, r)) / r for r, wk in zip(widths, weights))
     if effect == "scale_factor_asymmetry":      # 1 ppm of scale factor difference between the senses
         return 0.5 * np.sign(w) * w * 3600.0 * 1e-6
     if effect == "temperature_bias":            # the source's hot-end rise

@@ -7,11 +7,12 @@ explain gets no simulation and no options - as a new user would run it.
 """
 import json
 import os
+import subprocess
 
 import numpy as np
 
 import independent as ind
-from gyrosid_experiments import write_recording
+from gyrosid_experiments import add_gyrosid_argument, write_recording
 
 OUTSIDE = ("bias_step", "bias_ramp", "supply_voltage")
 PARAMETER = {"shupe": "k_dph_per_cpm", "thermal_lag": "tau_s", "thermal_hysteresis": "offset_dph",
@@ -72,6 +73,22 @@ def build(job):
     return r["truth"]
 
 
+def add_binary_arguments(parser):
+    """--gyrosid, --tag and --out of a driver that runs one binary's explain on cached recordings."""
+    add_gyrosid_argument(parser)
+    parser.add_argument("--tag", required=True, help="name of this binary's results (a folder in every case)")
+    parser.add_argument("--out", required=True, help="work folder: recordings, explain outputs and <tag>.csv")
+
+
+def explained(gyrosid, job, tag):
+    """explain's answer on the job's recording (run into <dir>/<tag> unless already there)."""
+    out = os.path.join(job["dir"], tag)
+    if not os.path.exists(os.path.join(out, "explain.json")):
+        subprocess.run([gyrosid, "explain", "--recording", os.path.join(job["dir"], "recording.csv"), "--seed", str(job["seed"]),
+                        "--out", out], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return json.load(open(os.path.join(out, "explain.json")))
+
+
 def explain_args(job):
     return ["--seed", job["seed"]]
 
@@ -84,8 +101,9 @@ def named_and_alternatives(ex):
     return out
 
 
-def score(job, truth, ex, d):
-    """One row of the table: naming, false discoveries, held-out excess removed, localisation, time."""
+def score(job, truth, ex, d, sub="explain"):
+    """One row of the table: naming, false discoveries, held-out excess removed, localisation, time (explain's
+    outputs in d/sub)."""
     named = named_and_alternatives(ex)
     planted = [e["id"] for e in truth["effects"]]
     absorbed = {a["id"] for a in ex.get("absorbed_alternatives", [])}
@@ -110,22 +128,21 @@ def score(job, truth, ex, d):
                 ci = hit["confidence"].get(p)
                 row["param_covered"] = bool(ci) and ci[0] <= e["value"] <= ci[1]
     for key, confirming in (("heldout_excess_removed", True), ("heldout_excess_removed_all", False)):
-        held = heldout_excess(ex, d, confirming)
+        held = heldout_excess(ex, d, confirming, sub)
         if held is not None:
             row[key] = held
     for o in truth["outside"]:
         if "t_step_s" in o:
             row["localised"] = ex["verdict"] == "unexplained_residual" and any(u["kind"] in ("time_window", "change_point", "trend_change") and
-                                   min(abs(u["t_start_s"] - o["t_step_s"]), abs(u["t_end_s"] - o["t_step_s"])) <= 600.0
-                                   for u in ex["unexplained"])
+                                   u["t_start_s"] - 600.0 <= o["t_step_s"] <= u["t_end_s"] + 600.0 for u in ex["unexplained"])
     return row
 
 
-def heldout_excess(ex, d, confirming=True):
+def heldout_excess(ex, d, confirming=True, sub="explain"):
     """Fraction of the held-out excess residual (over the generator's own noise there) the refit removed: on
     the held-out samples explain confirms with (heldout == 1), or on every held-out sample, including those
     where the baseline extrapolates outside its training support (heldout == 2)."""
-    res_path = os.path.join(d, "explain", "residuals.csv")
+    res_path = os.path.join(d, sub, "residuals.csv")
     if not os.path.exists(res_path):
         return None
     res = np.genfromtxt(res_path, delimiter=",", names=True)

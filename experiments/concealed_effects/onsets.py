@@ -3,16 +3,14 @@
 at a stated fraction of the record (the suite's own steps and ramps sit between 30 % and 70 %), and the
 independent controls, run by one or more gyrosid binaries on the same recordings in the same run.
 
-A change is right when explain says `unexplained_residual` and localises it within 600 s (the suite's
-rule, independent_cases.score); a control is right when nothing is reported.
+A change is right when explain says `unexplained_residual` and localises it: a reported span that, widened by
+600 s, holds the change (the suite's rule, independent_cases.score); a control is right when nothing is reported.
 
     onsets.py --gyrosid build/gyrosid --tag main --out /tmp/onsets [--seeds 1,2,3] [--controls]
 """
 import argparse
 import csv
-import json
 import os
-import subprocess
 import sys
 
 import yaml
@@ -21,7 +19,6 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "lib"))
 import independent_cases as ic  # noqa: E402
-from gyrosid_experiments import add_gyrosid_argument  # noqa: E402
 
 # (effect, magnitude in sigma of its unabsorbed rms, where it starts as a fraction of the record)
 CHANGES = [("bias_step", 0.5, 0.07), ("bias_ramp", 0.5, 0.55), ("bias_ramp", 0.5, 0.7), ("bias_step", 0.25, 0.2),
@@ -43,20 +40,14 @@ def jobs(out, seeds, controls):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    add_gyrosid_argument(p)
-    p.add_argument("--tag", required=True, help="name of this binary's results (a folder in every case)")
-    p.add_argument("--out", required=True, help="work folder: recordings, explain outputs and <tag>.csv")
+    ic.add_binary_arguments(p)
     p.add_argument("--seeds", default="1,2,3", help="seeds per change (comma-separated)")
     p.add_argument("--controls", action="store_true", help="also the 24 independent controls")
     a = p.parse_args()
     rows = []
     for job in jobs(a.out, [int(s) for s in a.seeds.split(",")], a.controls):
         truth = ic.build(job)
-        out = os.path.join(job["dir"], a.tag)
-        if not os.path.exists(os.path.join(out, "explain.json")):
-            subprocess.run([a.gyrosid, "explain", "--recording", os.path.join(job["dir"], "recording.csv"), "--seed", str(job["seed"]),
-                            "--out", out], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        ex = json.load(open(os.path.join(out, "explain.json")))
+        ex = ic.explained(a.gyrosid, job, a.tag)
         row = ic.score(job, truth, ex, job["dir"])
         row["right"] = row.get("localised", False) if job["group"] == "outside" else ex["verdict"] == "no_missing_physics"
         row["random_walk_in_noise"] = any(t["id"] == "rate_random_walk" for t in ex["noise"]["terms"])

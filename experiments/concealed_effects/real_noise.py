@@ -26,7 +26,8 @@ an ageing trend's shape has no placement to draw), detects a planted magnitude m
 written as oracle_power: the floor the real noise sets, whatever the noise model.
 
 Right: a planted effect named (or in a named effect's alternatives); for the step, also
-`unexplained_residual` with a change point, time window or trend change within 600 s of the step; for the
+`unexplained_residual` with a change point, time window or trend change whose span, widened by 600 s, holds
+the step (a point within 600 s of it, or a held-out block explain says the change lies in); for the
 warm-up, such an unexplained span starting in the first 600 s; for the channel, `unexplained_residual`
 following supply_v (how explain reports an auxiliary channel's pull on the bias). A control is right when
 nothing is reported.
@@ -180,7 +181,7 @@ def right(job, ex):
     spans = [u for u in ex["unexplained"] if u["kind"] in LOCALISING]
     if job["effect"] == "bias_step":
         t0 = job["truth"]["t_s"]
-        return any(min(abs(u["t_start_s"] - t0), abs(u["t_end_s"] - t0)) <= 600.0 for u in spans)
+        return any(u["t_start_s"] - 600.0 <= t0 <= u["t_end_s"] + 600.0 for u in spans)
     if job["effect"] == "warmup_transient":
         return any(u["t_start_s"] <= 600.0 for u in spans)
     if job["effect"] == "auxiliary_channel":

@@ -184,7 +184,7 @@ def score(job, truth, ex, d, sigma):
     if job.get("outside") == "bias_step":
         t_step = truth["t_step_s"]
         row["localised"] = ex["verdict"] == "unexplained_residual" and any(u["kind"] in ("time_window", "change_point", "trend_change") and
-                               min(abs(u["t_start_s"] - t_step), abs(u["t_end_s"] - t_step)) <= 600.0 for u in ex["unexplained"])
+                               u["t_start_s"] - 600.0 <= t_step <= u["t_end_s"] + 600.0 for u in ex["unexplained"])
     return row
 
 
