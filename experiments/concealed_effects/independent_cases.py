@@ -64,9 +64,16 @@ def build(job):
             "# sensor: interferometric FOG written by experiments/concealed_effects/independent.py (not gyrosid's simulator)\n",
             "# description: %s, seed %d, programme %s\n" % (job["case"], job["seed"], r["truth"]["programme"]),
             "# sample_rate_hz: 1\n"]
+    return save_case(d, meta, r)
+
+
+def save_case(d, meta, r):
+    """Writes a generated case into d - recording.csv (with the metadata lines), noise.npy, planted.npy and,
+    last and atomically, truth.json (its presence marks the case complete) - and returns the truth."""
     write_recording(os.path.join(d, "recording.csv"), meta, r["cols"])
     np.save(os.path.join(d, "noise.npy"), r["noise_dph"])
     np.save(os.path.join(d, "planted.npy"), r["truth"].pop("planted_unabsorbed_dph"))
+    truth_path = os.path.join(d, "truth.json")
     with open(truth_path + ".tmp", "w") as f:
         json.dump(r["truth"], f)
     os.replace(truth_path + ".tmp", truth_path)

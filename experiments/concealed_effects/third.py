@@ -53,8 +53,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "lib"))
 import independent as ind  # noqa: E402  (baseline_columns, unabsorbed: the sizing, not the physics)
-import independent_cases as ic  # noqa: E402  (heldout_excess, named_and_alternatives: the scoring)
-from gyrosid_experiments import add_gyrosid_argument, write_recording  # noqa: E402
+import independent_cases as ic  # noqa: E402  (heldout_excess, named_and_alternatives, save_case)
+from gyrosid_experiments import add_gyrosid_argument  # noqa: E402
 
 FS = 10                       # internal rate (Hz); recorded as block means of FS samples at 1 Hz
 WHITE_10HZ_DPH = 19.0         # white noise per 10-Hz sample
@@ -335,13 +335,7 @@ def build(job):
             "# description: %s, seed %d, programme %s, rates %s, noise %s\n" % (job["case"], job["seed"], r["truth"]["programme"],
                                                                           r["truth"]["rates"], r["truth"]["noise"]),
             "# sample_rate_hz: 1\n"]
-    write_recording(os.path.join(d, "recording.csv"), meta, r["cols"])
-    np.save(os.path.join(d, "noise.npy"), r["noise_dph"])
-    np.save(os.path.join(d, "planted.npy"), r["truth"].pop("planted_unabsorbed_dph"))
-    with open(truth_path + ".tmp", "w") as f:
-        json.dump(r["truth"], f)
-    os.replace(truth_path + ".tmp", truth_path)
-    return r["truth"]
+    return ic.save_case(d, meta, r)
 
 
 def score(job, truth, ex, d, tag):
@@ -377,28 +371,10 @@ def score(job, truth, ex, d, tag):
     if lag:
         row["lag_tau_s_per_pole"] = round(lag["tau_s_per_pole"], 1)
         row["planted_sigma"] = round(lag["magnitude"], 3)
-    held = heldout_excess(d, tag)
+    held = ic.heldout_excess(ex, d, True, tag)
     if held is not None:
         row["heldout_excess_removed"] = round(held, 3)
     return row
-
-
-def heldout_excess(d, tag):
-    """independent_cases.heldout_excess (the same rule) on explain's outputs in d/tag: the fraction of the
-    held-out excess residual over the generator's own noise there that the refit removed, on the held-out
-    samples explain confirms with (heldout == 1); None when the excess is within 5 % of the noise's variance."""
-    res_path = os.path.join(d, tag, "residuals.csv")
-    if not os.path.exists(res_path):
-        return None
-    res = np.genfromtxt(res_path, delimiter=",", names=True)
-    held = res["heldout"] == 1
-    noise = np.load(os.path.join(d, "noise.npy"))
-    floor = float(np.mean(np.square(noise[held] - noise[held].mean())))
-    before = float(np.mean(np.square(res["residual_before_dph"][held])))
-    after = float(np.mean(np.square(res["residual_after_dph"][held])))
-    if before - floor <= 0.05 * floor:
-        return None
-    return (before - after) / (before - floor)
 
 
 COLUMNS = ["group", "case", "seed", "programme", "rates", "noise", "truth", "verdict", "named", "unexplained", "correct", "wrong_extra",

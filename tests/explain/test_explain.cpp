@@ -333,6 +333,17 @@ TEST(Explain, PlantedThermalLagIsFoundWithItsTimeConstant) {
   EXPECT_NEAR(parameter(*e, "tau_s").value, 400.0, 60.0);
 }
 
+// A rate-table recording written here: time (s), reference rate (deg/s), probe temperature (C), gyro (deg/s).
+Recording rate_table_recording(const std::string& name, const std::vector<double>& t, const std::vector<double>& rate,
+                               const std::vector<double>& probe, const std::vector<double>& gyro) {
+  Recording rec(name);
+  rec.set_column("t_s", t);
+  rec.set_column("ref_rate_dps", rate);
+  rec.set_column("temp_c", probe);
+  rec.set_column("gyro_dps", gyro);
+  return rec;
+}
+
 // The rate error (deg/h) of the independent generator's FOG (experiments/concealed_effects/independent.py):
 // bias cubic in the coil temperature about 25 C, scale factor quadratic in (T, rate) in ppm, u = rate / 100 deg/s.
 double independent_fog_error_dph(double coil_c, double rate_dps) {
@@ -368,12 +379,7 @@ Recording lag_beyond_training_coverage(std::uint64_t seed) {
     t.push_back(s), rate.push_back(w), probe.push_back(p);
     gyro.push_back(w + (independent_fog_error_dph(coil, w) + 10.0 * rng.normal()) / 3600.0);
   }
-  Recording rec("lag beyond the training coverage");
-  rec.set_column("t_s", t);
-  rec.set_column("ref_rate_dps", rate);
-  rec.set_column("temp_c", probe);
-  rec.set_column("gyro_dps", gyro);
-  return rec;
+  return rate_table_recording("lag beyond the training coverage", t, rate, probe, gyro);
 }
 
 // With the lag, every temperature term reads the coil, and the baseline's spline surface has no training
@@ -686,12 +692,7 @@ Recording minor_loops(std::uint64_t seed, const std::vector<double>& widths_c, c
     t.push_back(s), rate.push_back(w), probe.push_back(c);
     gyro.push_back(w + (independent_fog_error_dph(c, w) + height_dph * loop + 10.0 * rng.normal()) / 3600.0);
   }
-  Recording rec("minor loops");
-  rec.set_column("t_s", t);
-  rec.set_column("ref_rate_dps", rate);
-  rec.set_column("temp_c", probe);
-  rec.set_column("gyro_dps", gyro);
-  return rec;
+  return rate_table_recording("minor loops", t, rate, probe, gyro);
 }
 
 TEST(Explain, ALoopOfTwoPlayWidthsIsFittedWithBoth) {
