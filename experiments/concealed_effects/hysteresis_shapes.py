@@ -9,7 +9,6 @@ within 30 %, and the held-out excess the loop causes removed (the suite's rule: 
     hysteresis_shapes.py --gyrosid build/gyrosid --tag main --out /tmp/hyst [--seeds 1,2]
 """
 import argparse
-import csv
 import os
 import sys
 
@@ -52,10 +51,7 @@ def main():
     p.add_argument("--seeds", default="1,2", help="seeds per shape and magnitude (comma-separated)")
     a = p.parse_args()
     rows = []
-    for job in jobs(a.out, [int(s) for s in a.seeds.split(",")]):
-        truth = ic.build(job)
-        ex = ic.explained(a.gyrosid, job, a.tag)
-        row = ic.score(job, truth, ex, job["dir"], sub=a.tag)
+    for job, truth, ex, row in ic.explained_rows(a.gyrosid, a.tag, jobs(a.out, [int(s) for s in a.seeds.split(",")])):
         hit = next((e for e in ex["effects"] if e["id"] == "thermal_hysteresis"), None)
         row["widths_c"] = " ".join("%s=%.3g" % (k, v) for k, v in (hit or {}).get("parameters", {}).items() if k.startswith("width"))
         rows.append(row)
@@ -64,10 +60,7 @@ def main():
             "%.3f" % row["heldout_excess_removed"] if "heldout_excess_removed" in row else "-", ex["run_time_s"]), flush=True)
     keys = ["case", "seed", "verdict", "named", "correct", "wrong_extra", "param_rel_err", "widths_c", "heldout_excess_removed",
             "heldout_excess_removed_all", "run_time_s"]
-    with open(os.path.join(a.out, a.tag + ".csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, keys, extrasaction="ignore")
-        w.writeheader()
-        w.writerows(rows)
+    ic.write_rows(os.path.join(a.out, a.tag + ".csv"), rows, keys)
     for name in SHAPES:
         for programme in PROGRAMMES:
             g = [r for r in rows if r["case"].split("@")[0] == name and r["case"].split("@")[2:] == ([programme] if programme else [])]

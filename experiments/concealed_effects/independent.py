@@ -125,7 +125,9 @@ def shape(effect, s, spec):
         weights = np.atleast_1d(spec.get("play_weights", np.full(len(widths), 1.0 / len(widths)))).astype(float)
         return sum(wk * 0.5 * (coil - play_operator(coil, r)) / r for r, wk in zip(widths, weights))
     if effect == "scale_factor_asymmetry":      # 1 ppm of scale factor difference between the senses
-        return 0.5 * np.sign(w) * w * 3600.0 * 1e-6
+        # A step at zero rate (sign), or a smooth transition over +-transition_dps (tanh).
+        r = spec.get("transition_dps", 0.0)
+        return 0.5 * (np.tanh(w / r) if r > 0 else np.sign(w)) * w * 3600.0 * 1e-6
     if effect == "temperature_bias":            # the source's hot-end rise
         return np.exp((coil - 60.0) / 8.0)
     if effect == "warmup_transient":
@@ -200,12 +202,13 @@ def make_recording(case, seed, sensor=None):
     """One recording: {'cols': recording columns, 'truth': what was planted, 'noise_dph': the noise}.
 
     case: {"effects": [{"id", "magnitude", ...}], "outside": {...}, "noise": {...}, "programme": name,
-           "coil_tau_s": lag}
+           "coil_tau_s": lag, "rate_scale": factor on the rate programme}
     """
     sensor = sensor or Sensor()
     rng = np.random.default_rng(seed)
     programme = case.get("programme") or sorted(PROGRAMMES)[seed % len(PROGRAMMES)]
     s = base_signals(seed, programme)
+    s["w"] = s["w"] * case.get("rate_scale", 1.0)  # below 0.2 the rates span < 40 deg/s: a polynomial baseline
     t, n = s["t"], len(s["t"])
     truth = {"programme": programme, "effects": [], "outside": []}
     # The coil lags the probe (a planted thermal lag); every temperature law then reads the coil.
@@ -224,9 +227,11 @@ def make_recording(case, seed, sensor=None):
             at = rng.uniform(0.3, 0.7)  # drawn even when the case states "at" (onsets.py): the later draws stay the same
             spec["t_step_s"] = t[0] + e.get("at", at) * (t[-1] - t[0])
         v = shape(e["id"], s, spec)
-        c = e["magnitude"] * SIGMA_DPH / rms(unabsorbed(x_base, v))
+        # The size is the RMS of the part the baseline cannot absorb, or (size "raw") of the effect less its mean.
+        c = e["magnitude"] * SIGMA_DPH / (rms(v - v.mean()) if e.get("size") == "raw" else rms(unabsorbed(x_base, v)))
         planted += c * v
-        record = {"id": e["id"], "magnitude": e["magnitude"], "value": c}
+        record = {"id": e["id"], "magnitude": e["magnitude"], "value": c,
+                  "unabsorbed_sigma": rms(unabsorbed(x_base, c * v)) / SIGMA_DPH}
         if "t_step_s" in spec:
             record["t_step_s"] = spec["t_step_s"]
         (truth["outside"] if e["id"] in ("bias_step", "bias_ramp", "supply_voltage") else truth["effects"]).append(record)

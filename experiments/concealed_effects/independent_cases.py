@@ -5,6 +5,7 @@ hysteresis alone, asymmetry alone (absorbed in part by the baseline's scale-fact
 effects at once, steps and ramps outside the library, a supply-voltage dependence, and negative controls.
 explain gets no simulation and no options - as a new user would run it.
 """
+import csv
 import json
 import os
 import subprocess
@@ -85,6 +86,23 @@ def add_binary_arguments(parser):
     add_gyrosid_argument(parser)
     parser.add_argument("--tag", required=True, help="name of this binary's results (a folder in every case)")
     parser.add_argument("--out", required=True, help="work folder: recordings, explain outputs and <tag>.csv")
+
+
+def explained_rows(gyrosid, tag, jobs):
+    """(job, truth, explain's answer, scored row) for each job: its recording built when absent, explained by
+    the binary into <dir>/<tag> unless already there."""
+    for job in jobs:
+        truth = build(job)
+        ex = explained(gyrosid, job, tag)
+        yield job, truth, ex, score(job, truth, ex, job["dir"], sub=tag)
+
+
+def write_rows(path, rows, keys):
+    """The rows as a csv table with these columns (others left out)."""
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, keys, extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
 
 
 def explained(gyrosid, job, tag):

@@ -21,7 +21,7 @@ namespace gyrosid::cli {
 namespace {
 
 struct ExplainCommand {
-  std::string recording, out, baseline_form = "surface", noise_model = "full", decimate = "auto";
+  std::string recording, out, baseline_form = "auto", noise_model = "full", decimate = "auto";
   explain::ExplainOptions options;
   bool resume = false;
   const CLI::App* command = nullptr;  // the parsed subcommand, for the checkpoint's fingerprint
@@ -79,7 +79,9 @@ void register_explain(CLI::App& app, Action& action) {
   cmd->add_option("--recording", c->recording, "The recording to explain (gyrosid-recording/1)")->required();
   auto* model = cmd->add_option("--model", c->options.model_path, "The simulation as a saved model (any model calibrate writes)");
   cmd->add_option("--baseline", c->options.baseline_path, "Or: a calibration recording to fit the baseline family on")->excludes(model);
-  cmd->add_option("--baseline-form", c->baseline_form, "Scale factor of the baseline family: surface (thesis grid) or polynomial")
+  cmd->add_option("--baseline-form", c->baseline_form, "Scale factor of the baseline family (without --model, or for a black-box model): surface (a bicubic surface on the thesis grid, "
+                  "about 100 columns), polynomial (omega dT^i u^j, i, j <= 3: 16 columns), or auto (the surface only where its BIC on the "
+                  "training rows is below the polynomial's: flexibility the data do not need would absorb physics such as a scale-factor asymmetry)")
       ->capture_default_str();
   cmd->add_option("--noise-model", c->noise_model,
                   "Whitening model once from the full model's residual (full) or from the current model at every step (current: conservative)")

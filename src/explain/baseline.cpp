@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/error.h"
 #include "core/units.h"
 #include "model/classical_model.h"
 #include "model/explained_model.h"
@@ -58,6 +59,7 @@ std::vector<Term> greybox_structure(const GreyboxModel& g) {
 }  // namespace
 
 std::vector<Term> baseline_family(BaselineForm form, const Signals& s) {
+  if (form == BaselineForm::automatic) fail("explain: the baseline form 'auto' is resolved before the family is built");
   const double w_lo = units::radps_to_dps(s.rate.minCoeff()), w_hi = units::radps_to_dps(s.rate.maxCoeff());
   const double t_lo = s.temp_c.minCoeff(), t_hi = s.temp_c.maxCoeff();
   std::vector<Term> out{bias_term()};

@@ -12,15 +12,18 @@
 #include "model/physics_terms.h"
 
 namespace gyrosid::explain {
-enum class BaselineForm { surface, polynomial };
+// automatic: the surface where the BIC prefers it to the polynomial on the training rows (simulation.h).
+enum class BaselineForm { automatic, surface, polynomial };
 }  // namespace gyrosid::explain
 
 namespace gyrosid {
 template <>
 struct EnumNames<explain::BaselineForm> {
   static constexpr std::string_view kNoun = "baseline form";
-  static constexpr std::array<std::pair<explain::BaselineForm, std::string_view>, 2> kTable{
-      {{explain::BaselineForm::surface, "surface"}, {explain::BaselineForm::polynomial, "polynomial"}}};
+  static constexpr std::array<std::pair<explain::BaselineForm, std::string_view>, 3> kTable{
+      {{explain::BaselineForm::automatic, "auto"},
+       {explain::BaselineForm::surface, "surface"},
+       {explain::BaselineForm::polynomial, "polynomial"}}};
 };
 }  // namespace gyrosid
 
@@ -29,7 +32,8 @@ namespace gyrosid::explain {
 // The thesis's unified model as terms: bias, bias in T to order 3, and the scale factor either as a
 // bicubic surface on the thesis's (T, omega) grid narrowed to the data's range (surface) or as a polynomial
 // omega dT^i u^j, i, j <= 3 (polynomial; also when the data span too little for a grid). Only the terms the
-// data's ranges support: temperature terms need a few degrees, scale-factor terms some rate.
+// data's ranges support: temperature terms need a few degrees, scale-factor terms some rate. `automatic`
+// must be resolved first (choose_baseline_form).
 std::vector<Term> baseline_family(BaselineForm form, const Signals& s);
 // The terms a given model already has (its coefficients may be re-estimated); its thermal lag in *lag_tau_s.
 // Black-box models (RBF) stand for a smooth 2-D error function: the baseline family.

@@ -131,6 +131,10 @@ class Effect {
   // the term's place before the refit, kept when the BIC prefers it with its added columns and one added
   // parameter counted (explain.cpp). None by default.
   virtual std::vector<Term> richer_forms(const Term& accepted, const ExplainInput& in) const;
+  // Where the simulation's flexible scale factor may absorb it, it is tested against a core with a smooth
+  // scale factor omega dT^i u^j, i <= 3, j <= this order, in place of that flexibility (explain.cpp,
+  // absorbed_alternatives). 3 by default; lower for an effect a cubic in the rate would itself absorb.
+  virtual int core_rate_order() const { return 3; }
 
  protected:
   Candidate candidate(Term term) const;

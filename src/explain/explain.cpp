@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "core/axis_view.h"
@@ -256,44 +257,71 @@ void report_effects(const Accepted& accepted, std::size_t base_terms, const Refi
   }
 }
 
-// The model with every scale-factor surface replaced by the smooth polynomial omega dT^i u^j, i, j <= 3 (the
-// baseline family's polynomial form); false when it has no surface.
-bool smooth_core(const ModelSpec& model, ModelSpec& core) {
-  core = model;
-  bool replaced = false;
-  for (Term& t : core.terms) {
-    if (!t.as<ScaleFactorSurface>()) continue;
-    ScaleFactorPolynomial::Orders sf;
-    for (int i = 0; i <= 3; ++i)
-      for (int j = 0; j <= 3; ++j) sf.push_back({i, j});
-    t = scale_factor_polynomial(sf), replaced = true;
+// The model with its flexible scale factor made smooth: every surface replaced by the polynomial
+// omega dT^i u^j, i <= 3, j <= rate_order (the baseline family's polynomial form at order 3), and the rate
+// orders above rate_order (up to 3) dropped from every polynomial. The kind of the term that changed first;
+// empty when nothing changed (no core).
+std::string smooth_core(const ModelSpec& model, int rate_order, ModelSpec& core) {
+  core.terms.clear(), core.lag_tau_s = model.lag_tau_s;
+  std::string changed;
+  for (const Term& t : model.terms) {
+    if (t.as<ScaleFactorSurface>()) {
+      ScaleFactorPolynomial::Orders sf;
+      for (int i = 0; i <= 3; ++i)
+        for (int j = 0; j <= rate_order; ++j) sf.push_back({i, j});
+      core.terms.push_back(scale_factor_polynomial(sf));
+      if (changed.empty()) changed = "scale_factor_surface";
+      continue;
+    }
+    const auto* p = t.as<ScaleFactorPolynomial>();
+    std::vector<int> kept;
+    for (int c = 0; p && c < t.size(); ++c) {
+      const int j = p->orders()[static_cast<std::size_t>(c)][1];
+      if (j <= rate_order || j > 3) kept.push_back(c);
+    }
+    if (!p || kept.size() == static_cast<std::size_t>(t.size())) {
+      core.terms.push_back(t);
+      continue;
+    }
+    if (const std::optional<Term> smooth = t.subset(kept)) core.terms.push_back(*smooth);
+    if (changed.empty()) changed = "scale_factor_polynomial";
   }
-  return replaced;
+  return changed;
 }
 
-// Physics the accepted model's surface absorbs: every candidate not found, tested against the model with a
-// smooth polynomial in the surface's place. Strong there (dBIC > ambiguity_bic) and weak against the model
-// itself (dBIC < ambiguity_bic): an alternative explanation of part of the surface.
+// Physics the accepted model's flexible scale factor absorbs: every candidate not found, tested against the
+// model with that flexibility made smooth (at the candidate's core_rate_order). Strong there (dBIC >
+// ambiguity_bic) and weak against the model itself (dBIC < ambiguity_bic): an alternative explanation of
+// part of the scale factor, with the experiment that would separate them where the effect knows it.
 std::vector<AbsorbedAlternative> absorbed_alternatives(const std::vector<Candidate>& candidates, const Accepted& accepted,
                                                        const ExplainInput& in, const Eigen::VectorXd& y, const TermScaling& scaling,
                                                        const Whitener& w, double ambiguity_bic) {
-  std::vector<AbsorbedAlternative> out;
-  ModelSpec core;
-  if (!smooth_core(accepted.model, core)) return out;
-  std::vector<Candidate> open;
+  std::map<int, std::vector<Candidate>> open;  // by core rate order: one core fitted per order
   for (const Candidate& c : candidates) {
     const bool found = std::any_of(accepted.effects.begin(), accepted.effects.end(), [&](const Judged& j) { return j.effect.candidate.id() == c.id(); });
-    if (!found && c.effect->is_physics() && !c.further_component) open.push_back(c);
+    if (!found && c.effect->is_physics() && !c.further_component) open[c.effect->core_rate_order()].push_back(c);
   }
-  const std::vector<AbsorptionTest> tests = absorption_tests(open, accepted.model, core, in, y, scaling, w);
-  for (std::size_t k = 0; k < open.size(); ++k) {
-    const AbsorptionTest& t = tests[k];
-    if (!(t.delta_bic_core > ambiguity_bic && t.delta_bic_full < ambiguity_bic)) continue;
-    out.push_back({std::string(open[k].id()), "scale_factor_surface", t.unique_fraction, t.delta_bic_core, t.delta_bic_full,
-                   str_cat("the scale-factor surface absorbs it: ", format_significant(100.0 * (1.0 - t.unique_fraction), 3),
-                           " % of its signal lies inside the simulation's span, so against the simulation its dBIC is ",
-                           format_significant(t.delta_bic_full, 3), " (against a smooth polynomial scale factor ",
-                           format_significant(t.delta_bic_core, 3), ")")});
+  std::vector<AbsorbedAlternative> out;
+  for (const auto& [order, group] : open) {
+    ModelSpec core;
+    const std::string absorbed_by = smooth_core(accepted.model, order, core);
+    if (absorbed_by.empty()) continue;
+    const std::vector<AbsorptionTest> tests = absorption_tests(group, accepted.model, core, in, y, scaling, w);
+    for (std::size_t k = 0; k < group.size(); ++k) {
+      const AbsorptionTest& t = tests[k];
+      if (!(t.delta_bic_core > ambiguity_bic && t.delta_bic_full < ambiguity_bic)) continue;
+      const std::string what = absorbed_by == "scale_factor_surface" ? "scale-factor surface" : "scale-factor polynomial";
+      std::string reason = str_cat("the ", what, " absorbs it: ", format_significant(100.0 * (1.0 - t.unique_fraction), 3),
+                                   " % of its signal lies inside the simulation's span, so against the simulation its dBIC is ",
+                                   format_significant(t.delta_bic_full, 3), " (against a smooth scale factor of rate order ", order,
+                                   " ", format_significant(t.delta_bic_core, 3), ")");
+      if (t.delta_bic_over_flexibility > ambiguity_bic) {
+        reason += str_cat("; with it, that smooth scale factor fits better than the ", what, " (BIC lower by ",
+                          format_significant(t.delta_bic_over_flexibility, 3), "): the data prefer it to that flexibility");
+      }
+      out.push_back({std::string(group[k].id()), absorbed_by, t.unique_fraction, t.delta_bic_core, t.delta_bic_full,
+                     t.delta_bic_over_flexibility, reason, group[k].effect->separating_experiment(absorbed_by)});
+    }
   }
   return out;
 }

@@ -37,7 +37,7 @@ struct ExplainOptions {
   std::string model_path;     // the simulation as a saved model
   std::string baseline_path;  // or a calibration recording to fit the baseline family on
   std::string effects;        // restrict the library: comma-separated effect ids (empty: all)
-  BaselineForm baseline_form = BaselineForm::surface;
+  BaselineForm baseline_form = BaselineForm::automatic;
   InputOptions input;
   SelectionOptions selection;
   double min_stability = 0.5; // fraction of leave-one-block-out refits in which an effect must keep dBIC > 0

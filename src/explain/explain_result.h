@@ -74,16 +74,20 @@ struct FoundEffect {
   std::optional<double> support_z;
 };
 
-// A named effect the simulation's own flexible structure (its scale-factor surface) absorbs: against the
-// simulation with a smooth polynomial in its place the effect is strong, against the simulation itself it is
-// not - listed as an alternative explanation of part of that structure, not named, with why.
+// A named effect the simulation's own flexible structure (its scale-factor surface or polynomial) absorbs:
+// against the simulation with a smooth scale factor in its place the effect is strong, against the simulation
+// itself it is not - listed as an alternative explanation of part of that structure, not named, with why and,
+// where the effect knows it, the experiment that would separate the two.
 struct AbsorbedAlternative {
   std::string id;
   std::string absorbed_by;        // the term kind that absorbs it
   double unique_fraction = 0.0;   // share of its whitened signal outside the simulation's span
   double delta_bic_core = 0.0;    // its dBIC against the simulation with the smooth polynomial instead
   double delta_bic_full = 0.0;    // its dBIC against the simulation itself: the evidence of its own
+  // BIC(simulation) - BIC(smooth scale factor with it): above 0 it, not the flexibility, is what the data prefer.
+  double delta_bic_over_flexibility = 0.0;
   std::string reason;
+  std::string separating_experiment;  // empty where the effect does not know one
 };
 
 // Structure no effect explains, and where it sits: in time, in (T, omega), or along a channel.

@@ -459,6 +459,8 @@ std::vector<AbsorptionTest> absorption_tests(const std::vector<Candidate>& candi
                                              const ExplainInput& in, const Eigen::VectorXd& y, const TermScaling& scaling, const Whitener& w) {
   const Eigen::VectorXd yw = w.apply(y);
   const WhitenedFit fit_full = fit_model(full, in, yw, scaling, w), fit_core = fit_model(core, in, yw, scaling, w);
+  const double flexibility = delta_bic(fit_core.rss, std::max(fit_core.rss - fit_full.rss, 0.0), static_cast<double>(yw.size()),
+                                       fit_full.rank - fit_core.rank);
   std::vector<AbsorptionTest> out;
   for (const Candidate& c : candidates) {
     const Evaluated on_core = evaluate(c, core, in, scaling, w, fit_core);
@@ -466,6 +468,7 @@ std::vector<AbsorptionTest> absorption_tests(const std::vector<Candidate>& candi
     if (at.nonlinear != NonlinearParameter::none) at.tau_grid_s = {on_core.score.tau_s};
     AbsorptionTest t;
     t.delta_bic_core = on_core.score.delta_bic;
+    t.delta_bic_over_flexibility = t.delta_bic_core - flexibility;
     t.delta_bic_full = evaluate(at, full, in, scaling, w, fit_full).score.delta_bic;
     if (!std::isfinite(t.delta_bic_full)) t.delta_bic_full = 0.0;  // no direction outside the full model: no evidence
     t.tau_s = on_core.score.tau_s;

@@ -113,6 +113,9 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
 // does not is an alternative explanation of part of that structure, with weak evidence of its own.
 struct AbsorptionTest {
   double delta_bic_full = 0.0, delta_bic_core = 0.0;
+  // BIC(full) - BIC(core with it): above 0, the core with this effect fits better than the full model's
+  // flexibility does (that flexibility's own evidence over the core, less this effect's).
+  double delta_bic_over_flexibility = 0.0;
   double unique_fraction = 0.0;  // share of its whitened columns' norm outside the full model's span
   double tau_s = 0.0;            // its nonlinear parameter at the core's best
 };

@@ -1,6 +1,9 @@
 #include "explain/simulation.h"
 
+#include <cmath>
+
 #include "core/error.h"
+#include "core/format.h"
 #include "explain/linear_fit.h"
 #include "model/explained_model.h"
 #include "model/terms/term_kinds.h"
@@ -13,7 +16,8 @@ namespace {
 Simulation fit_baseline_recording(const std::string& path, BaselineForm form, const InputOptions& input_options) {
   const ExplainInput cal = load_input(read_recording(path), input_options);
   const TermScaling cal_scaling = TermScaling::of(cal.signals);
-  const std::vector<Term> family = baseline_family(form, cal.signals);
+  std::string why;
+  const std::vector<Term> family = baseline_family(choose_baseline_form(form, cal, &why), cal.signals);
   const Eigen::MatrixXd x = design_matrix(family, cal.signals, coil_temperature(cal.signals, 0.0), cal_scaling);
   const WhitenedFit f = fit_whitened(x, cal.error);
   Simulation sim;
@@ -37,7 +41,7 @@ Simulation fit_baseline_recording(const std::string& path, BaselineForm form, co
   }
   sim.prior = std::make_unique<ExplainedModel>(cal_scaling, 0.0, sim.base.terms,
                                                Eigen::Map<const Eigen::VectorXd>(coefs.data(), static_cast<Eigen::Index>(coefs.size())));
-  sim.description = str_cat("baseline family fitted on ", path);
+  sim.description = str_cat("baseline family fitted on ", path, why.empty() ? "" : str_cat(" (", why, ")"));
   return sim;
 }
 
@@ -62,21 +66,64 @@ Dataset dataset_of(const ExplainInput& in, const std::vector<std::string>& featu
   return d;
 }
 
+BaselineForm choose_baseline_form(BaselineForm form, const ExplainInput& in, std::string* why) {
+  if (form != BaselineForm::automatic) return form;
+  const std::vector<Term> surface = baseline_family(BaselineForm::surface, in.signals);
+  if (!surface.back().as<ScaleFactorSurface>()) return BaselineForm::polynomial;  // the data span too little for a grid
+  const std::vector<Term> polynomial = baseline_family(BaselineForm::polynomial, in.signals);
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index i = 0; i < in.size(); ++i) {
+    if (in.diagnosed(i)) rows.push_back(i);
+  }
+  const auto n = static_cast<double>(rows.size());
+  const TermScaling scaling = TermScaling::of(in.signals);
+  const CoilTemperature coil = coil_temperature(in.signals, 0.0);
+  const Eigen::VectorXd y = in.error(rows);
+  // Slow structure in time (drift, warm-up, wander) is in both fits, as Legendre polynomials in time to order
+  // kTimeOrder: otherwise the surface, whose columns follow the rate programme's slow pattern, wins by
+  // absorbing it (an ageing trend of 1 sigma made it win by 797 on the independent generator).
+  constexpr int kTimeOrder = 6;
+  const double t0 = in.signals.t_s.front(), span = std::max(in.signals.t_s.back() - t0, 1e-9);
+  Eigen::ArrayXd x(static_cast<Eigen::Index>(rows.size()));
+  for (Eigen::Index k = 0; k < x.size(); ++k) x(k) = 2.0 * (in.signals.t_s[static_cast<std::size_t>(rows[static_cast<std::size_t>(k)])] - t0) / span - 1.0;
+  Eigen::MatrixXd nuisance(x.size(), kTimeOrder);
+  Eigen::ArrayXd p0 = Eigen::ArrayXd::Ones(x.size()), p1 = x;
+  for (int k = 1; k <= kTimeOrder; ++k) {  // P_k by Bonnet's recursion: (k + 1) P_{k+1} = (2k + 1) x P_k - k P_{k-1}
+    nuisance.col(k - 1) = p1.matrix();
+    const Eigen::ArrayXd next = ((2.0 * k + 1.0) * x * p1 - k * p0) / (k + 1.0);
+    p0 = p1, p1 = next;
+  }
+  // BIC = n ln(rss / n) + k ln n of the least-squares fit on the training rows (k: its rank).
+  auto bic = [&](const std::vector<Term>& family) {
+    const Eigen::MatrixXd columns = design_matrix(family, in.signals, coil, scaling)(rows, Eigen::all);
+    Eigen::MatrixXd xy(columns.rows(), columns.cols() + kTimeOrder);
+    xy << columns, nuisance;
+    const WhitenedFit f = fit_whitened(xy, y);
+    return n * std::log(f.rss / n) + f.rank * std::log(n);
+  };
+  const double gain = bic(polynomial) - bic(surface);
+  *why = str_cat("the surface's BIC is ", format_significant(std::abs(gain), 3), gain > 0 ? " below" : " above",
+                 " the polynomial's on the training rows");
+  return gain > 0 ? BaselineForm::surface : BaselineForm::polynomial;
+}
+
 Simulation make_simulation(ExplainInput& in, const std::string& model_path, const std::string& baseline_path, BaselineForm form,
                            const InputOptions& input_options) {
   Simulation sim;
   if (!model_path.empty()) {
     sim.prior = load_model(model_path);
     if (sim.prior->target() != ModelTarget::error) fail(model_path, ": explain needs a model of the rate error (target error)");
-    sim.base.terms = structure_of(*sim.prior, form, in.signals, &sim.base.lag_tau_s);
+    std::string why;
+    sim.base.terms = structure_of(*sim.prior, choose_baseline_form(form, in, &why), in.signals, &sim.base.lag_tau_s);
     sim.description = str_cat("model ", model_path, " (", sim.prior->kind(), ")");
   } else if (!baseline_path.empty()) {
     sim = fit_baseline_recording(baseline_path, form, input_options);
   } else {
-    sim.base.terms = baseline_family(form, in.signals);
+    std::string why;
+    sim.base.terms = baseline_family(choose_baseline_form(form, in, &why), in.signals);
     sim.description = str_cat("baseline family (bias cubic in T, scale factor as a ",
                               sim.base.terms.back().as<ScaleFactorSurface>() ? "bicubic surface over (T, omega)" : "polynomial of order 3 in T and omega",
-                              ") fitted on the training blocks");
+                              ") fitted on the training blocks", why.empty() ? "" : str_cat("; ", why));
   }
   if (sim.prior) {
     in.signals.channels[kPriorChannel] = sim.prior->predict(dataset_of(in, sim.prior->features()));

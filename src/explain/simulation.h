@@ -21,6 +21,13 @@ struct Simulation {
 // The name of the channel that carries a prior model's prediction inside the base's terms.
 inline constexpr const char* kPriorChannel = "__prior";
 
+// The baseline family's form for `form`: surface or polynomial as given; for automatic, the surface when its
+// BIC on the training rows (least squares on the error, beside a polynomial in time) is lower than the
+// polynomial's, with *why one sentence of the comparison. A surface of ~100 columns must earn its place over a
+// polynomial of 16: where it need not, it only absorbs physics the candidates would test (a scale-factor
+// asymmetry, issue 34 class 5).
+BaselineForm choose_baseline_form(BaselineForm form, const ExplainInput& in, std::string* why);
+
 // From --model, --baseline or neither. A prior's prediction (deg/h) goes into in.signals as kPriorChannel
 // and is a term of the base (its gain re-estimated).
 Simulation make_simulation(ExplainInput& in, const std::string& model_path, const std::string& baseline_path, BaselineForm form,

@@ -200,11 +200,14 @@ SelectionRecord selection_of(const json& j) {
 
 json absorbed_json(const AbsorbedAlternative& a) {
   return {{"id", a.id}, {"absorbed_by", a.absorbed_by}, {"unique_fraction", a.unique_fraction}, {"delta_bic_core", a.delta_bic_core},
-          {"delta_bic_full", a.delta_bic_full}, {"reason", a.reason}};
+          {"delta_bic_full", a.delta_bic_full}, {"delta_bic_over_flexibility", a.delta_bic_over_flexibility},
+          {"reason", a.reason}, {"separating_experiment", a.separating_experiment}};
 }
 
 AbsorbedAlternative absorbed_of(const json& j) {
-  return {j.at("id"), j.at("absorbed_by"), j.at("unique_fraction"), j.at("delta_bic_core"), j.at("delta_bic_full"), j.at("reason")};
+  return {j.at("id"),          j.at("absorbed_by"), j.at("unique_fraction"),
+          j.at("delta_bic_core"), j.at("delta_bic_full"), j.value("delta_bic_over_flexibility", 0.0), j.at("reason"),
+          j.value("separating_experiment", "")};
 }
 
 json demoted_json(const DemotedEffect& d) {

@@ -151,7 +151,10 @@ void effects_markdown(const explain::ExplainSummary& j, std::ostringstream& md) 
 void absorbed_markdown(const explain::ExplainSummary& j, std::ostringstream& md) {
   if (j.absorbed_alternatives.empty()) return;
   md << "## Alternative explanations of part of the simulation's structure\n\n";
-  for (const auto& a : j.absorbed_alternatives) md << "- " << a.id << ": " << a.reason << "\n";
+  for (const auto& a : j.absorbed_alternatives) {
+    md << "- " << a.id << ": " << a.reason << "\n";
+    if (!a.separating_experiment.empty()) md << "  To separate them: " << a.separating_experiment << ".\n";
+  }
   md << "\n";
 }
 

@@ -61,8 +61,17 @@ class Asymmetry : public Effect {
       return "command rates of several magnitudes in both senses: asymmetry grows like |omega|, an even nonlinearity "
              "like omega^2";
     }
+    if (other == "scale_factor_surface" || other == "scale_factor_polynomial") {
+      return "hold rates of a few deg/s in both senses (and reverse slowly through zero) beside the calibrated ones: a "
+             "scale factor that steps between the senses puts a kink in the error at zero rate, which a smooth scale "
+             "factor over the rate cannot follow";
+    }
     return "";
   }
+  // Tested against a smooth scale factor of rate order 2. It keeps omega u (an error in omega^2, a FOG's
+  // ordinary second-order term) and drops omega u^3: with it, an error in omega^4, the two even terms bend
+  // to follow |omega| over a wide span of rates and would absorb the asymmetry they are tested against.
+  int core_rate_order() const override { return 2; }
 };
 
 class Nonlinearity : public Effect {
