@@ -79,6 +79,11 @@ std::vector<Term> baseline_family(BaselineForm form, const Signals& s) {
   return out;
 }
 
+bool stands_for_baseline_family(const CalibrationModel& model) {
+  return !dynamic_cast<const ExplainedModel*>(&model) && !dynamic_cast<const ClassicalModel*>(&model) &&
+         !dynamic_cast<const GreyboxModel*>(&model);
+}
+
 std::vector<Term> structure_of(const CalibrationModel& model, BaselineForm form, const Signals& s, double* lag_tau_s) {
   *lag_tau_s = 0.0;
   if (const auto* e = dynamic_cast<const ExplainedModel*>(&model)) {

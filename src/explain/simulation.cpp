@@ -45,6 +45,22 @@ Simulation fit_baseline_recording(const std::string& path, BaselineForm form, co
   return sim;
 }
 
+// Legendre polynomials P_1..P_order of the time mapped onto [-1, 1] over the record, on the given rows, by
+// Bonnet's recursion (k + 1) P_{k+1} = (2k + 1) x P_k - k P_{k-1}.
+Eigen::MatrixXd legendre_in_time(const std::vector<double>& t_s, const std::vector<Eigen::Index>& rows, int order) {
+  const double t0 = t_s.front(), span = std::max(t_s.back() - t0, 1e-9);
+  Eigen::ArrayXd x(static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t k = 0; k < rows.size(); ++k) x(static_cast<Eigen::Index>(k)) = 2.0 * (t_s[static_cast<std::size_t>(rows[k])] - t0) / span - 1.0;
+  Eigen::MatrixXd out(x.size(), order);
+  Eigen::ArrayXd previous = Eigen::ArrayXd::Ones(x.size()), current = x;
+  for (int k = 1; k <= order; ++k) {
+    out.col(k - 1) = current.matrix();
+    Eigen::ArrayXd next = ((2.0 * k + 1.0) * x * current - k * previous) / (k + 1.0);
+    previous = std::move(current), current = std::move(next);
+  }
+  return out;
+}
+
 }  // namespace
 
 Dataset dataset_of(const ExplainInput& in, const std::vector<std::string>& features) {
@@ -79,24 +95,14 @@ BaselineForm choose_baseline_form(BaselineForm form, const ExplainInput& in, std
   const TermScaling scaling = TermScaling::of(in.signals);
   const CoilTemperature coil = coil_temperature(in.signals, 0.0);
   const Eigen::VectorXd y = in.error(rows);
-  // Slow structure in time (drift, warm-up, wander) is in both fits, as Legendre polynomials in time to order
-  // kTimeOrder: otherwise the surface, whose columns follow the rate programme's slow pattern, wins by
-  // absorbing it (an ageing trend of 1 sigma made it win by 797 on the independent generator).
-  constexpr int kTimeOrder = 6;
-  const double t0 = in.signals.t_s.front(), span = std::max(in.signals.t_s.back() - t0, 1e-9);
-  Eigen::ArrayXd x(static_cast<Eigen::Index>(rows.size()));
-  for (Eigen::Index k = 0; k < x.size(); ++k) x(k) = 2.0 * (in.signals.t_s[static_cast<std::size_t>(rows[static_cast<std::size_t>(k)])] - t0) / span - 1.0;
-  Eigen::MatrixXd nuisance(x.size(), kTimeOrder);
-  Eigen::ArrayXd p0 = Eigen::ArrayXd::Ones(x.size()), p1 = x;
-  for (int k = 1; k <= kTimeOrder; ++k) {  // P_k by Bonnet's recursion: (k + 1) P_{k+1} = (2k + 1) x P_k - k P_{k-1}
-    nuisance.col(k - 1) = p1.matrix();
-    const Eigen::ArrayXd next = ((2.0 * k + 1.0) * x * p1 - k * p0) / (k + 1.0);
-    p0 = p1, p1 = next;
-  }
+  // Slow structure in time (drift, warm-up, wander) is in both fits: otherwise the surface, whose columns
+  // follow the rate programme's slow pattern, wins by absorbing it (an ageing trend of 1 sigma made it win by
+  // 797 on the independent generator).
+  const Eigen::MatrixXd nuisance = legendre_in_time(in.signals.t_s, rows, 6);
   // BIC = n ln(rss / n) + k ln n of the least-squares fit on the training rows (k: its rank).
   auto bic = [&](const std::vector<Term>& family) {
     const Eigen::MatrixXd columns = design_matrix(family, in.signals, coil, scaling)(rows, Eigen::all);
-    Eigen::MatrixXd xy(columns.rows(), columns.cols() + kTimeOrder);
+    Eigen::MatrixXd xy(columns.rows(), columns.cols() + nuisance.cols());
     xy << columns, nuisance;
     const WhitenedFit f = fit_whitened(xy, y);
     return n * std::log(f.rss / n) + f.rank * std::log(n);
@@ -114,8 +120,9 @@ Simulation make_simulation(ExplainInput& in, const std::string& model_path, cons
     sim.prior = load_model(model_path);
     if (sim.prior->target() != ModelTarget::error) fail(model_path, ": explain needs a model of the rate error (target error)");
     std::string why;
-    sim.base.terms = structure_of(*sim.prior, choose_baseline_form(form, in, &why), in.signals, &sim.base.lag_tau_s);
-    sim.description = str_cat("model ", model_path, " (", sim.prior->kind(), ")");
+    const BaselineForm black_box_form = stands_for_baseline_family(*sim.prior) ? choose_baseline_form(form, in, &why) : BaselineForm::polynomial;
+    sim.base.terms = structure_of(*sim.prior, black_box_form, in.signals, &sim.base.lag_tau_s);
+    sim.description = str_cat("model ", model_path, " (", sim.prior->kind(), ")", why.empty() ? "" : str_cat("; ", why));
   } else if (!baseline_path.empty()) {
     sim = fit_baseline_recording(baseline_path, form, input_options);
   } else {
