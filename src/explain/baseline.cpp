@@ -79,12 +79,7 @@ std::vector<Term> baseline_family(BaselineForm form, const Signals& s) {
   return out;
 }
 
-bool stands_for_baseline_family(const CalibrationModel& model) {
-  return !dynamic_cast<const ExplainedModel*>(&model) && !dynamic_cast<const ClassicalModel*>(&model) &&
-         !dynamic_cast<const GreyboxModel*>(&model);
-}
-
-std::vector<Term> structure_of(const CalibrationModel& model, BaselineForm form, const Signals& s, double* lag_tau_s) {
+std::optional<std::vector<Term>> structure_of(const CalibrationModel& model, double* lag_tau_s) {
   *lag_tau_s = 0.0;
   if (const auto* e = dynamic_cast<const ExplainedModel*>(&model)) {
     *lag_tau_s = e->lag_tau_s();
@@ -102,7 +97,7 @@ std::vector<Term> structure_of(const CalibrationModel& model, BaselineForm form,
   }
   // An RBF network (or any black box over rate and temperature) stands for a smooth 2-D error function: the
   // baseline family is what its coefficients can absorb.
-  return baseline_family(form, s);
+  return std::nullopt;
 }
 
 }  // namespace gyrosid::explain

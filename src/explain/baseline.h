@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -36,8 +37,8 @@ namespace gyrosid::explain {
 // must be resolved first (choose_baseline_form).
 std::vector<Term> baseline_family(BaselineForm form, const Signals& s);
 // The terms a given model already has (its coefficients may be re-estimated); its thermal lag in *lag_tau_s.
-// Black-box models (RBF) stand for a smooth 2-D error function: the baseline family of the given form.
-bool stands_for_baseline_family(const CalibrationModel& model);
-std::vector<Term> structure_of(const CalibrationModel& model, BaselineForm form, const Signals& s, double* lag_tau_s);
+// None for a black-box model (RBF): it stands for a smooth 2-D error function, whose terms are the baseline
+// family's.
+std::optional<std::vector<Term>> structure_of(const CalibrationModel& model, double* lag_tau_s);
 
 }  // namespace gyrosid::explain

@@ -120,8 +120,8 @@ Simulation make_simulation(ExplainInput& in, const std::string& model_path, cons
     sim.prior = load_model(model_path);
     if (sim.prior->target() != ModelTarget::error) fail(model_path, ": explain needs a model of the rate error (target error)");
     std::string why;
-    const BaselineForm black_box_form = stands_for_baseline_family(*sim.prior) ? choose_baseline_form(form, in, &why) : BaselineForm::polynomial;
-    sim.base.terms = structure_of(*sim.prior, black_box_form, in.signals, &sim.base.lag_tau_s);
+    std::optional<std::vector<Term>> own = structure_of(*sim.prior, &sim.base.lag_tau_s);
+    sim.base.terms = own ? std::move(*own) : baseline_family(choose_baseline_form(form, in, &why), in.signals);
     sim.description = str_cat("model ", model_path, " (", sim.prior->kind(), ")", why.empty() ? "" : str_cat("; ", why));
   } else if (!baseline_path.empty()) {
     sim = fit_baseline_recording(baseline_path, form, input_options);
