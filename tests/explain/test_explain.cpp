@@ -352,10 +352,10 @@ TEST(Explain, AnAsymmetryASurfaceWouldAbsorbIsNamedWhereTheDataDoNotNeedTheSurfa
   const ExplainResult chosen = explain_recording(rec, o);
   EXPECT_NE(chosen.summary.simulation.find("polynomial of order 3"), std::string::npos) << chosen.summary.simulation;
   const FoundEffect* e = effect(chosen.summary, "scale_factor_asymmetry");
-  std::string demoted;
-  for (const auto& d : chosen.summary.demoted) demoted += d.id + " (" + std::to_string(d.delta_bic) + ": " + d.reason + ") ";
-  for (const auto& x : chosen.summary.absorbed_alternatives) demoted += x.id + " absorbed " + x.reason;
-  ASSERT_NE(e, nullptr) << ids(chosen.summary) << demoted;
+  std::string why_not;  // on failure: what was demoted or listed as absorbed instead
+  for (const auto& d : chosen.summary.demoted) why_not += d.id + " demoted (" + std::to_string(d.delta_bic) + ": " + d.reason + ") ";
+  for (const auto& x : chosen.summary.absorbed_alternatives) why_not += x.id + " absorbed (" + x.reason + ") ";
+  ASSERT_NE(e, nullptr) << ids(chosen.summary) << why_not;
   const PhysicalParameter& a = parameter(*e, "asymmetry_ppm");
   EXPECT_LT(a.low, 300.0);
   EXPECT_GT(a.high, 300.0);
