@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <utility>
 
 #include "cli/app.h"
 #include "cli/common.h"
@@ -179,115 +181,117 @@ std::vector<PriorMemberPredictions> prior_predictions(const SensorPrior& prior, 
   return out;
 }
 
-void run_design(DesignCommand c) {
-  if (!c.options_of.empty()) return print_options_of(c.options_of);
+// What the command line sets before a sensor is read: the design's settings (--set over the equipment's), the
+// envelope, the criterion and model family, and whether a lot's population is the calibration's prior. Every
+// option is checked here, before any prediction.
+struct DesignSetup {
   design::DesignSettings settings;
+  OptionMap solver_options;
+  design::Criterion criterion{};
+  design::ModelFamily family{};
+  bool lot = false;        // --prior is a lot (gyrosid lot learn)
+  bool lot_prior = false;  // ... whose population the calibration designed for fits with
+  std::optional<design::ReferenceStatistic> fixed_statistic;  // --reference-statistic, none for auto
+};
+
+void set_envelope(const DesignCommand& c, design::EnvelopeOptions& envelope) {
+  const auto names = split_list(c.envelope);
+  if (names.size() != 1 || names.front() != "uniform") {
+    envelope.flights = names;
+    return;
+  }
+  envelope.uniform = true;
+  envelope.flights.clear();
+  const auto d = split_list(c.uniform_domain);
+  if (d.size() != 3) fail("--uniform-domain: expected T_MIN_C,T_MAX_C,RATE_DPS, got '", c.uniform_domain, "'");
+  envelope.uniform_domain.temp_min_c = std::stod(d[0]);
+  envelope.uniform_domain.temp_max_c = std::stod(d[1]);
+  envelope.uniform_domain.rate_max_radps = units::dps_to_radps(std::stod(d[2]));
+}
+
+DesignSetup design_setup(const DesignCommand& c) {
+  DesignSetup s;
   OptionMap options;
   for (const auto& kv : c.set) {
     const auto [key, value] = split_option(kv);
     options[key] = value;
   }
-  settings.space.take(load_equipment(c.equipment));  // what the hardware can do; --set space.* overrides it
-  const OptionMap solver_options = settings.apply(options);
-  const auto envelope_names = split_list(c.envelope);
-  if (envelope_names.size() == 1 && envelope_names.front() == "uniform") {
-    settings.envelope.uniform = true;
-    settings.envelope.flights.clear();
-    const auto d = split_list(c.uniform_domain);
-    if (d.size() != 3) fail("--uniform-domain: expected T_MIN_C,T_MAX_C,RATE_DPS, got '", c.uniform_domain, "'");
-    settings.envelope.uniform_domain.temp_min_c = std::stod(d[0]);
-    settings.envelope.uniform_domain.temp_max_c = std::stod(d[1]);
-    settings.envelope.uniform_domain.rate_max_radps = units::dps_to_radps(std::stod(d[2]));
-  } else {
-    settings.envelope.flights = envelope_names;
-  }
-  const design::Criterion criterion = c.criterion.empty() ? (settings.envelope.uniform ? design::Criterion::surface : design::Criterion::cof)
-                                                          : parse_enum<design::Criterion>(c.criterion, "--criterion");
-  if (criterion == design::Criterion::cof_minimax) settings.minimax_defaults(options);  // it always has a reference (below)
-  const design::ModelFamily family = parse_enum<design::ModelFamily>(c.model, "--model");
-  const bool lot = !c.prior.empty() && has_population(c.prior);
-  if (c.without_lot_prior && !lot) fail("--without-lot-prior is for a lot (gyrosid lot learn) as --prior");
-  const bool lot_prior = lot && take_lot(c, family, options, settings.model);
-  if (criterion == design::Criterion::effects && !settings.model.shupe && !settings.model.hysteresis && !settings.model.thermal_lag) {
-    settings.model.shupe = settings.model.hysteresis = settings.model.thermal_lag = true;  // what the criterion separates
+  s.settings.space.take(load_equipment(c.equipment));  // what the hardware can do; --set space.* overrides it
+  s.solver_options = s.settings.apply(options);
+  set_envelope(c, s.settings.envelope);
+  s.criterion = c.criterion.empty() ? (s.settings.envelope.uniform ? design::Criterion::surface : design::Criterion::cof)
+                                    : parse_enum<design::Criterion>(c.criterion, "--criterion");
+  if (s.criterion == design::Criterion::cof_minimax) s.settings.minimax_defaults(options);  // it always has a reference (below)
+  s.family = parse_enum<design::ModelFamily>(c.model, "--model");
+  s.lot = !c.prior.empty() && has_population(c.prior);
+  if (c.without_lot_prior && !s.lot) fail("--without-lot-prior is for a lot (gyrosid lot learn) as --prior");
+  s.lot_prior = s.lot && take_lot(c, s.family, options, s.settings.model);
+  design::ModelOptions& model = s.settings.model;
+  if (s.criterion == design::Criterion::effects && !model.shupe && !model.hysteresis && !model.thermal_lag) {
+    model.shupe = model.hysteresis = model.thermal_lag = true;  // what the criterion separates
   }
   const bool evaluating = !c.evaluate.empty();
   if (!evaluating && !(c.budget_min > 0)) fail("--budget-min is required (a positive number of minutes) unless --evaluate is given");
   if (!evaluating && c.out.empty()) fail("--out DIR is required for a design");
-  if (!evaluating) design::make_design_solver(c.solver, solver_options, c.seed);  // bad options fail before any work
+  if (!evaluating) design::make_design_solver(c.solver, s.solver_options, c.seed);  // bad options fail before any work
   // The exact selection's options, before any prediction (cof_minimax always gets its reference below).
-  if (auto p = settings.selection.validate(criterion, true); !p.empty()) fail("design: ", p);
+  if (auto p = s.settings.selection.validate(s.criterion, true); !p.empty()) fail("design: ", p);
   // auto: mse for a reference of the same model, else the reference's cof (assessment.h). mse was measured worse
   // than posterior against the dual scan with the fixed dictionary's prior (2026-11-24); every design since the
   // evidence network and the exact selection (2026-11-25, experiments/trajectory_design) was made with mse, and
   // it is the configuration minimax_defaults() completes.
-  const bool auto_statistic = c.reference_statistic == "auto";
-  const auto fixed_statistic = auto_statistic ? design::ReferenceStatistic::posterior
-                                              : parse_enum<design::ReferenceStatistic>(c.reference_statistic, "--reference-statistic");
+  if (c.reference_statistic != "auto") s.fixed_statistic = parse_enum<design::ReferenceStatistic>(c.reference_statistic, "--reference-statistic");
+  return s;
+}
 
-  const SensorPrior prior = prior_with_measured_noise(c);
-  if (prior.members.size() > 1 && (criterion == design::Criterion::cof_minimax || (evaluating && !lot))) {
-    fail("--prior ", c.prior, ": ", evaluating ? "--evaluate takes one sensor (--sensor), or a lot" : "criterion cof_minimax takes one sensor (it compares against one reference; use --criterion cof)",
-         ", not a prior of ", prior.members.size());
-  }
-  if (evaluating && lot) {
-    std::cout << "evaluated for the lot's mean unit (" << prior.members.front().name << ")"
-              << (lot_prior ? ", calibrated with the lot's prior\n" : ", calibrated by its own data alone\n");
-  }
-  const SensorSpec& sensor = prior.members.front().sensor;
-  auto envelope = std::make_shared<const design::Envelope>(design::load_envelope(settings.envelope, as_triad(sensor)));
-  settings.space.budget_min = evaluating ? 60.0 : c.budget_min;
-  const design::DesignSpace space = design::design_space(*envelope, settings.space);
-  design::DesignContext context(sensor, envelope, family, settings.model, criterion, design::model_domain(space));
-  DesignReportInput report;
-  report.command = c.command_line();
-  report.model = c.model, report.sensor = c.prior.empty() ? c.sensor : c.prior, report.solver = c.solver;
-  const std::filesystem::path dir = c.out;
+nlohmann::json design_provenance(const DesignCommand& c, bool lot_prior) {
   nlohmann::json provenance = {{"model", c.model}, {"sensor", c.sensor}, {"noise", c.noise}, {"envelope", c.envelope}, {"seed", c.seed},
                                {"solver", c.solver}, {"options", c.set}, {"command", c.command_line()}};
   if (!c.prior.empty()) provenance["prior"] = c.prior;
   if (lot_prior) provenance["calibration_prior"] = c.prior;  // the calibration designed for fits with the lot's population
   if (c.equipment != kDefaultEquipment) provenance["equipment"] = c.equipment;
-  // The reference's trajectory when it is predicted with --model: a --compare of the same path is not predicted again.
-  std::string reference_as_compared;
-  if (criterion == design::Criterion::cof_minimax || !c.reference.empty()) {
-    // The reference the design must beat on every flight, calibrated with its own model.
-    const std::string path = c.reference.empty() ? c.compare.front() : c.reference;
-    const std::string model = c.reference_model.empty() ? c.model : c.reference_model;
-    const TrajectorySpec spec = load_trajectory_file(path);
-    const auto ref_context = std::make_unique<design::DesignContext>(sensor, envelope, parse_enum<design::ModelFamily>(model, "--reference-model"),
-                                                                     settings.model, design::Criterion::cof, design::model_domain(space));
-    const design::Prediction ref = design::evaluate_trajectory(*ref_context, spec);
-    const bool same_model = parse_enum<design::ModelFamily>(model, "--reference-model") == family;
-    if (same_model) reference_as_compared = path;
-    context.set_reference(ref, !auto_statistic ? fixed_statistic : same_model ? design::ReferenceStatistic::mse : design::ReferenceStatistic::cof);
-    report.compared.emplace_back(str_cat(spec.profile.name, " (reference, ", model, ")"), ref);
-    provenance["reference"] = {{"trajectory", path}, {"model", model}, {"predicted", prediction_json(ref)}};
-  }
-  for (const auto& path : evaluating ? c.evaluate : c.compare) {
-    if (!evaluating && path == reference_as_compared) {  // predicted once, as the reference; the objective is the design's
-      report.compared.front().second.objective = design::trajectory_objective(context, load_trajectory_file(path));
-      continue;
-    }
-    const TrajectorySpec spec = load_trajectory_file(path);
-    report.compared.emplace_back(spec.profile.name, design::evaluate_trajectory(context, spec));
-  }
-  if (evaluating) return write_evaluation(c, context, report, provenance);
-  // The solver's finished stages are saved as it goes; --resume continues a killed design to the same result.
+  return provenance;
+}
+
+// cof_minimax or --reference: the trajectory the design must beat on every flight, calibrated with its own
+// model, set as the context's reference and put first in the report. Returns its path when it is predicted
+// with --model (a --compare of the same path is then not predicted again), else "".
+std::string predict_reference(const DesignCommand& c, const DesignSetup& s, const SensorSpec& sensor, std::shared_ptr<const design::Envelope> envelope,
+                              const design::DesignSpace& space, design::DesignContext& context, DesignReportInput& report,
+                              nlohmann::json& provenance) {
+  const std::string path = c.reference.empty() ? c.compare.front() : c.reference;
+  const std::string model = c.reference_model.empty() ? c.model : c.reference_model;
+  const TrajectorySpec spec = load_trajectory_file(path);
+  const design::ModelFamily family = parse_enum<design::ModelFamily>(model, "--reference-model");
+  const design::DesignContext ref_context(sensor, std::move(envelope), family, s.settings.model, design::Criterion::cof,
+                                          design::model_domain(space));
+  const design::Prediction ref = design::evaluate_trajectory(ref_context, spec);
+  const bool same_model = family == s.family;
+  context.set_reference(ref, s.fixed_statistic ? *s.fixed_statistic : same_model ? design::ReferenceStatistic::mse : design::ReferenceStatistic::cof);
+  report.compared.emplace_back(str_cat(spec.profile.name, " (reference, ", model, ")"), ref);
+  provenance["reference"] = {{"trajectory", path}, {"model", model}, {"predicted", prediction_json(ref)}};
+  return same_model ? path : "";
+}
+
+// Designs the trajectory over the prior's members and writes trajectory.yaml, setpoints.csv, design.json,
+// calibration.yaml, coverage.png and report.md into --out; the finished stages are checkpointed as it goes.
+void design_and_write(const DesignCommand& c, const DesignSetup& s, const SensorPrior& prior, std::shared_ptr<const design::Envelope> envelope,
+                      const design::DesignContext& context, DesignReportInput& report, const nlohmann::json& provenance) {
+  // --resume continues a killed design to the same result.
   std::vector<std::string> inputs = split_list(c.envelope);
   inputs.insert(inputs.end(), {c.sensor, c.prior, c.equipment, c.reference});
   inputs.insert(inputs.end(), c.compare.begin(), c.compare.end());
   Checkpoint checkpoint = run_checkpoint(c.out, "design", run_fingerprint(*c.command, inputs), c.resume);
   design::DesignRequest request;
   request.checkpoint = &checkpoint;
-  request.space = settings.space;
-  request.quadrature = settings.quadrature;
-  request.selection = settings.selection;
-  request.prior = settings.prior;
+  request.space = s.settings.space;
+  request.quadrature = s.settings.quadrature;
+  request.selection = s.settings.selection;
+  request.prior = s.settings.prior;
   request.solver = c.solver;
-  request.solver_options = solver_options;
+  request.solver_options = s.solver_options;
   request.seed = c.seed;
-  const PriorContexts members = prior_contexts(prior, context, envelope, settings.model);
+  const PriorContexts members = prior_contexts(prior, context, std::move(envelope), s.settings.model);
   const design::DesignResult r = design::design_trajectory(members.members, request);
   report.result = &r;
   nlohmann::json design_file = design_json(r, provenance);
@@ -295,10 +299,11 @@ void run_design(DesignCommand c) {
     report.prior = prior_predictions(prior, members, r, c.compare);
     design_file["prior"] = prior_json(prior.name, prior.source, report.prior);
   }
+  const std::filesystem::path dir = c.out;
   write_file_atomic(dir / "trajectory.yaml", programme_yaml(r.trajectory));
   write_file_atomic(dir / "setpoints.csv", setpoint_table_csv(r.trajectory.profile));
   write_file_atomic(dir / "design.json", design_file.dump(2) + "\n");
-  write_file_atomic(dir / "calibration.yaml", design::calibration_yaml(family, settings.model, context.model_domain(), context.noise()));
+  write_file_atomic(dir / "calibration.yaml", design::calibration_yaml(s.family, s.settings.model, context.model_domain(), context.noise()));
   plot_design_coverage(dir / "coverage.png", design::observe_trajectory(context, r.trajectory), context.envelope(),
                        str_cat("design for ", c.envelope, " (", format_significant(r.trajectory.profile.duration_min(), 4), " min, ",
                                c.model, " model)"));
@@ -310,6 +315,42 @@ void run_design(DesignCommand c) {
   for (const auto& [name, p] : report.compared) std::cout << name << " (" << format_significant(p.duration_min, 4) << " min): " << describe(p) << "\n";
   std::cout << c.solver << ": " << to_string(r.summary.termination) << ", " << r.summary.evaluations << " evaluations, "
             << format_significant(r.summary.time_s, 3) << " s\n";
+}
+
+void run_design(DesignCommand c) {
+  if (!c.options_of.empty()) return print_options_of(c.options_of);
+  DesignSetup s = design_setup(c);
+  const bool evaluating = !c.evaluate.empty();
+  const SensorPrior prior = prior_with_measured_noise(c);
+  if (prior.members.size() > 1 && (s.criterion == design::Criterion::cof_minimax || (evaluating && !s.lot))) {
+    fail("--prior ", c.prior, ": ", evaluating ? "--evaluate takes one sensor (--sensor), or a lot" : "criterion cof_minimax takes one sensor (it compares against one reference; use --criterion cof)",
+         ", not a prior of ", prior.members.size());
+  }
+  if (evaluating && s.lot) {
+    std::cout << "evaluated for the lot's mean unit (" << prior.members.front().name << ")"
+              << (s.lot_prior ? ", calibrated with the lot's prior\n" : ", calibrated by its own data alone\n");
+  }
+  const SensorSpec& sensor = prior.members.front().sensor;
+  auto envelope = std::make_shared<const design::Envelope>(design::load_envelope(s.settings.envelope, as_triad(sensor)));
+  s.settings.space.budget_min = evaluating ? 60.0 : c.budget_min;
+  const design::DesignSpace space = design::design_space(*envelope, s.settings.space);
+  design::DesignContext context(sensor, envelope, s.family, s.settings.model, s.criterion, design::model_domain(space));
+  DesignReportInput report;
+  report.command = c.command_line();
+  report.model = c.model, report.sensor = c.prior.empty() ? c.sensor : c.prior, report.solver = c.solver;
+  nlohmann::json provenance = design_provenance(c, s.lot_prior);
+  const bool has_reference = s.criterion == design::Criterion::cof_minimax || !c.reference.empty();
+  const std::string reference_as_compared = has_reference ? predict_reference(c, s, sensor, envelope, space, context, report, provenance) : "";
+  for (const auto& path : evaluating ? c.evaluate : c.compare) {
+    if (!evaluating && path == reference_as_compared) {  // predicted once, as the reference; the objective is the design's
+      report.compared.front().second.objective = design::trajectory_objective(context, load_trajectory_file(path));
+      continue;
+    }
+    const TrajectorySpec spec = load_trajectory_file(path);
+    report.compared.emplace_back(spec.profile.name, design::evaluate_trajectory(context, spec));
+  }
+  if (evaluating) return write_evaluation(c, context, report, provenance);
+  design_and_write(c, s, prior, envelope, context, report, provenance);
 }
 
 }  // namespace
