@@ -84,6 +84,52 @@ std::unique_ptr<ceres::Covariance> compute_covariance(ceres::Problem& problem, c
   return ok ? std::move(out) : nullptr;
 }
 
+// A weighted copy of the problem at its stored values, for ceres::Covariance: each residual group scaled by
+// 1/sigma, constant blocks and manifolds as in the problem. Ceres orders the covariance's columns by the
+// blocks' addresses (it sorts them: internal/ceres/covariance_impl.cc), so the copy's blocks live in one
+// buffer, in block order; in their own allocations the round-off of every sigma would follow the heap's
+// layout, and an unrelated change of the program would move their last digits.
+struct WeightedCopy {
+  std::vector<double> values;  // every block's stored values, one block after the other
+  ceres::Problem base;         // the problem as solved: its constant blocks and manifolds (owned here)
+  std::unique_ptr<ceres::Problem> weighted;
+  std::vector<const double*> blocks;  // the free blocks in `weighted`, in block order
+  std::vector<int> block_ids;         // ... and their indices in the problem
+
+  WeightedCopy(const NlsProblem& p, const std::vector<double>& group_sigma)
+      : base(ceres_problem(const_cast<NlsProblem&>(p))) {  // points Ceres at the stored values; nothing is changed
+    std::vector<std::size_t> offset{0};
+    for (int i = 0; i < p.block_count(); ++i) {
+      const std::vector<double>& v = p.block(i).values;
+      values.insert(values.end(), v.begin(), v.end());
+      offset.push_back(values.size());
+    }
+    const auto at = [&](int i) { return values.data() + offset[static_cast<std::size_t>(i)]; };
+    ceres::Problem::Options po;
+    po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+    po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    weighted = std::make_unique<ceres::Problem>(po);
+    for (const auto& rb : p.residual_blocks()) {
+      const double s = group_sigma[static_cast<std::size_t>(rb.group)];
+      std::vector<double*> parameters;
+      for (int bi : rb.blocks) parameters.push_back(at(bi));
+      weighted->AddResidualBlock(new WeightedCost(rb.cost.get(), s > 0 ? 1.0 / s : 1.0), nullptr, parameters);
+    }
+    for (int i = 0; i < p.block_count(); ++i) {
+      double* data = at(i);
+      double* stored = const_cast<double*>(p.block(i).values.data());
+      if (!weighted->HasParameterBlock(data)) continue;
+      if (base.HasParameterBlock(stored) && base.IsParameterBlockConstant(stored)) {
+        weighted->SetParameterBlockConstant(data);
+        continue;
+      }
+      if (base.HasParameterBlock(stored) && base.GetManifold(stored)) weighted->SetManifold(data, const_cast<ceres::Manifold*>(base.GetManifold(stored)));
+      blocks.push_back(data);
+      block_ids.push_back(i);
+    }
+  }
+};
+
 }  // namespace
 
 namespace {
@@ -156,32 +202,10 @@ NlsCovariance estimate_covariance(const NlsProblem& p) {
     out.group_sigma[static_cast<std::size_t>(g)] = s;
     if (s > 0) column_norm2 += jac.colwise().squaredNorm().transpose() / (s * s);
   }
-  // A weighted copy of the problem at the stored values, for ceres::Covariance.
-  NlsProblem& mutable_p = const_cast<NlsProblem&>(p);  // ceres_problem() points Ceres at the stored values; nothing is changed
-  ceres::Problem base = ceres_problem(mutable_p);
-  ceres::Problem::Options po;
-  po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
-  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem weighted(po);
-  for (const auto& rb : p.residual_blocks()) {
-    const double s = out.group_sigma[static_cast<std::size_t>(rb.group)];
-    std::vector<double*> blocks;
-    for (int bi : rb.blocks) blocks.push_back(mutable_p.block(bi).values.data());
-    weighted.AddResidualBlock(new WeightedCost(rb.cost.get(), s > 0 ? 1.0 / s : 1.0), nullptr, blocks);
-  }
-  std::vector<const double*> blocks;
-  std::vector<int> block_ids;
-  for (int i = 0; i < p.block_count(); ++i) {
-    double* data = mutable_p.block(i).values.data();
-    if (!weighted.HasParameterBlock(data)) continue;
-    if (base.HasParameterBlock(data) && base.IsParameterBlockConstant(data)) {
-      weighted.SetParameterBlockConstant(data);
-      continue;
-    }
-    if (base.HasParameterBlock(data) && base.GetManifold(data)) weighted.SetManifold(data, const_cast<ceres::Manifold*>(base.GetManifold(data)));
-    blocks.push_back(data);
-    block_ids.push_back(i);
-  }
+  WeightedCopy copy(p, out.group_sigma);
+  const std::vector<const double*>& blocks = copy.blocks;
+  const std::vector<int>& block_ids = copy.block_ids;
+  ceres::Problem& weighted = *copy.weighted;
   std::unique_ptr<ceres::Covariance> cov = compute_covariance(weighted, blocks, ceres::SPARSE_QR);
   if (!cov) cov = compute_covariance(weighted, blocks, ceres::DENSE_SVD);
   if (!cov) {
