@@ -122,6 +122,56 @@ FoldExcess fold_excess(const std::vector<Eigen::Index>& rows, const Eigen::Vecto
   return out;
 }
 
+// The fit's regressors [rbf, fixed] (the order of fit.covariance) and its noise model in y units; with white
+// noise also the whitened Gram matrix and right-hand side of all samples once, from which each fold's rows
+// are subtracted.
+struct CvSystem {
+  Eigen::MatrixXd h, hw, gram;
+  Eigen::VectorXd yw, b;
+  NoiseModel noise;
+  bool coloured = false;
+
+  CvSystem(const BayesProblem& p, const BayesFit& fit, const std::vector<double>& t_s) : coloured(fit.noise.has_value()) {
+    const Eigen::Index m = fit.centres.rows(), q = p.fixed.cols();
+    h.resize(p.y.size(), m + q);
+    if (m > 0) h.leftCols(m) = gaussian_columns(p.x, fit.centres, fit.widths);
+    h.rightCols(q) = p.fixed;
+    noise.dt_s = median_sample_interval(t_s);
+    noise.white_var = std::exp(-fit.log_beta);
+    if (coloured) {
+      noise = *fit.noise;
+      return;
+    }
+    const double root_beta = std::exp(0.5 * fit.log_beta);
+    hw = root_beta * h;
+    yw = root_beta * p.y;
+    gram = hw.transpose() * hw;
+    b = hw.transpose() * yw;
+  }
+
+  // The whitened normal equations a x = bk of the fit without fold k (whose rows are `rows`).
+  void without_fold(const Eigen::VectorXd& y, const std::vector<int>& fold, int k, const std::vector<Eigen::Index>& rows,
+                    const std::vector<double>& t_s, Eigen::MatrixXd& a, Eigen::VectorXd& bk) const {
+    if (coloured) {
+      // The other samples whitened anew (the filter runs across the gap). Dropping the fold's rows of the full
+      // whitening instead would leave the fold's information in the innovations after it, and strip a block at
+      // the start of the record of the level the constant is known by.
+      std::vector<Eigen::Index> train;
+      for (Eigen::Index i = 0; i < y.size(); ++i)
+        if (fold[static_cast<std::size_t>(i)] != k) train.push_back(i);
+      const Whitener w(noise, train, t_s, RandomWalkStart::zero);
+      const Eigen::MatrixXd hwt = w.apply(h);
+      a = hwt.transpose() * hwt, bk = hwt.transpose() * w.apply(y);
+      return;
+    }
+    Eigen::MatrixXd hwk(static_cast<Eigen::Index>(rows.size()), h.cols());
+    Eigen::VectorXd ywk(hwk.rows());
+    for (std::size_t r = 0; r < rows.size(); ++r) hwk.row(static_cast<Eigen::Index>(r)) = hw.row(rows[r]), ywk(static_cast<Eigen::Index>(r)) = yw(rows[r]);
+    a = gram, bk = b - hwk.transpose() * ywk;
+    a.noalias() -= hwk.transpose() * hwk;
+  }
+};
+
 }  // namespace
 
 Eigen::MatrixXd group_mean_noise_covariance(const std::vector<std::vector<double>>& groups, const NoiseModel& m) {
@@ -164,20 +214,9 @@ ModelErrorEstimate model_error_by_cv(const BayesProblem& p, const BayesFit& fit,
   ModelErrorEstimate out;
   const Eigen::Index n = p.y.size(), m = fit.centres.rows(), q = p.fixed.cols();
   if (static_cast<Eigen::Index>(t_s.size()) != n) fail("model error: ", t_s.size(), " sample times for ", n, " samples");
-  // Regressors [rbf, fixed] (the order of fit.covariance) and the noise model in y units.
-  Eigen::MatrixXd h(n, m + q);
-  if (m > 0) h.leftCols(m) = gaussian_columns(p.x, fit.centres, fit.widths);
-  h.rightCols(q) = p.fixed;
-  NoiseModel noise;
-  noise.dt_s = median_sample_interval(t_s);
-  noise.white_var = std::exp(-fit.log_beta);
-  if (fit.noise) noise = *fit.noise;
-  // White noise: the full Gram matrix once, each fold's subtracted (coloured: per fold, below).
-  const double root_beta = std::exp(0.5 * fit.log_beta);
-  const Eigen::MatrixXd hw = fit.noise ? Eigen::MatrixXd() : Eigen::MatrixXd(root_beta * h);
-  const Eigen::VectorXd yw = fit.noise ? Eigen::VectorXd() : Eigen::VectorXd(root_beta * p.y);
-  const Eigen::MatrixXd gram = fit.noise ? Eigen::MatrixXd() : Eigen::MatrixXd(hw.transpose() * hw);
-  const Eigen::VectorXd b = fit.noise ? Eigen::VectorXd() : Eigen::VectorXd(hw.transpose() * yw);
+  const CvSystem system(p, fit, t_s);
+  const Eigen::MatrixXd& h = system.h;
+  const NoiseModel& noise = system.noise;
   // Prior precision: alpha on the RBF weights, a vanishing one on the flat-prior fixed columns (a fold may
   // remove the support of one of them).
   Eigen::VectorXd prior(m + q);
@@ -196,23 +235,7 @@ ModelErrorEstimate model_error_by_cv(const BayesProblem& p, const BayesFit& fit,
     if (rows.empty() || static_cast<Eigen::Index>(rows.size()) == n) continue;
     Eigen::MatrixXd a;
     Eigen::VectorXd bk;
-    if (fit.noise) {
-      // Coloured: the other samples whitened anew (the filter runs across the gap). Dropping the fold's rows
-      // of the full whitening instead would leave the fold's information in the innovations after it, and
-      // strip a block at the start of the record of the level the constant is known by.
-      std::vector<Eigen::Index> train;
-      for (Eigen::Index i = 0; i < n; ++i)
-        if (fold[static_cast<std::size_t>(i)] != k) train.push_back(i);
-      const Whitener w(noise, train, t_s, RandomWalkStart::zero);
-      const Eigen::MatrixXd hwt = w.apply(h);
-      a = hwt.transpose() * hwt, bk = hwt.transpose() * w.apply(p.y);
-    } else {
-      Eigen::MatrixXd hwk(static_cast<Eigen::Index>(rows.size()), m + q);
-      Eigen::VectorXd ywk(hwk.rows());
-      for (std::size_t r = 0; r < rows.size(); ++r) hwk.row(static_cast<Eigen::Index>(r)) = hw.row(rows[r]), ywk(static_cast<Eigen::Index>(r)) = yw(rows[r]);
-      a = gram, bk = b - hwk.transpose() * ywk;
-      a.noalias() -= hwk.transpose() * hwk;
-    }
+    system.without_fold(p.y, fold, k, rows, t_s, a, bk);
     a.diagonal() += prior;
     const Eigen::LLT<Eigen::MatrixXd> llt(a);
     if (llt.info() != Eigen::Success) continue;

@@ -626,31 +626,63 @@ void information_criterion(TriadFit& fit, const Stage& final_stage, const Stage*
       {"definition", "BIC = sum_i R ln(rss_i / R) + k ln(3 R), AIC = sum_i R ln(rss_i / R) + 2 k: R rows_per_gyro, k parameters, rss_i per gyro in (rad/s)^2 (solvers/triad/triad_fit.h)"}};
 }
 
+// What the reference gives the fit: its mode (rate, angle or gravity), the rows against it, and a gravity
+// reference's hand turns (their stillness checked into `fit`).
+struct ReferenceRows {
+  std::string mode;
+  TriadRows rows;
+  std::vector<GravityTurn> turns;
+};
+
+ReferenceRows reference_rows(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata, TriadFit& fit) {
+  ReferenceRows r;
+  r.mode = triad_reference_mode(o, reference_metadata);
+  if (r.mode == "gravity") {
+    if (o.surfaces != "none" || o.g_sensitivity) fail("triad: reference=gravity estimates M and the biases only (surfaces=none, no g_sensitivity)");
+    r.turns = gravity_turns(d);
+    fit.hold_stillness = check_hold_stillness(d);
+    for (const auto& h : fit.hold_stillness.not_still()) fit.notes.push_back(fit.hold_stillness.describe(h));
+  }
+  r.rows = r.mode == "angle" ? angle_rows(d) : r.mode == "gravity" ? hold_rows(d) : rate_rows(d);
+  if (r.mode == "gravity") {
+    r.rows.description = str_cat(r.rows.rows(), " static-hold samples against reference 0 and ", r.turns.size(),
+                                 " hand turns known by the gravity directions of the holds around them");
+  }
+  if (r.mode == "angle" && o.surfaces != "none" && o.estimation == "sequential") {
+    fail("triad: with an angle reference only segment integrals are known; sequential surfaces need per-sample reference rates (use estimation=joint or surfaces=none)");
+  }
+  return r;
+}
+
+// The bias polynomial's order: the option's, or a constant where the temperature spans less than 0.5 C.
+int bias_order_of(const TriadData& d, const TriadFitOptions& o, TriadFit& fit) {
+  if (d.temp_c.maxCoeff() - d.temp_c.minCoeff() >= 0.5 || o.bias_order <= 0) return o.bias_order;
+  fit.notes.push_back(str_cat("temperature spans less than 0.5 C: the bias polynomial is reduced to a constant (bias_order 0)"));
+  return 0;
+}
+
+// The summary's details beside the final stage's: every stage, the estimation and surfaces, a gravity
+// reference's hold stillness, and the classical surfaces' orders.
+void record_details(TriadFit& fit, const TriadFitOptions& o, const std::string& mode, nlohmann::json stages) {
+  fit.summary.details["stages"] = std::move(stages);
+  fit.summary.details["estimation"] = o.estimation;
+  fit.summary.details["surfaces"] = o.surfaces;
+  if (mode == "gravity") fit.summary.details["hold_stillness"] = fit.hold_stillness.json();
+  if (o.surfaces == "classical") {
+    const ClassicalOptions defaults;
+    for (const auto& [key, value] : {std::pair{"sf_rate_order", defaults.sf_rate_order}, std::pair{"sf_cross_order", defaults.sf_cross_order}}) {
+      const auto it = o.surface_options.find(key);
+      fit.summary.details[str_cat("surface_", key)] = it == o.surface_options.end() ? std::to_string(value) : it->second;
+    }
+  }
+}
+
 TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std::string& reference_metadata) {
   if (d.size() < 4) fail("triad: ", d.size(), " samples are too few");
   TriadFit fit;
   fit.options = o;
-  const std::string mode = triad_reference_mode(o, reference_metadata);
-  std::vector<GravityTurn> turns;
-  if (mode == "gravity") {
-    if (o.surfaces != "none" || o.g_sensitivity) fail("triad: reference=gravity estimates M and the biases only (surfaces=none, no g_sensitivity)");
-    turns = gravity_turns(d);
-    fit.hold_stillness = check_hold_stillness(d);
-    for (const auto& h : fit.hold_stillness.not_still()) fit.notes.push_back(fit.hold_stillness.describe(h));
-  }
-  TriadRows rows = mode == "angle" ? angle_rows(d) : mode == "gravity" ? hold_rows(d) : rate_rows(d);
-  if (mode == "gravity") {
-    rows.description = str_cat(rows.rows(), " static-hold samples against reference 0 and ", turns.size(),
-                               " hand turns known by the gravity directions of the holds around them");
-  }
-  if (mode == "angle" && o.surfaces != "none" && o.estimation == "sequential") {
-    fail("triad: with an angle reference only segment integrals are known; sequential surfaces need per-sample reference rates (use estimation=joint or surfaces=none)");
-  }
-  int bias_order = o.bias_order;
-  if (d.temp_c.maxCoeff() - d.temp_c.minCoeff() < 0.5 && bias_order > 0) {
-    fit.notes.push_back(str_cat("temperature spans less than 0.5 C: the bias polynomial is reduced to a constant (bias_order 0)"));
-    bias_order = 0;
-  }
+  auto [mode, rows, turns] = reference_rows(d, o, reference_metadata, fit);
+  const int bias_order = bias_order_of(d, o, fit);
   TriadProblemSpec spec;
   spec.bias_order = bias_order;
   spec.g_sensitivity = o.g_sensitivity;
@@ -722,17 +754,7 @@ TriadFit fit_triad_once(const TriadData& d, const TriadFitOptions& o, const std:
   fit.summary = stage.summary;
   information_criterion(fit, stage, triad_scale ? &first : nullptr, o.estimation == "sequential" && !triad_scale ? sequential_surfaces : decltype(sequential_surfaces){},
                         mode != "gravity");
-  fit.summary.details["stages"] = stages;
-  fit.summary.details["estimation"] = o.estimation;
-  fit.summary.details["surfaces"] = o.surfaces;
-  if (mode == "gravity") fit.summary.details["hold_stillness"] = fit.hold_stillness.json();
-  if (o.surfaces == "classical") {
-    const ClassicalOptions defaults;
-    for (const auto& [key, value] : {std::pair{"sf_rate_order", defaults.sf_rate_order}, std::pair{"sf_cross_order", defaults.sf_cross_order}}) {
-      const auto it = o.surface_options.find(key);
-      fit.summary.details[str_cat("surface_", key)] = it == o.surface_options.end() ? std::to_string(value) : it->second;
-    }
-  }
+  record_details(fit, o, mode, std::move(stages));
   return fit;
 }
 

@@ -43,21 +43,17 @@ DecimatedRecording read_gyro(const std::string& path, const std::string& axis, c
   return read;
 }
 
-void run_calibrate(CalibrateOptions o) {
-  if (!o.help_for.empty()) {
-    std::cout << (o.help_for == "triad" ? triad_help() : model_fitters().find(o.help_for) ? model_help(o.help_for) : solver_help(o.help_for));
-    return;
-  }
-  if (o.model == "triad") {
-    if (int(o.joint) + int(o.sequential) + int(o.auto_estimation) > 1) fail("--joint, --sequential and --auto exclude each other");
-    if (o.recording.empty() || o.out.empty()) fail("--recording and --out are required");
-    if (!o.prior.empty()) fail("--prior (a lot file) calibrates a single gyro's greybox model, not --model triad");
-    if (!o.axis.empty() || !o.decimate.empty()) fail("--axis and --decimate apply to single-gyro models (a triad model calibrates all three gyros at the recorded rate)");
-    calibrate_triad({o.recording, o.out, o.solver, o.surfaces, o.joint ? "joint" : o.sequential ? "sequential" : o.auto_estimation ? "auto" : "", o.set});
-    return;
-  }
-  if (!o.surfaces.empty() || o.joint || o.sequential || o.auto_estimation) fail("--surfaces, --joint, --sequential and --auto apply to --model triad");
-  // A YAML config gives defaults; command-line values win.
+void run_calibrate_triad(const CalibrateOptions& o) {
+  if (int(o.joint) + int(o.sequential) + int(o.auto_estimation) > 1) fail("--joint, --sequential and --auto exclude each other");
+  if (o.recording.empty() || o.out.empty()) fail("--recording and --out are required");
+  if (!o.prior.empty()) fail("--prior (a lot file) calibrates a single gyro's greybox model, not --model triad");
+  if (!o.axis.empty() || !o.decimate.empty()) fail("--axis and --decimate apply to single-gyro models (a triad model calibrates all three gyros at the recorded rate)");
+  calibrate_triad({o.recording, o.out, o.solver, o.surfaces, o.joint ? "joint" : o.sequential ? "sequential" : o.auto_estimation ? "auto" : "", o.set});
+}
+
+// The calibration asked for: a YAML config's defaults (its recording and out too, unless given), the
+// command line's values over them, or a lot's prior (its grey-box structure, the MAP under its population).
+CalibrationRequest request_of(CalibrateOptions& o) {
   CalibrationRequest request;
   if (!o.config.empty()) {
     const ConfigNode c = ConfigNode::load(o.config);
@@ -76,7 +72,7 @@ void run_calibrate(CalibrateOptions o) {
     const auto [key, value] = split_option(kv);
     request.options[key] = value;
   }
-  if (!o.prior.empty()) {  // a lot's prior: its grey-box structure, the MAP under its population
+  if (!o.prior.empty()) {
     if (!o.model.empty() && o.model != "greybox") fail("--prior (a lot file) calibrates the greybox model, not --model ", o.model);
     if (!o.set.empty() || !o.config.empty()) fail("--prior fixes the model's structure to the lot's: --set and --config do not apply");
     const LotModel lot = load_lot(o.prior);
@@ -84,6 +80,38 @@ void run_calibrate(CalibrateOptions o) {
     request.options = lot.greybox_options;
     request.greybox_prior = std::make_shared<const GreyboxPrior>(lot.prior());
   }
+  return request;
+}
+
+// What the fit says beside its model: left-out physics, a lot prior's share and predictive sigma, the noise.
+void print_fit_notes(const nlohmann::json& details) {
+  if (details.contains("physics_left_out")) std::cout << "physics: " << details["physics_left_out"]["note"].get<std::string>() << "\n";
+  if (details.contains("data_share")) {
+    std::cout << "share of each term's information from the recording (1) or the lot's prior (0):";
+    for (const auto& [group, share] : details["data_share"].items()) std::cout << " " << group << " " << format_significant(share.get<double>(), 2);
+    std::cout << "\n";
+  }
+  if (details.contains("predictive_sigma")) {  // where the prior filled in: the estimate's sd is largest there
+    const nlohmann::json& ps = details["predictive_sigma"];
+    std::cout << "predictive sigma of the estimated error over the surface grid's nodes: rms " << format_significant(ps["rms_dph"].get<double>(), 3)
+              << " deg/h, max " << format_significant(ps["max_dph"].get<double>(), 3) << " deg/h at " << format_number(ps["max_at_temp_c"].get<double>())
+              << " C, " << format_number(ps["max_at_rate_dps"].get<double>()) << " deg/s\n";
+  }
+  if (details.contains("physics_note")) std::cout << "physics: " << details["physics_note"].get<std::string>() << "\n";
+  if (details.contains("noise_choice")) std::cout << "noise model: " << details["noise_choice"].get<std::string>() << "\n";
+  if (details.contains("noise_identification")) {
+    std::cout << "noise identification of the residual (as gyrosid allan would give it): " << details["noise_identification"].get<std::string>() << "\n";
+  }
+}
+
+void run_calibrate(CalibrateOptions o) {
+  if (!o.help_for.empty()) {
+    std::cout << (o.help_for == "triad" ? triad_help() : model_fitters().find(o.help_for) ? model_help(o.help_for) : solver_help(o.help_for));
+    return;
+  }
+  if (o.model == "triad") return run_calibrate_triad(o);
+  if (!o.surfaces.empty() || o.joint || o.sequential || o.auto_estimation) fail("--surfaces, --joint, --sequential and --auto apply to --model triad");
+  CalibrationRequest request = request_of(o);
   // Nothing chosen: characterise the noise and pick the preset for it, saying why.
   const bool choose = o.config.empty() && o.model.empty() && o.solver.empty() && o.set.empty() && o.features.empty() &&
                       o.target.empty() && o.normalization.empty() && o.prior.empty();
@@ -105,24 +133,7 @@ void run_calibrate(CalibrateOptions o) {
     state_decimation(result, rec, read.decimation);
     std::cout << result.summary.details["decimation"]["statement"].get<std::string>() << "\n";
   }
-  const nlohmann::json& details = result.summary.details;
-  if (details.contains("physics_left_out")) std::cout << "physics: " << details["physics_left_out"]["note"].get<std::string>() << "\n";
-  if (details.contains("data_share")) {
-    std::cout << "share of each term's information from the recording (1) or the lot's prior (0):";
-    for (const auto& [group, share] : details["data_share"].items()) std::cout << " " << group << " " << format_significant(share.get<double>(), 2);
-    std::cout << "\n";
-  }
-  if (details.contains("predictive_sigma")) {  // where the prior filled in: the estimate's sd is largest there
-    const nlohmann::json& ps = details["predictive_sigma"];
-    std::cout << "predictive sigma of the estimated error over the surface grid's nodes: rms " << format_significant(ps["rms_dph"].get<double>(), 3)
-              << " deg/h, max " << format_significant(ps["max_dph"].get<double>(), 3) << " deg/h at " << format_number(ps["max_at_temp_c"].get<double>())
-              << " C, " << format_number(ps["max_at_rate_dps"].get<double>()) << " deg/s\n";
-  }
-  if (details.contains("physics_note")) std::cout << "physics: " << details["physics_note"].get<std::string>() << "\n";
-  if (details.contains("noise_choice")) std::cout << "noise model: " << details["noise_choice"].get<std::string>() << "\n";
-  if (details.contains("noise_identification")) {
-    std::cout << "noise identification of the residual (as gyrosid allan would give it): " << details["noise_identification"].get<std::string>() << "\n";
-  }
+  print_fit_notes(result.summary.details);
   save_model(o.out, *result.model, {{"training", result.training}, {"summary", result.summary}});
   std::cout << "wrote " << o.out << ": " << result.model->kind() << " model";
   const SolveSummary& s = result.summary;

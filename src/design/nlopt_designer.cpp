@@ -4,7 +4,6 @@
 #include <nlopt.hpp>
 
 #include <cmath>
-#include <functional>
 
 #include "core/error.h"
 #include "core/progress.h"
@@ -37,50 +36,40 @@ std::string check_algorithm(const std::string& key, const std::string& name, cha
   return "";
 }
 
-}  // namespace
+// The objective over the design's box (design_space.h), counted, shown as progress and recorded: the best
+// point any search has seen is kept, whatever the search returns.
+class BoxSearch {
+ public:
+  BoxSearch(const DesignProblem& problem, const NloptDesignOptions& o, SolveMonitor& monitor, Progress& progress)
+      : problem_(problem), o_(o), monitor_(monitor), progress_(progress) {}
 
-std::string NloptDesignOptions::validate() const {
-  if (auto p = check_algorithm("global", global, 'G'); !p.empty()) return p;
-  if (auto p = check_algorithm("local", local, 'L'); !p.empty()) return p;
-  if (global == "none" && local == "none") return "options 'global' and 'local' cannot both be none";
-  if (global == "GN_MLSL" || global == "GN_MLSL_LDS") return "option 'global': MLSL needs a local optimiser of its own; use GN_CRS2_LM, GN_ISRES, GN_ESCH or GN_DIRECT_L";
-  return "";
-}
-
-SolveOutcome NloptDesigner::solve(const DesignProblem& problem, TableProfile& best, SolveMonitor& monitor) {
-  const DesignSpace& space = problem.space();
-  const auto n = static_cast<unsigned>(space.box_dimension());
-  const Eigen::VectorXd lower = space.box_lower(), upper = space.box_upper();
-  const int total = (o_.global == "none" ? 0 : o_.global_evaluations) + (o_.local == "none" ? 0 : o_.local_evaluations);
-  Progress progress("design (nlopt)", static_cast<std::size_t>(total));
-  struct {
-    double value = INFINITY;
-    Eigen::VectorXd v;
-  } record;
-  int evaluations = 0;
-  std::function<double(const std::vector<double>&)> objective = [&](const std::vector<double>& x) {
+  double operator()(const std::vector<double>& x) {
     const Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
-    const double value = problem.box_objective(v);
-    monitor.iteration(value);
-    monitor.evaluation();
-    progress.update(static_cast<std::size_t>(++evaluations));
+    const double value = problem_.box_objective(v);
+    monitor_.iteration(value);
+    monitor_.evaluation();
+    progress_.update(static_cast<std::size_t>(++evaluations));
     if (value < record.value) record = {value, v};
     return value;
-  };
-  auto run = [&](const std::string& algorithm, int evaluations_allowed, Eigen::VectorXd start, nlohmann::json& report) {
+  }
+
+  // One NLopt search (a global GN_* or a local LN_* algorithm) from `start` over at most `allowed` evaluations;
+  // `report` gets its algorithm, evaluations, best value and result.
+  SolveOutcome run(const std::string& algorithm, int allowed, const Eigen::VectorXd& start, nlohmann::json& report) {
+    const DesignSpace& space = problem_.space();
+    const auto n = static_cast<unsigned>(space.box_dimension());
+    const Eigen::VectorXd lower = space.box_lower(), upper = space.box_upper();
     nlopt::opt opt(algorithm.c_str(), n);
     opt.set_lower_bounds(std::vector<double>(lower.data(), lower.data() + n));
     opt.set_upper_bounds(std::vector<double>(upper.data(), upper.data() + n));
-    opt.set_maxeval(evaluations_allowed);
+    opt.set_maxeval(allowed);
     opt.set_xtol_rel(o_.xtol_rel);
     if (o_.population > 0 && algorithm[0] == 'G') opt.set_population(static_cast<unsigned>(o_.population));
     if (algorithm[0] == 'L') {
       const Eigen::VectorXd step = 0.05 * (upper - lower);
       opt.set_initial_step(std::vector<double>(step.data(), step.data() + n));
     }
-    opt.set_min_objective([](const std::vector<double>& x, std::vector<double>&, void* f) {
-      return (*static_cast<std::function<double(const std::vector<double>&)>*>(f))(x);
-    }, &objective);
+    opt.set_min_objective([](const std::vector<double>& x, std::vector<double>&, void* self) { return (*static_cast<BoxSearch*>(self))(x); }, this);
     std::vector<double> x(start.data(), start.data() + n);
     double value = 0.0;
     Termination termination = Termination::no_progress;
@@ -95,7 +84,39 @@ SolveOutcome NloptDesigner::solve(const DesignProblem& problem, TableProfile& be
     }
     report = {{"algorithm", algorithm}, {"evaluations", evaluations - before}, {"best", record.value}, {"result", message}};
     return SolveOutcome{termination, algorithm + ": " + message, {}};
-  };
+  }
+
+  struct {
+    double value = INFINITY;
+    Eigen::VectorXd v;
+  } record;
+  int evaluations = 0;
+
+ private:
+  const DesignProblem& problem_;
+  const NloptDesignOptions& o_;
+  SolveMonitor& monitor_;
+  Progress& progress_;
+};
+
+}  // namespace
+
+std::string NloptDesignOptions::validate() const {
+  if (auto p = check_algorithm("global", global, 'G'); !p.empty()) return p;
+  if (auto p = check_algorithm("local", local, 'L'); !p.empty()) return p;
+  if (global == "none" && local == "none") return "options 'global' and 'local' cannot both be none";
+  if (global == "GN_MLSL" || global == "GN_MLSL_LDS") return "option 'global': MLSL needs a local optimiser of its own; use GN_CRS2_LM, GN_ISRES, GN_ESCH or GN_DIRECT_L";
+  return "";
+}
+
+SolveOutcome NloptDesigner::solve(const DesignProblem& problem, TableProfile& best, SolveMonitor& monitor) {
+  const DesignSpace& space = problem.space();
+  const auto n = static_cast<unsigned>(space.box_dimension());
+  const int total = (o_.global == "none" ? 0 : o_.global_evaluations) + (o_.local == "none" ? 0 : o_.local_evaluations);
+  Progress progress("design (nlopt)", static_cast<std::size_t>(total));
+  BoxSearch search(problem, o_, monitor, progress);
+  auto& record = search.record;
+  int& evaluations = search.evaluations;
 
   nlopt::srand(static_cast<unsigned long>(seed_));
   Eigen::VectorXd start = space.encode_box(best);
@@ -114,7 +135,7 @@ SolveOutcome NloptDesigner::solve(const DesignProblem& problem, TableProfile& be
     progress.update(static_cast<std::size_t>(evaluations));
   } else if (o_.global != "none") {
     const std::size_t first = monitor.history().size();
-    outcome = run(o_.global, o_.global_evaluations, start, global_report);
+    outcome = search.run(o_.global, o_.global_evaluations, start, global_report);
     if (checkpoint_ && record.v.size() == n) {
       checkpoint_->save_record("nlopt/global", {{"history", std::vector<double>(monitor.history().begin() + static_cast<std::ptrdiff_t>(first), monitor.history().end())},
                                                 {"evaluations", evaluations}, {"best_value", record.value},
@@ -125,7 +146,7 @@ SolveOutcome NloptDesigner::solve(const DesignProblem& problem, TableProfile& be
   }
   if (o_.local != "none") {
     if (record.v.size() == n) start = record.v;
-    outcome = run(o_.local, o_.local_evaluations, start, local_report);
+    outcome = search.run(o_.local, o_.local_evaluations, start, local_report);
   }
   progress.finish();
   if (!std::isfinite(record.value)) fail("nlopt design: no programme had a finite objective");

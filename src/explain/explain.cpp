@@ -363,6 +363,24 @@ RecordingSummary recording_summary(const ExplainInput& in, const ExplainOptions&
   return r;
 }
 
+// The noise models of the residuals before and after the refit, from their training samples (Allan fit, then
+// maximum likelihood), and their diagnostics; returns the final (after) noise model.
+NoiseModel diagnose_before_and_after(const ExplainResult& result, double alpha, ExplainSummary& summary) {
+  const ExplainInput& in = result.input;
+  std::vector<Eigen::Index> training_rows;
+  for (Eigen::Index i = 0; i < in.size(); ++i) {
+    if (!in.heldout[static_cast<std::size_t>(i)]) training_rows.push_back(i);
+  }
+  const auto runs = contiguous_runs(training_rows, in.segment);
+  const auto noise_of = [&](const Eigen::VectorXd& r) {
+    return likelihood_noise_model(r, training_rows, in.signals.t_s, fit_noise_model(r, runs, in.dt_s, NoiseStart::gauss_markov_start));
+  };
+  const NoiseModel final_noise = noise_of(result.residual_after_dph);
+  summary.before = diagnose(in, result.residual_before_dph, noise_of(result.residual_before_dph), alpha);
+  summary.after = diagnose(in, result.residual_after_dph, final_noise, alpha);
+  return final_noise;
+}
+
 }  // namespace
 
 std::vector<std::string> explain_spread_columns(const std::vector<std::string>& names, const std::string& axis) {
@@ -415,18 +433,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   // The reported held-out fit compares the baseline with the refitted model where neither extrapolates.
   in.outside_support = support.outside({&final_fit.model});
 
-  // The final noise model, from the final residual's training samples (Allan fit, then maximum likelihood), and the diagnostics.
-  std::vector<Eigen::Index> training_rows;
-  for (Eigen::Index i = 0; i < in.size(); ++i) {
-    if (!in.heldout[static_cast<std::size_t>(i)]) training_rows.push_back(i);
-  }
-  const auto runs = contiguous_runs(training_rows, in.segment);
-  const NoiseModel final_noise = likelihood_noise_model(result.residual_after_dph, training_rows, in.signals.t_s,
-                                                        fit_noise_model(result.residual_after_dph, runs, in.dt_s, NoiseStart::gauss_markov_start));
-  const NoiseModel before_noise = likelihood_noise_model(result.residual_before_dph, training_rows, in.signals.t_s,
-                                                         fit_noise_model(result.residual_before_dph, runs, in.dt_s, NoiseStart::gauss_markov_start));
-  summary.before = diagnose(in, result.residual_before_dph, before_noise, o.selection.alpha);
-  summary.after = diagnose(in, result.residual_after_dph, final_noise, o.selection.alpha);
+  const NoiseModel final_noise = diagnose_before_and_after(result, o.selection.alpha, summary);
   clock.lap("noise models and diagnostics");
 
   // 5. The refitted model, the effects and what is left unexplained.

@@ -31,6 +31,62 @@ std::string largest_departure(const LotModel& lot, const Eigen::VectorXd& r, con
                  " +- ", format_significant(sd(best), 3));
 }
 
+// Each region's share of the distance r' w (w = total^-1 r): its contributions r_j w_j summed, the negative
+// ones (a region pulling against another) as zero, over their total - shares in [0, 1] that sum to 1.
+std::map<std::string, double> region_shares(const LotModel& lot, const Eigen::VectorXd& r, const Eigen::VectorXd& w,
+                                            std::map<std::string, std::string>& group_of) {
+  std::map<std::string, double> share;
+  double positive = 0.0;
+  for (Eigen::Index j = 0; j < r.size(); ++j) {
+    const GreyboxCoordinate& c = lot.coordinates[static_cast<std::size_t>(j)];
+    share[region_of(c)] += r(j) * w(j);
+    group_of[region_of(c)] = c.group;
+  }
+  for (auto& [region, s] : share) positive += s = std::max(s, 0.0);
+  for (auto& [region, s] : share) s /= std::max(positive, 1e-300);
+  return share;
+}
+
+// The p-values of a unit's tests: the lot's (`lot_tests`, the omnibus first), then its conditional ones.
+struct TestPValues {
+  const std::vector<double>& p;
+  std::size_t lot_tests = 0, conditional_tests = 0;
+};
+
+// Why a unit is out of family in its physics: a term's own test first (for the surface: its region of
+// largest share), then a conditional test, else the regions holding a fifth of the distance (at least the
+// largest). Each test is Bonferroni-corrected over all of them and the noise (2 tests).
+void physics_reasons(const LotModel& lot, const LotUnit& unit, const Eigen::VectorXd& r, const Eigen::VectorXd& sd, const TestPValues& t,
+                     double alpha, const std::map<std::string, double>& share,
+                     const std::map<std::string, std::string>& group_of, ScreenResult& out) {
+  const double tests = static_cast<double>(t.p.size());
+  std::vector<std::pair<double, std::string>> ranked;
+  for (const auto& [region, s] : share) ranked.push_back({-s, region});
+  std::sort(ranked.begin(), ranked.end());
+  for (std::size_t k = 1; k < t.lot_tests; ++k) {
+    if (2.0 * tests * t.p[k] >= alpha) continue;
+    std::string region = lot.tests[k];
+    for (const auto& [minus, name] : ranked) {
+      if (group_of.at(name) == lot.tests[k]) {
+        region = name;
+        break;
+      }
+    }
+    out.reasons.push_back(str_cat(region, ": its own test p = ", format_significant(t.p[k], 3), " (", largest_departure(lot, r, sd, region), ")"));
+  }
+  for (std::size_t k = 0; k < t.conditional_tests; ++k) {
+    const double p_k = t.p[t.lot_tests + k];
+    if (2.0 * tests * p_k >= alpha) continue;
+    out.reasons.push_back(str_cat(lot.conditional_terms[k], " given the rest of the lot: p = ", format_significant(p_k, 3), " (z = ",
+                                  format_significant(unit.conditional_z(static_cast<Eigen::Index>(k)), 3), " of the lot's spread and the recording's)"));
+  }
+  if (!out.reasons.empty()) return;
+  for (const auto& [minus, region] : ranked) {
+    if (-minus < 0.2 && !out.reasons.empty()) break;
+    out.reasons.push_back(str_cat(region, ": ", format_significant(100.0 * -minus, 3), " % of the distance (", largest_departure(lot, r, sd, region), ")"));
+  }
+}
+
 }  // namespace
 
 std::string ScreenOptions::validate() const {
@@ -85,48 +141,11 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
                           format_significant(unit.recording_min, 3), " min: its false-alarm rate is not calibrated (screen the lot's own programme)");
   }
 
-  // Each region's share of the distance: its contributions r_j w_j summed, the negative ones (a region
-  // pulling against another) as zero, over their total - shares in [0, 1] that sum to 1.
-  std::map<std::string, double> share;
   std::map<std::string, std::string> group_of;  // region -> its coordinates' group
-  double positive = 0.0;
-  for (Eigen::Index j = 0; j < p; ++j) {
-    const GreyboxCoordinate& c = lot.coordinates[static_cast<std::size_t>(j)];
-    share[region_of(c)] += r(j) * w(j);
-    group_of[region_of(c)] = c.group;
-  }
-  for (auto& [region, s] : share) positive += s = std::max(s, 0.0);
-  for (auto& [region, s] : share) s /= std::max(positive, 1e-300);
+  const std::map<std::string, double> share = region_shares(lot, r, w, group_of);
   out.contributions = share;
   if (out.out_of_family && 2.0 * out.p_physics < o.alpha) {
-    const Eigen::VectorXd sd = total.diagonal().cwiseSqrt();
-    // A term's own test first (for the surface: its region of largest share), then the omnibus's shares.
-    std::vector<std::pair<double, std::string>> ranked;
-    for (const auto& [region, s] : share) ranked.push_back({-s, region});
-    std::sort(ranked.begin(), ranked.end());
-    for (std::size_t k = 1; k < d2.size(); ++k) {
-      if (2.0 * tests * p_test[k] >= o.alpha) continue;
-      std::string region = lot.tests[k];
-      for (const auto& [minus, name] : ranked) {
-        if (group_of.at(name) == lot.tests[k]) {
-          region = name;
-          break;
-        }
-      }
-      out.reasons.push_back(str_cat(region, ": its own test p = ", format_significant(p_test[k], 3), " (", largest_departure(lot, r, sd, region), ")"));
-    }
-    for (std::size_t k = 0; k < conditional_tests; ++k) {
-      const double p_k = p_test[d2.size() + k];
-      if (2.0 * tests * p_k >= o.alpha) continue;
-      out.reasons.push_back(str_cat(lot.conditional_terms[k], " given the rest of the lot: p = ", format_significant(p_k, 3), " (z = ",
-                                    format_significant(conditional_z(static_cast<Eigen::Index>(k)), 3), " of the lot's spread and the recording's)"));
-    }
-    if (out.reasons.empty()) {  // the regions holding a fifth of the distance, at least the largest
-      for (const auto& [minus, region] : ranked) {
-        if (-minus < 0.2 && !out.reasons.empty()) break;
-        out.reasons.push_back(str_cat(region, ": ", format_significant(100.0 * -minus, 3), " % of the distance (", largest_departure(lot, r, sd, region), ")"));
-      }
-    }
+    physics_reasons(lot, unit, r, total.diagonal().cwiseSqrt(), {p_test, d2.size(), conditional_tests}, o.alpha, share, group_of, out);
   }
   if (out.out_of_family && 2.0 * out.p_noise < o.alpha) {
     out.reasons.push_back(str_cat("noise: white ", format_significant(unit.white_dph_at_1hz, 3), " dph at 1 Hz, ",
