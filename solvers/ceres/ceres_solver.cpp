@@ -160,20 +160,24 @@ bool node_near_chunk(const RbfProblem& problem, const RbfNetwork& net, Eigen::In
   return false;
 }
 
-// The packed blocks, one per node (NodeBlock layout), and the optional constant.
+// The packed blocks, one per node (NodeBlock layout), then the optional constant, in one buffer in that order:
+// Ceres orders the Jacobian's and the covariance's columns by the blocks' addresses (its orderings are sets of
+// pointers), so with a block per allocation the fit's round-off would follow the heap's layout.
 struct PackedNetwork {
-  std::vector<std::vector<double>> nodes;
-  double bias = 0.0;
-  explicit PackedNetwork(const RbfNetwork& net) : bias(net.bias) {
-    const auto size = static_cast<std::size_t>(NodeBlock<double>::size(net.dimension()));
-    for (Eigen::Index j = 0; j < net.nodes(); ++j) {
-      nodes.emplace_back(size);
-      net.pack_node(j, nodes.back().data());
-    }
+  Eigen::Index count = 0;  // nodes
+  Eigen::Index block = 0;  // parameters per node
+  std::vector<double> values;
+  explicit PackedNetwork(const RbfNetwork& net)
+      : count(net.nodes()), block(NodeBlock<double>::size(net.dimension())), values(static_cast<std::size_t>(count * block + 1)) {
+    for (Eigen::Index j = 0; j < count; ++j) net.pack_node(j, node(j));
+    bias() = net.bias;
   }
+  double* node(Eigen::Index j) { return values.data() + j * block; }
+  const double* node(Eigen::Index j) const { return values.data() + j * block; }
+  double& bias() { return values.back(); }
   void unpack(RbfNetwork& net, bool with_bias) const {
-    for (Eigen::Index j = 0; j < net.nodes(); ++j) net.unpack_node(j, nodes[static_cast<std::size_t>(j)].data());
-    net.bias = with_bias ? bias : 0.0;
+    for (Eigen::Index j = 0; j < count; ++j) net.unpack_node(j, node(j));
+    net.bias = with_bias ? values.back() : 0.0;
   }
 };
 
@@ -186,16 +190,17 @@ void add_sample_blocks(const CeresOptions& o, const RbfProblem& problem, const R
     std::vector<double*> blocks;
     for (Eigen::Index j = 0; j < net.nodes(); ++j) {
       if (sparse && !node_near_chunk(problem, net, j, begin, len, o.truncation)) continue;
-      blocks.push_back(packed.nodes[static_cast<std::size_t>(j)].data());
+      blocks.push_back(packed.node(j));
     }
-    if (constant) blocks.push_back(&packed.bias);
+    if (constant) blocks.push_back(&packed.bias());
     const int nodes_here = static_cast<int>(blocks.size()) - (constant ? 1 : 0);
     cp.AddResidualBlock(new GaussianSumCost(problem.x.middleRows(begin, len), problem.y.segment(begin, len), nodes_here, constant),
                         nullptr, blocks);
   }
   if (o.lambda > 0) {
-    const int block = static_cast<int>(NodeBlock<double>::size(problem.dimension()));
-    for (auto& b : packed.nodes) cp.AddResidualBlock(new WeightPrior(block, std::sqrt(o.lambda)), nullptr, b.data());
+    for (Eigen::Index j = 0; j < packed.count; ++j) {
+      cp.AddResidualBlock(new WeightPrior(static_cast<int>(packed.block), std::sqrt(o.lambda)), nullptr, packed.node(j));
+    }
   }
 }
 
@@ -203,15 +208,15 @@ void add_sample_blocks(const CeresOptions& o, const RbfProblem& problem, const R
 nlohmann::json parameter_sigmas(PackedNetwork& packed, ceres::Problem& cp, double final_cost, Eigen::Index n) {
   ceres::Covariance covariance(dense_svd_covariance());
   std::vector<std::pair<const double*, const double*>> pairs;
-  for (auto& b : packed.nodes) pairs.emplace_back(b.data(), b.data());
+  for (Eigen::Index j = 0; j < packed.count; ++j) pairs.emplace_back(packed.node(j), packed.node(j));
   if (!covariance.Compute(pairs, &cp)) return {{"parameter_sigma", "rank-deficient Jacobian: covariance not computable"}};
-  const auto block = static_cast<int>(packed.nodes.empty() ? 0 : packed.nodes.front().size());
-  const double params = static_cast<double>(packed.nodes.size()) * block;
+  const auto block = static_cast<int>(packed.block);
+  const double params = static_cast<double>(packed.count) * block;
   const double sigma2 = 2.0 * final_cost / std::max(1.0, static_cast<double>(n) - params);  // residual variance
   nlohmann::json sig = nlohmann::json::array();
   std::vector<double> cov(static_cast<std::size_t>(block * block));
-  for (auto& b : packed.nodes) {
-    covariance.GetCovarianceBlock(b.data(), b.data(), cov.data());
+  for (Eigen::Index j = 0; j < packed.count; ++j) {
+    covariance.GetCovarianceBlock(packed.node(j), packed.node(j), cov.data());
     std::vector<double> sd(static_cast<std::size_t>(block));
     for (int k = 0; k < block; ++k) sd[static_cast<std::size_t>(k)] = std::sqrt(std::max(0.0, sigma2 * cov[static_cast<std::size_t>(k * block + k)]));
     sig.push_back(sd);
@@ -236,12 +241,12 @@ SolveOutcome CeresRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, Sol
   ceres::Solver::Summary summary;
   if (o.variable_projection) {
     std::vector<double*> blocks;
-    for (auto& b : packed.nodes) blocks.push_back(b.data());
+    for (Eigen::Index j = 0; j < packed.count; ++j) blocks.push_back(packed.node(j));
     auto* cost = new VarProCost(problem.x, problem.y, static_cast<int>(net.nodes()), o.lambda);
     cp.AddResidualBlock(cost, nullptr, blocks);
     ceres::Solve(solve_options, &cp, &summary);
     const VarProCost::Linear l = cost->solve(blocks.data());
-    for (Eigen::Index j = 0; j < net.nodes(); ++j) NodeBlock<double>{packed.nodes[static_cast<std::size_t>(j)].data(), problem.dimension()}.weight() = l.a(j);
+    for (Eigen::Index j = 0; j < net.nodes(); ++j) NodeBlock<double>{packed.node(j), problem.dimension()}.weight() = l.a(j);
   } else {
     add_sample_blocks(o, problem, net, packed, o.bias ? &constant : nullptr, cp);
     ceres::Solve(solve_options, &cp, &summary);

@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -189,14 +190,19 @@ RefitResult refit(const ExplainInput& in, const Eigen::VectorXd& y, const ModelS
   for (Eigen::Index c = 0; c < x0.cols(); ++c) {
     if (start.kept[static_cast<std::size_t>(c)]) kept.push_back(c);
   }
-  std::vector<double> beta(kept.size());
-  for (std::size_t c = 0; c < kept.size(); ++c) beta[c] = start.beta(kept[c]);
+  // The kept coefficients, then each log tau, in one buffer in that order: Ceres orders the Jacobian's and
+  // the covariance's columns by the blocks' addresses, which must not follow the heap's layout.
+  std::vector<double> parameters(kept.size() + log_tau.size());
+  for (std::size_t c = 0; c < kept.size(); ++c) parameters[c] = start.beta(kept[c]);
+  std::copy(log_tau.begin(), log_tau.end(), parameters.begin() + static_cast<std::ptrdiff_t>(kept.size()));
+  const double* beta = parameters.data();
 
   ceres::Problem problem;
-  std::vector<double*> blocks{beta.data()};
-  for (auto& v : log_tau) blocks.push_back(&v);
-  problem.AddResidualBlock(new RefitCost(in, yw, model, out.nonlinear, kept, sc, w), nullptr, blocks);
+  std::vector<double*> blocks{parameters.data()};
+  for (std::size_t k = 0; k < log_tau.size(); ++k) blocks.push_back(parameters.data() + kept.size() + k);
+  if (!kept.empty()) problem.AddResidualBlock(new RefitCost(in, yw, model, out.nonlinear, kept, sc, w), nullptr, blocks);
   const ceres::Solver::Summary summary = kept.empty() ? ceres::Solver::Summary() : polish(problem);
+  std::copy(parameters.begin() + static_cast<std::ptrdiff_t>(kept.size()), parameters.end(), log_tau.begin());
   out.termination = kept.empty() ? "no parameters" : ceres::TerminationTypeToString(summary.termination_type);
   out.iterations = static_cast<int>(summary.iterations.size());
   out.model = at_parameters(model, out.nonlinear, log_tau);

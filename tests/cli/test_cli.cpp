@@ -12,6 +12,7 @@
 #include <thread>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -415,6 +416,25 @@ TEST_F(Cli, ThreadCountDoesNotChangeTheModel) {
   const auto a = read_json(dir_ / "m1.json"), b = read_json(dir_ / "m2.json");
   EXPECT_EQ(a["parameters"], b["parameters"]);
   EXPECT_THAT(run("--threads 0 calibrate --help").output, HasSubstr("--threads"));
+}
+
+// Same inputs, same bytes, wherever the allocator puts things: Ceres orders a covariance's columns by the
+// parameter blocks' addresses, and a sequential triad's sigmas once moved in their last digits with glibc's
+// malloc settings (3 different files from one binary). GLIBC_TUNABLES moves the heap's layout.
+TEST_F(Cli, ATriadsSigmasDoNotFollowTheAllocatorsLayout) {
+  ASSERT_EQ(run("simulate --sensor builtin:sensors/fog_triad.yaml --trajectory builtin:trajectories/triad_six_position.yaml --seed 2 --out " + path("six.csv")).status, 0);
+  std::vector<nlohmann::json> misalignment;
+  for (const char* tunables : {"", "glibc.malloc.mmap_threshold=4096", "glibc.malloc.top_pad=1048576"}) {
+    const std::string out = path("t" + std::to_string(misalignment.size()) + ".json");
+    const std::string command = std::string("GLIBC_TUNABLES=") + tunables + " " + GYROSID_EXE + " calibrate --model triad --recording " +
+                                path("six.csv") + " --surfaces classical --sequential --out " + out + " > /dev/null 2>&1";
+    ASSERT_EQ(std::system(command.c_str()), 0) << tunables;
+    misalignment.push_back(read_json(out)["misalignment"]);
+  }
+  for (std::size_t k = 1; k < misalignment.size(); ++k) {
+    EXPECT_EQ(misalignment[k]["sigma"], misalignment[0]["sigma"]) << k;
+    EXPECT_EQ(misalignment[k]["inflation"], misalignment[0]["inflation"]) << k;
+  }
 }
 
 // A triad: simulate -> calibrate --model triad -> compensate -> cof; the planted matrix of fog_triad.yaml
