@@ -119,13 +119,12 @@ SensorPrior prior_with_measured_noise(const DesignCommand& c) {
 // A lot (`gyrosid lot learn`) as --prior with the grey-box model: the design's model takes the lot's structure
 // and, unless --without-lot-prior, the calibration it designs for fits with the lot's population as its prior
 // (`calibrate --prior`), so the predicted accuracy counts what the earlier units taught. Returns whether it does.
-bool take_lot(const DesignCommand& c, design::ModelFamily family, const OptionMap& options, design::ModelOptions& model) {
+bool take_lot(const DesignCommand& c, const LotModel& lot, design::ModelFamily family, const OptionMap& options, design::ModelOptions& model) {
   if (family != design::ModelFamily::greybox) {
     std::cout << "prior: " << c.prior << " is a lot; its structure and population are the greybox model's, so with --model " << c.model
               << " the design takes its members only\n";
     return false;
   }
-  const LotModel lot = load_lot(c.prior);
   const GreyboxOptions& s = lot.structure;
   for (const char* key : {"model.bias_order", "model.grid_temperatures", "model.grid_temperatures_c", "model.grid_rates_dps", "model.shupe", "model.thermal_lag"}) {
     if (options.count(key)) fail("--set ", key, ": the lot ", c.prior, " fixes the grey-box structure");
@@ -223,9 +222,10 @@ DesignSetup design_setup(const DesignCommand& c) {
                                     : parse_enum<design::Criterion>(c.criterion, "--criterion");
   if (s.criterion == design::Criterion::cof_minimax) s.settings.minimax_defaults(options);  // it always has a reference (below)
   s.family = parse_enum<design::ModelFamily>(c.model, "--model");
-  s.lot = !c.prior.empty() && has_population(c.prior);
+  const std::optional<LotModel> lot = c.prior.empty() ? std::nullopt : load_lot_if_learned(c.prior);
+  s.lot = lot.has_value();
   if (c.without_lot_prior && !s.lot) fail("--without-lot-prior is for a lot (gyrosid lot learn) as --prior");
-  s.lot_prior = s.lot && take_lot(c, s.family, options, s.settings.model);
+  s.lot_prior = s.lot && take_lot(c, *lot, s.family, options, s.settings.model);
   design::ModelOptions& model = s.settings.model;
   if (s.criterion == design::Criterion::effects && !model.shupe && !model.hysteresis && !model.thermal_lag) {
     model.shupe = model.hysteresis = model.thermal_lag = true;  // what the criterion separates

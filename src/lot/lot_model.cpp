@@ -370,9 +370,11 @@ LotModel LotModel::from_json(const nlohmann::json& j, const std::string& source)
   return lot;
 }
 
-bool has_population(const std::string& path) {
-  const nlohmann::json j = nlohmann::json::parse(config_text(path), nullptr, false);
-  return j.is_object() && j.contains("population");
+std::optional<LotModel> load_lot_if_learned(const std::string& path) {
+  nlohmann::json j = nlohmann::json::parse(config_text(path), nullptr, false);
+  if (!j.is_object() || !j.contains("population")) return std::nullopt;
+  if (j.value("format", "") != kPriorFormat) fail(path, ": format must be '", kPriorFormat, "'");
+  return LotModel::from_json(j["population"], path);
 }
 
 LotModel load_lot(const std::string& path) {

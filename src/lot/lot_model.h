@@ -36,6 +36,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -117,8 +118,9 @@ LotModel lot_without(const LotModel& lot, const std::vector<LotUnit>& units, std
 // z[u]: the conditional scores (lot_unit.h conditional_z) of the null's units, one per single-coordinate term.
 void set_conditional_nulls(LotModel& lot, const std::vector<Eigen::VectorXd>& z);
 
-// Whether the file is a lot: JSON with a `population` (a prior over sensors without one is members only).
-bool has_population(const std::string& path);
+// The lot when the file is one - JSON with a `population` - read in one parse; none for a prior over sensors
+// without one (members only) or a YAML file.
+std::optional<LotModel> load_lot_if_learned(const std::string& path);
 // The lot in a gyrosid-prior/1 file (`population`); Error naming the file when it has none.
 LotModel load_lot(const std::string& path);
 

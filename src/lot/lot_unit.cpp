@@ -38,7 +38,7 @@ void write_row(const LotUnit& u, Eigen::Index p, double* row) {
 }
 
 LotUnit read_row(const double* row, Eigen::Index p, const std::string& name) {
-  return {name, Eigen::Map<const Eigen::VectorXd>(row, p), Eigen::Map<const Eigen::VectorXd>(row + p, p), row[2 * p], row[2 * p + 1]};
+  return {name, Eigen::Map<const Eigen::VectorXd>(row, p), Eigen::Map<const Eigen::VectorXd>(row + p, p), row[2 * p], row[2 * p + 1], {}};
 }
 
 // Rows of `width` numbers, one per path, in index order: in batches over core/distributed.h (threads or MPI
