@@ -24,6 +24,8 @@
 #include "report/explain_json.h"
 #include "report/explain_report.h"
 #include "sensor/sensor_config.h"
+#include "model/calibration_model.h"
+#include "solvers/calibrate.h"
 #include "sensor/spline_surface.h"
 #include "sim/simulate.h"
 #include "trajectory/trajectory_config.h"
@@ -322,6 +324,30 @@ TEST(Explain, PlantedShupeIsFoundWithItsCoefficient) {
   EXPECT_EQ(again["fit"], written["fit"]);
   EXPECT_EQ(again["recording"], written["recording"]);
   EXPECT_NEAR(again["noise"]["whitening_model"]["white_sigma"].get<double>(), written["noise"]["whitening_model"]["white_sigma"].get<double>(), 1e-12);
+}
+
+// A black-box simulation (explain --model with an RBF calibration): its structure is none of the library's,
+// so the baseline family, its form chosen by auto, is refitted beside the network's prediction. A Shupe
+// effect the network never saw is named at its coefficient; a recording of the network's own sensor shows
+// nothing.
+TEST(Explain, ABlackBoxRbfSimulationNamesWhatItsSensorLeftOut) {
+  const CalibrationResult fitted = calibrate(simulate_with("", 31), CalibrationRequest{});  // rbf, ols, of the error
+  ASSERT_EQ(fitted.model->kind(), "rbf");
+  const std::filesystem::path model = std::filesystem::temp_directory_path() / "gyrosid_test_explain_black_box_rbf.json";
+  save_model(model, *fitted.model, {});
+  ExplainOptions o = fast();
+  o.model_path = model.string();
+  o.baseline_form = BaselineForm::automatic;
+  const ExplainResult r = explain_recording(simulate_with("shupe_dph_per_c_per_min: 2\n", 32), o);
+  EXPECT_NE(r.summary.simulation.find("(rbf); the surface's BIC is"), std::string::npos) << r.summary.simulation;
+  const FoundEffect* e = effect(r.summary, "shupe");
+  ASSERT_NE(e, nullptr) << ids(r.summary);
+  EXPECT_NEAR(parameter(*e, "k_dph_per_cpm").value, 2.0, 0.2);  // measured 1.995
+  EXPECT_LT(r.summary.fit.heldout_rms_after_dph, 10.5);
+  EXPECT_GT(r.summary.fit.heldout_rms_before_dph, 11.0);  // measured 12.0: the effect is there to be left out
+  const ExplainResult control = explain_recording(simulate_with("", 33), o);
+  EXPECT_EQ(control.summary.verdict, Verdict::no_missing_physics) << ids(control.summary) << unexplained(control.summary);
+  std::filesystem::remove(model);
 }
 
 TEST(Explain, PlantedThermalLagIsFoundWithItsTimeConstant) {
