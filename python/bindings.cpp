@@ -10,6 +10,7 @@
 
 #include <fstream>
 #include <memory>
+#include <sstream>
 
 #include "core/error.h"
 #include "core/recording.h"
@@ -20,6 +21,7 @@
 #include "model/calibration_model.h"
 #include "model/compensate_recording.h"
 #include "nav/cof_report.h"
+#include "pipeline/design_job.h"
 #include "pipeline/main_job.h"
 #include "report/allan_report.h"
 #include "report/cof_json.h"
@@ -168,27 +170,25 @@ py::object run_main_job_py(const std::filesystem::path& out, const std::vector<s
   return to_python(nlohmann::json::parse(in));
 }
 
-// `gyrosid design` in-process (design/design.h): the designed programme as trajectory YAML (what
-// trajectory.yaml holds) and design.json as a dict. Options as --set: space.*, model.*, envelope.*,
-// quadrature.* for the design, anything else for the solver.
+// `gyrosid design` in-process: the command's job (pipeline/design_job.h), so the same inputs give the same
+// design: the designed programme as trajectory YAML (what trajectory.yaml holds) and design.json as a dict.
+// Options as --set: space.*, model.*, envelope.*, quadrature.*, select.*, prior.* for the design, anything else
+// for the solver. cof_minimax compares against `reference` (default: the dual scan); `prior` is a prior over
+// sensors (or a lot) in place of `sensor`.
 py::tuple design_py(double budget_min, const std::string& model, const std::vector<std::string>& envelope, const std::string& sensor_path,
-                    const std::string& solver, const std::string& criterion, std::uint64_t seed, const py::dict& options) {
-  design::DesignSettings settings;
-  design::DesignRequest request;
-  request.solver_options = settings.apply(option_map(options));
-  settings.envelope.flights = envelope;
-  settings.space.budget_min = budget_min;
-  const auto crit = parse_enum<design::Criterion>(criterion, "criterion");
-  if (crit == design::Criterion::cof_minimax) throw Error("criterion cof_minimax needs a reference trajectory: use `gyrosid design --reference`");
-  const SensorSpec sensor = load_sensor_file(sensor_path);
-  const auto env = std::make_shared<const design::Envelope>(design::load_envelope(settings.envelope, as_triad(sensor)));
-  const design::DesignSpace space = design::design_space(*env, settings.space);
-  const design::DesignContext context(sensor, env, parse_enum<design::ModelFamily>(model, "model"), settings.model, crit, design::model_domain(space));
-  request.space = settings.space, request.quadrature = settings.quadrature, request.solver = solver, request.seed = seed;
-  const design::DesignResult r = design::design_trajectory(context, request);
-  const nlohmann::json provenance = {{"model", model}, {"sensor", sensor_path}, {"envelope", envelope}, {"seed", seed}, {"solver", solver},
-                                     {"options", from_python(options)}, {"command", "gyrosid.design (Python)"}};
-  return py::make_tuple(programme_yaml(r.trajectory), to_python(design_json(r, provenance)));
+                    const std::string& solver, const std::string& criterion, std::uint64_t seed, const py::dict& options,
+                    const std::string& reference, const std::string& prior) {
+  DesignJobInput in;
+  in.budget_min = budget_min, in.model = model, in.sensor = sensor_path, in.solver = solver, in.criterion = criterion, in.seed = seed;
+  in.reference = reference, in.prior = prior;
+  in.envelope.clear();
+  for (const auto& name : envelope) in.envelope += (in.envelope.empty() ? "" : ",") + name;
+  for (const auto& [key, value] : option_map(options)) in.set.push_back(key + "=" + value);
+  in.invocation = "gyrosid.design (Python)";
+  std::ostringstream log;  // what the command prints; the provenance in design.json holds the same
+  const PreparedDesign prepared = prepare_design(in, log);
+  const DesignJobResult r = run_design_job(prepared, in, nullptr);
+  return py::make_tuple(programme_yaml(r.result.trajectory), to_python(r.design_file));
 }
 
 void bind_recording(py::module_& m) {
@@ -281,6 +281,6 @@ PYBIND11_MODULE(_gyrosid, m) {
         py::arg("noisy") = false, py::arg("rbf_config") = "", py::arg("seed") = 1, "The main job in-process; returns summary.json.");
   m.def("design", &design_py, py::arg("budget_min"), py::arg("model") = "rbf", py::arg("envelope") = std::vector<std::string>{"short", "medium", "long"},
         py::arg("sensor") = "builtin:sensors/open_loop_fog.yaml", py::arg("solver") = "nlopt", py::arg("criterion") = "cof", py::arg("seed") = 1,
-        py::arg("options") = py::dict(),
-        "A calibration trajectory designed for a time budget, as `gyrosid design`: (trajectory YAML text, design.json as a dict).");
+        py::arg("options") = py::dict(), py::arg("reference") = "", py::arg("prior") = "",
+        "A calibration trajectory designed for a time budget by `gyrosid design`'s job: (trajectory YAML text, design.json as a dict).");
 }

@@ -97,6 +97,23 @@ class Bindings(unittest.TestCase):
         with self.assertRaises(ValueError):
             gyrosid.design(8, options={"no_such_option": 1})
 
+    def test_design_is_the_commands_job_cof_minimax_included(self):
+        # One job behind both: the same inputs give the same programme and the same design.json, the equipment's
+        # limits and cof_minimax's reference included (the bindings once had a design of their own without them).
+        ref = "builtin:trajectories/single_scan.yaml"
+        opts = {"space.segments": 2, "global_evaluations": 60, "local_evaluations": 40}
+        yaml_text, d = gyrosid.design(8, model="classical", envelope=["short"], seed=4, criterion="cof_minimax", reference=ref, options=opts)
+        subprocess.run([GYROSID, "--quiet", "design", "--envelope", "short", "--model", "classical", "--budget-min", "8", "--seed", "4",
+                        "--criterion", "cof_minimax", "--reference", ref, "--set", "space.segments=2", "--set", "global_evaluations=60",
+                        "--set", "local_evaluations=40", "--out", self.path("d")], check=True, capture_output=True)
+        with open(self.path("d/trajectory.yaml")) as f:
+            self.assertEqual(yaml_text, f.read())
+        with open(self.path("d/design.json")) as f:
+            cli = json.load(f)
+        self.assertEqual(d["provenance"]["reference"], cli["provenance"]["reference"])
+        self.assertEqual(d["predicted"], cli["predicted"])
+        self.assertEqual(d["objective"], cli["objective"])
+
 
 if __name__ == "__main__":
     unittest.main()
