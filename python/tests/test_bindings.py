@@ -14,6 +14,13 @@ BUILD_PYTHON = next(p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep
 GYROSID = os.path.join(os.path.dirname(os.path.abspath(BUILD_PYTHON)), "gyrosid")
 
 
+def run_gyrosid(*args):
+    """The command beside the bindings. Without the interpreter's LD_PRELOAD: in the sanitizer job that preloads
+    the sanitizer's runtime for the extension, and the command, which carries its own, must not be given a second."""
+    env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
+    subprocess.run([GYROSID, "--quiet", *args], check=True, capture_output=True, env=env)
+
+
 class Bindings(unittest.TestCase):
     def setUp(self):
         self.dir = tempfile.TemporaryDirectory()
@@ -26,8 +33,8 @@ class Bindings(unittest.TestCase):
 
     def test_simulate_equals_the_command(self):
         rec = gyrosid.simulate(trajectory="builtin:trajectories/dual_scan.yaml", seed=3, samples=500)
-        subprocess.run([GYROSID, "--quiet", "simulate", "--trajectory", "builtin:trajectories/dual_scan.yaml", "--seed", "3",
-                        "--samples", "500", "--out", self.path("cli.csv")], check=True, capture_output=True)
+        run_gyrosid("simulate", "--trajectory", "builtin:trajectories/dual_scan.yaml", "--seed", "3",
+                    "--samples", "500", "--out", self.path("cli.csv"))
         cli = gyrosid.Recording.load(self.path("cli.csv"))
         self.assertEqual(len(rec), 500)
         for name in ("t_s", "ref_rate_dps", "temp_c", "gyro_dps"):
@@ -62,8 +69,8 @@ class Bindings(unittest.TestCase):
         model.save(self.path("m.json"))
         rec.save(self.path("r.csv"))
         # The command reads the Python model; its compensation equals the in-process one.
-        subprocess.run([GYROSID, "--quiet", "compensate", "--model", self.path("m.json"), "--recording", self.path("r.csv"),
-                        "--out", self.path("c.csv")], check=True, capture_output=True)
+        run_gyrosid("compensate", "--model", self.path("m.json"), "--recording", self.path("r.csv"),
+                    "--out", self.path("c.csv"))
         cli = gyrosid.Recording.load(self.path("c.csv"))["compensated_dps"]
         np.testing.assert_array_equal(cli, gyrosid.compensate(model, rec)["compensated_dps"])
         back = gyrosid.load_model(self.path("m.json"))
@@ -103,9 +110,9 @@ class Bindings(unittest.TestCase):
         ref = "builtin:trajectories/single_scan.yaml"
         opts = {"space.segments": 2, "global_evaluations": 60, "local_evaluations": 40}
         yaml_text, d = gyrosid.design(8, model="classical", envelope=["short"], seed=4, criterion="cof_minimax", reference=ref, options=opts)
-        subprocess.run([GYROSID, "--quiet", "design", "--envelope", "short", "--model", "classical", "--budget-min", "8", "--seed", "4",
-                        "--criterion", "cof_minimax", "--reference", ref, "--set", "space.segments=2", "--set", "global_evaluations=60",
-                        "--set", "local_evaluations=40", "--out", self.path("d")], check=True, capture_output=True)
+        run_gyrosid("design", "--envelope", "short", "--model", "classical", "--budget-min", "8", "--seed", "4", "--criterion", "cof_minimax",
+                    "--reference", ref, "--set", "space.segments=2", "--set", "global_evaluations=60", "--set", "local_evaluations=40",
+                    "--out", self.path("d"))
         with open(self.path("d/trajectory.yaml")) as f:
             self.assertEqual(yaml_text, f.read())
         with open(self.path("d/design.json")) as f:
