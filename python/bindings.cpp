@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "core/recording.h"
+#include "core/builtin_configs.h"
 #include "core/enum_names.h"
 #include "core/units.h"
 #include "design/design.h"
@@ -261,7 +262,7 @@ PYBIND11_MODULE(_gyrosid, m) {
   m.def("simulate", [](const std::string& sensor, const std::string& trajectory, std::uint64_t seed, bool noise_free, std::optional<std::size_t> samples) {
     if (noise_free) return simulate(without_noise(load_sensor_file(sensor)), load_trajectory_file(trajectory), seed).recording;
     return simulate_files(sensor, trajectory, seed, samples).recording;
-  }, py::arg("sensor") = "builtin:sensors/open_loop_fog.yaml", py::arg("trajectory") = "builtin:trajectories/dual_scan.yaml",
+  }, py::arg("sensor") = kDefaultSensor, py::arg("trajectory") = kDefaultTrajectory,
         py::arg("seed") = 1, py::arg("noise_free") = false, py::arg("samples") = std::nullopt,
         "A sensor along a calibration trajectory, as `gyrosid simulate` (same seed, same numbers).");
   m.def("calibrate", &calibrate_py, py::arg("recording"), py::arg("model") = "rbf", py::arg("solver") = "ols",
@@ -272,7 +273,7 @@ PYBIND11_MODULE(_gyrosid, m) {
   m.def("compensate", [](const Model& model, const Recording& rec) { return compensate_recording(*model.model, rec).recording; },
         py::arg("model"), py::arg("recording"), "The recording with compensated_dps added.");
   m.def("allan", &allan_py, py::arg("rate_dph"), py::arg("dt_s"), "Overlapping Allan deviation and the IEEE Std 952 noise fit.");
-  m.def("cof", &cof_py, py::arg("model"), py::arg("trajectory") = "short", py::arg("sensor") = "builtin:sensors/open_loop_fog.yaml",
+  m.def("cof", &cof_py, py::arg("model"), py::arg("trajectory") = "short", py::arg("sensor") = kDefaultSensor,
         py::arg("monte_carlo") = 0, py::arg("seed") = 1, py::arg("start_temp_c") = 10.0,
         "Criterion of fit (cof.json as a dict); model None (raw gyros), 'truth' or a Model; monte_carlo runs (-1: until normal).");
   m.def("explain", &explain_py, py::arg("recording"), py::arg("model_path") = "", py::arg("baseline_path") = "", py::arg("effects") = "",
@@ -280,7 +281,7 @@ PYBIND11_MODULE(_gyrosid, m) {
   m.def("run_main_job", &run_main_job_py, py::arg("out"), py::arg("flights") = std::vector<std::string>{"short", "medium", "long"},
         py::arg("noisy") = false, py::arg("rbf_config") = "", py::arg("seed") = 1, "The main job in-process; returns summary.json.");
   m.def("design", &design_py, py::arg("budget_min"), py::arg("model") = "rbf", py::arg("envelope") = std::vector<std::string>{"short", "medium", "long"},
-        py::arg("sensor") = "builtin:sensors/open_loop_fog.yaml", py::arg("solver") = "nlopt", py::arg("criterion") = "cof", py::arg("seed") = 1,
+        py::arg("sensor") = kDefaultSensor, py::arg("solver") = "nlopt", py::arg("criterion") = "cof", py::arg("seed") = 1,
         py::arg("options") = py::dict(), py::arg("reference") = "", py::arg("prior") = "",
         "A calibration trajectory designed for a time budget by `gyrosid design`'s job: (trajectory YAML text, design.json as a dict).");
 }

@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "cli/app.h"
-#include "cli/common.h"
+#include "core/builtin_configs.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/rate_series.h"

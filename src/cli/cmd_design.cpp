@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "cli/app.h"
-#include "cli/common.h"
+#include "core/builtin_configs.h"
 #include "cli/resume.h"
 #include "core/atomic_file.h"
 #include "core/error.h"

@@ -3,7 +3,7 @@
 #include <memory>
 
 #include "cli/app.h"
-#include "cli/common.h"
+#include "core/builtin_configs.h"
 #include "core/error.h"
 #include "core/recording.h"
 #include "report/plots.h"

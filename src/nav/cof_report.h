@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "core/builtin_configs.h"
 #include "nav/criterion_of_fit.h"
 #include "nav/monte_carlo.h"
 
@@ -16,7 +17,7 @@ namespace gyrosid::nav {
 
 struct CofRequest {
   std::string model = "none";  // a model file, "none" (raw gyro) or "truth" (perfect compensation)
-  std::string sensor = "builtin:sensors/open_loop_fog.yaml";
+  std::string sensor = kDefaultSensor;
   std::string trajectory = "short";  // short | medium | long | a flight .yaml | a flight .csv
   double rate_hz = 100.0;
   CofOptions options;

@@ -37,7 +37,7 @@ bool take_lot(const DesignJobInput& c, const LotModel& lot, design::ModelFamily 
               std::ostream& log) {
   if (family != design::ModelFamily::greybox) {
     log << "prior: " << c.prior << " is a lot; its structure and population are the greybox model's, so with --model " << c.model
-              << " the design takes its members only\n";
+        << " the design takes its members only\n";
     return false;
   }
   const GreyboxOptions& s = lot.structure;

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/builtin_configs.h"
 #include "core/checkpoint.h"
 #include "design/design.h"
 #include "report/design_report.h"
@@ -27,12 +28,12 @@ inline constexpr const char* kDefaultEquipment = "builtin:equipment/thesis_lab.y
 struct DesignJobInput {
   double budget_min = 0.0;  // required unless evaluating
   std::string model = "rbf", envelope = "short,medium,long", uniform_domain = "-20,60,100", criterion;
-  std::string sensor = "builtin:sensors/open_loop_fog.yaml", solver = "nlopt", reference, reference_model;
+  std::string sensor = kDefaultSensor, solver = "nlopt", reference, reference_model;
   std::string prior;  // a prior over sensors (sensor/sensor_prior.h) in place of `sensor`
   std::string equipment = kDefaultEquipment;
   std::string noise;  // an allan.json whose identified model replaces the sensor config's noise
   std::string reference_statistic = "auto";
-  std::vector<std::string> set, evaluate, compare{"builtin:trajectories/dual_scan.yaml"};
+  std::vector<std::string> set, evaluate, compare{kDefaultTrajectory};
   std::uint64_t seed = 1;
   bool without_lot_prior = false;  // a lot as prior: its members only, each unit calibrated by its own data
   std::string invocation;          // how it was called, for the report and the provenance
@@ -50,7 +51,6 @@ struct DesignSetup {
   bool lot_prior = false;  // ... whose population the calibration designed for fits with
   std::optional<design::ReferenceStatistic> fixed_statistic;  // --reference-statistic, none for auto
 };
-
 
 struct PreparedDesign {
   DesignSetup setup;

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/builtin_configs.h"
 #include "model/surface_comparison.h"
 #include "nav/cof_report.h"
 #include "report/allan_report.h"
@@ -24,10 +25,10 @@ namespace gyrosid {
 
 struct MainJobOptions {
   std::filesystem::path out = "report";
-  std::string sensor = "builtin:sensors/open_loop_fog.yaml";
-  std::string trajectory = "builtin:trajectories/dual_scan.yaml";  // the RBF's calibration trajectory
+  std::string sensor = kDefaultSensor;
+  std::string trajectory = kDefaultTrajectory;  // the RBF's calibration trajectory
   std::string soak = "builtin:trajectories/classical_soak.yaml";   // the classical model's
-  std::string static_trajectory = "builtin:trajectories/static_2h.yaml";
+  std::string static_trajectory = kStaticTrajectory;
   std::string classical_config = "builtin:calibration/classical.yaml";
   std::string rbf_config;  // empty: rbf_noise_free.yaml, or rbf_noisy.yaml when noisy
   std::vector<std::string> flights = {"short", "medium", "long"};
