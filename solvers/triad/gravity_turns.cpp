@@ -55,6 +55,8 @@ class GravityTurnCost {
     }
   }
 
+  static constexpr int kFirstBiasBlock = 3;  // p[0..2]: M's rows; p[kFirstBiasBlock + axis]: the axis's bias
+
   template <typename T>
   bool operator()(T const* const* p, T* residual) const {
     Eigen::Matrix<T, 3, 3> a;
@@ -66,7 +68,7 @@ class GravityTurnCost {
       Eigen::Matrix<T, 3, 1> g;
       for (int i = 0; i < 3; ++i) {
         T b = T(0.0), vp = T(1.0);
-        for (int o = 0; o <= bias_order_; ++o, vp *= T(v_(s, i))) b += p[3 + i][o] * vp;
+        for (int o = 0; o <= bias_order_; ++o, vp *= T(v_(s, i))) b += p[kFirstBiasBlock + i][o] * vp;
         g(i) = T(gyro_(s, i)) - b;
       }
       const Eigen::Matrix<T, 3, 1> angle = inverse * g * T(turn_.dt[static_cast<std::size_t>(s)]);
@@ -91,6 +93,8 @@ class AllTurnsCost {
  public:
   AllTurnsCost(std::vector<GravityTurnCost> turns, std::vector<Eigen::Matrix<double, 3, 2>> bases, Eigen::MatrixXd whitening)
       : turns_(std::move(turns)), bases_(std::move(bases)), whitening_(std::move(whitening)) {}
+  static constexpr int kFirstBiasBlock = 3;  // p[0..2]: M's rows; p[kFirstBiasBlock + axis]: the axis's bias
+
   template <typename T>
   bool operator()(T const* const* p, T* residual) const {
     const auto n = static_cast<Eigen::Index>(2 * turns_.size());

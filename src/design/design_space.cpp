@@ -60,29 +60,57 @@ DesignSpace::DesignSpace(DesignSpaceOptions o, double lo, double hi, double w_ma
   if (!(t_hi_ > t_lo_)) fail("design: the chamber range [", o_.chamber.min_c, ", ", o_.chamber.max_c, "] C misses the design's temperatures");
   w_max_ = std::isnan(o_.max_rate_dps) ? w_max : units::dps_to_radps(o_.max_rate_dps);
   if (!std::isnan(o_.table_max_rate_dps)) w_max_ = std::min(w_max_, units::dps_to_radps(o_.table_max_rate_dps));
-  per_segment_ = 6 + (o_.positions.size() > 1 ? 1 : 0);
 }
 
-int DesignSpace::box_dimension() const { return 1 + o_.segments * per_segment_; }
+namespace {
+
+// One segment's box coordinates (design_space.h: share, target T, rate a, rate b, log10 period, phase, and
+// the index into the allowed positions when there is more than one).
+struct BoxSegment {
+  double share = 0.0, target_c = 0.0, rate_a = 0.0, rate_b = 0.0, log_period = 0.0, phase = 0.0, position = 0.0;
+};
+
+// The box vector v = [T_0, segment 0, segment 1, ...] read and written by name.
+class BoxLayout {
+ public:
+  explicit BoxLayout(const DesignSpaceOptions& o) : segments_(o.segments), positions_(o.positions.size() > 1) {}
+  Eigen::Index size() const { return 1 + segments_ * width(); }
+  static constexpr Eigen::Index kStart = 0;  // T_0
+  BoxSegment read(const Eigen::VectorXd& v, int i) const {
+    const auto s = v.segment(first(i), width());
+    return {s(0), s(1), s(2), s(3), s(4), s(5), positions_ ? s(6) : 0.0};
+  }
+  void write(Eigen::VectorXd& v, int i, const BoxSegment& b) const {
+    auto s = v.segment(first(i), width());
+    s.head(6) << b.share, b.target_c, b.rate_a, b.rate_b, b.log_period, b.phase;
+    if (positions_) s(6) = b.position;
+  }
+
+ private:
+  Eigen::Index width() const { return positions_ ? 7 : 6; }
+  Eigen::Index first(int i) const { return 1 + i * width(); }
+  int segments_;
+  bool positions_;
+};
+
+}  // namespace
+
+int DesignSpace::box_dimension() const { return static_cast<int>(BoxLayout(o_).size()); }
 
 Eigen::VectorXd DesignSpace::box_lower() const {
-  Eigen::VectorXd v(box_dimension());
-  v(0) = t_lo_;
-  for (int i = 0; i < o_.segments; ++i) {
-    auto s = v.segment(1 + i * per_segment_, per_segment_);
-    s.head(6) << o_.min_share, t_lo_, -w_max_, -w_max_, std::log10(o_.min_period_s), 0.0;
-    if (per_segment_ > 6) s(6) = 0.0;
-  }
+  const BoxLayout box(o_);
+  Eigen::VectorXd v(box.size());
+  v(BoxLayout::kStart) = t_lo_;
+  for (int i = 0; i < o_.segments; ++i) box.write(v, i, {o_.min_share, t_lo_, -w_max_, -w_max_, std::log10(o_.min_period_s), 0.0, 0.0});
   return v;
 }
 
 Eigen::VectorXd DesignSpace::box_upper() const {
-  Eigen::VectorXd v(box_dimension());
-  v(0) = t_hi_;
+  const BoxLayout box(o_);
+  Eigen::VectorXd v(box.size());
+  v(BoxLayout::kStart) = t_hi_;
   for (int i = 0; i < o_.segments; ++i) {
-    auto s = v.segment(1 + i * per_segment_, per_segment_);
-    s.head(6) << 1.0, t_hi_, w_max_, w_max_, std::log10(o_.max_period_s), 1.0;
-    if (per_segment_ > 6) s(6) = static_cast<double>(o_.positions.size()) - 1e-9;
+    box.write(v, i, {1.0, t_hi_, w_max_, w_max_, std::log10(o_.max_period_s), 1.0, static_cast<double>(o_.positions.size()) - 1e-9});
   }
   return v;
 }
@@ -123,45 +151,43 @@ TableProfile DesignSpace::assemble(double start_c, const std::vector<ProfileSegm
 }
 
 TableProfile DesignSpace::decode_box(const Eigen::VectorXd& v) const {
-  if (v.size() != box_dimension()) fail("design: ", v.size(), " variables for a box of ", box_dimension());
+  const BoxLayout box(o_);
+  if (v.size() != box.size()) fail("design: ", v.size(), " variables for a box of ", box.size());
   double total = 0.0;
-  for (int i = 0; i < o_.segments; ++i) total += std::max(v(1 + i * per_segment_), o_.min_share);
+  for (int i = 0; i < o_.segments; ++i) total += std::max(box.read(v, i).share, o_.min_share);
   std::vector<ProfileSegment> segments;
   for (int i = 0; i < o_.segments; ++i) {
-    const auto s = v.segment(1 + i * per_segment_, per_segment_);
+    const BoxSegment s = box.read(v, i);
     ProfileSegment seg;
-    seg.duration_s = budget_s() * std::max(s(0), o_.min_share) / total;
-    seg.chamber_end_c = s(1);
-    const double a = std::clamp(s(2), -w_max_, w_max_), b = std::clamp(s(3), -w_max_, w_max_);
-    const double period = std::pow(10.0, std::clamp(s(4), std::log10(o_.min_period_s), std::log10(o_.max_period_s)));
-    seg.rate = rate_programme(std::min(a, b), std::max(a, b), seg.duration_s / period, s(5), w_max_);
-    const auto index = per_segment_ > 6 ? std::clamp(static_cast<std::size_t>(std::max(0.0, s(6))), std::size_t{0}, o_.positions.size() - 1) : 0;
+    seg.duration_s = budget_s() * std::max(s.share, o_.min_share) / total;
+    seg.chamber_end_c = s.target_c;
+    const double a = std::clamp(s.rate_a, -w_max_, w_max_), b = std::clamp(s.rate_b, -w_max_, w_max_);
+    const double period = std::pow(10.0, std::clamp(s.log_period, std::log10(o_.min_period_s), std::log10(o_.max_period_s)));
+    seg.rate = rate_programme(std::min(a, b), std::max(a, b), seg.duration_s / period, s.phase, w_max_);
+    const auto index = std::min(static_cast<std::size_t>(std::max(0.0, s.position)), o_.positions.size() - 1);
     seg.position = o_.positions[index];
     segments.push_back(seg);
   }
-  return assemble(v(0), segments);
+  return assemble(v(BoxLayout::kStart), segments);
 }
 
 Eigen::VectorXd DesignSpace::encode_box(const TableProfile& p) const {
   if (static_cast<int>(p.segments.size()) != o_.segments) fail("design: a programme of ", p.segments.size(), " segments in a space of ", o_.segments);
-  Eigen::VectorXd v(box_dimension());
-  v(0) = p.segments.front().chamber_start_c;
+  const BoxLayout box(o_);
+  Eigen::VectorXd v(box.size());
+  v(BoxLayout::kStart) = p.segments.front().chamber_start_c;
   // Shares are relative: scale them so that the shortest segment keeps its share above min_share.
   double shortest = INFINITY;
   for (const auto& seg : p.segments) shortest = std::min(shortest, seg.duration_s / budget_s());
   const double share_scale = std::max(1.0, o_.min_share / shortest);
   for (int i = 0; i < o_.segments; ++i) {
     const ProfileSegment& seg = p.segments[static_cast<std::size_t>(i)];
-    auto s = v.segment(1 + i * per_segment_, per_segment_);
     const bool tri = seg.rate.shape == RateProfile::Shape::triangle;
     const double period = tri && seg.rate.cycles > 0 ? seg.duration_s / seg.rate.cycles : o_.preferred_period_s;
-    s.head(6) << share_scale * seg.duration_s / budget_s(), seg.chamber_end_c, tri ? seg.rate.low_radps : seg.rate.value_radps,
-        tri ? seg.rate.high_radps : seg.rate.value_radps, std::log10(std::clamp(period, o_.min_period_s, o_.max_period_s)),
-        tri ? seg.rate.phase : 0.0;
-    if (per_segment_ > 6) {
-      const auto it = std::find(o_.positions.begin(), o_.positions.end(), seg.position);
-      s(6) = it == o_.positions.end() ? 0.0 : static_cast<double>(it - o_.positions.begin()) + 0.5;
-    }
+    const auto it = std::find(o_.positions.begin(), o_.positions.end(), seg.position);
+    box.write(v, i, {share_scale * seg.duration_s / budget_s(), seg.chamber_end_c, tri ? seg.rate.low_radps : seg.rate.value_radps,
+                     tri ? seg.rate.high_radps : seg.rate.value_radps, std::log10(std::clamp(period, o_.min_period_s, o_.max_period_s)),
+                     tri ? seg.rate.phase : 0.0, it == o_.positions.end() ? 0.0 : static_cast<double>(it - o_.positions.begin()) + 0.5});
   }
   return v.cwiseMax(box_lower()).cwiseMin(box_upper());
 }

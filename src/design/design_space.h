@@ -85,7 +85,6 @@ class DesignSpace {
   TableProfile assemble(double start_c, const std::vector<ProfileSegment>& segments) const;
   DesignSpaceOptions o_;
   double t_lo_, t_hi_, w_max_;
-  int per_segment_;
 };
 
 }  // namespace gyrosid::design

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/packed_layout.h"
 #include "core/progress.h"
 #include "core/random.h"
 #include "design/design_solver.h"
@@ -34,11 +35,31 @@ namespace {
 using Ipopt::Index;
 using Ipopt::Number;
 
+// The scaled variables z = [T_0 / 50 C; durations / budget; end temperatures / 50 C; low and high rates /
+// rate bound] (each per segment K long) and the constraint rows g = [sum of durations; per segment its heating
+// and its cooling ramp; per segment low - high], as named spans.
+struct RelaxedLayout {
+  explicit RelaxedLayout(int k) {
+    SpanPacker z, g;
+    start = z.take(1), duration = z.take(k), end = z.take(k), low = z.take(k), high = z.take(k);
+    variables = z.size();
+    budget_row = g.take(1), ramp_rows = g.take(2 * k), order_rows = g.take(k);
+    constraints = g.size();
+  }
+  Index heating_row(int i) const { return static_cast<Index>(ramp_rows.at(2 * i)); }
+  Index cooling_row(int i) const { return static_cast<Index>(ramp_rows.at(2 * i + 1)); }
+  // The chamber temperature segment i starts from: T_0, or the previous segment's end.
+  Index previous_end(int i) const { return static_cast<Index>(i == 0 ? start.offset : end.at(i - 1)); }
+
+  Span start, duration, end, low, high, budget_row, ramp_rows, order_rows;
+  Eigen::Index variables = 0, constraints = 0;
+};
+
 class RelaxedNlp : public Ipopt::TNLP {
  public:
   RelaxedNlp(const DesignProblem& problem, const IpoptDesignOptions& o, SolveMonitor& monitor, Progress& progress,
              std::vector<double> start)
-      : p_(problem), s_(problem.space()), o_(o), monitor_(monitor), progress_(progress), k_(s_.options().segments),
+      : p_(problem), s_(problem.space()), o_(o), monitor_(monitor), progress_(progress), k_(s_.options().segments), at_(k_),
         start_(std::move(start)) {}
 
   Ipopt::SolverReturn status = Ipopt::UNASSIGNED;
@@ -46,29 +67,30 @@ class RelaxedNlp : public Ipopt::TNLP {
   int iterations = 0;
 
   static constexpr double kTempScale = 50.0;
-  Index n() const { return 1 + 4 * k_; }
   // Scaled variables <-> the smooth programme.
   SmoothProgramme unscale(const Number* z) const {
     SmoothProgramme x;
-    x.start_c = z[0] * kTempScale;
+    x.start_c = z[at_.start.offset] * kTempScale;
     for (int i = 0; i < k_; ++i) {
-      x.duration_s.push_back(z[1 + i] * s_.budget_s());
-      x.end_c.push_back(z[1 + k_ + i] * kTempScale);
-      x.low_radps.push_back(z[1 + 2 * k_ + i] * s_.rate_max_radps());
-      x.high_radps.push_back(z[1 + 3 * k_ + i] * s_.rate_max_radps());
+      x.duration_s.push_back(z[at_.duration.at(i)] * s_.budget_s());
+      x.end_c.push_back(z[at_.end.at(i)] * kTempScale);
+      x.low_radps.push_back(z[at_.low.at(i)] * s_.rate_max_radps());
+      x.high_radps.push_back(z[at_.high.at(i)] * s_.rate_max_radps());
     }
     return x;
   }
   static std::vector<double> scale(const SmoothProgramme& x, const DesignSpace& s) {
     const int k = static_cast<int>(x.duration_s.size());
-    std::vector<double> z(static_cast<std::size_t>(1 + 4 * k));
-    z[0] = x.start_c / kTempScale;
+    const RelaxedLayout at(k);
+    std::vector<double> z(static_cast<std::size_t>(at.variables));
+    const auto put = [&](Eigen::Index index, double value) { z[static_cast<std::size_t>(index)] = value; };
+    put(at.start.offset, x.start_c / kTempScale);
     for (int i = 0; i < k; ++i) {
       const auto u = static_cast<std::size_t>(i);
-      z[static_cast<std::size_t>(1 + i)] = x.duration_s[u] / s.budget_s();
-      z[static_cast<std::size_t>(1 + k + i)] = x.end_c[u] / kTempScale;
-      z[static_cast<std::size_t>(1 + 2 * k + i)] = x.low_radps[u] / s.rate_max_radps();
-      z[static_cast<std::size_t>(1 + 3 * k + i)] = x.high_radps[u] / s.rate_max_radps();
+      put(at.duration.at(i), x.duration_s[u] / s.budget_s());
+      put(at.end.at(i), x.end_c[u] / kTempScale);
+      put(at.low.at(i), x.low_radps[u] / s.rate_max_radps());
+      put(at.high.at(i), x.high_radps[u] / s.rate_max_radps());
     }
     return z;
   }
@@ -79,24 +101,24 @@ class RelaxedNlp : public Ipopt::TNLP {
   }
 
   bool get_nlp_info(Index& n_vars, Index& m, Index& nnz_jac, Index& nnz_h, IndexStyleEnum& style) override {
-    n_vars = n();
-    m = 1 + 3 * k_;
+    n_vars = static_cast<Index>(at_.variables);
+    m = static_cast<Index>(at_.constraints);
     nnz_jac = k_ + 6 * k_ + 2 * k_;  // sum d; two ramp rows of 3 entries per segment; low - high
     nnz_h = 0;
     style = TNLP::C_STYLE;
     return true;
   }
 
-  bool get_bounds_info(Index, Number* lo, Number* hi, Index m, Number* gl, Number* gu) override {
-    lo[0] = s_.temp_lo() / kTempScale, hi[0] = s_.temp_hi() / kTempScale;
+  bool get_bounds_info(Index, Number* lo, Number* hi, Index, Number* gl, Number* gu) override {
+    lo[at_.start.offset] = s_.temp_lo() / kTempScale, hi[at_.start.offset] = s_.temp_hi() / kTempScale;
     for (int i = 0; i < k_; ++i) {
-      lo[1 + i] = s_.options().min_share, hi[1 + i] = 1.0;
-      lo[1 + k_ + i] = s_.temp_lo() / kTempScale, hi[1 + k_ + i] = s_.temp_hi() / kTempScale;
-      lo[1 + 2 * k_ + i] = lo[1 + 3 * k_ + i] = -1.0;
-      hi[1 + 2 * k_ + i] = hi[1 + 3 * k_ + i] = 1.0;
+      lo[at_.duration.at(i)] = s_.options().min_share, hi[at_.duration.at(i)] = 1.0;
+      lo[at_.end.at(i)] = s_.temp_lo() / kTempScale, hi[at_.end.at(i)] = s_.temp_hi() / kTempScale;
+      lo[at_.low.at(i)] = lo[at_.high.at(i)] = -1.0;
+      hi[at_.low.at(i)] = hi[at_.high.at(i)] = 1.0;
     }
-    gl[0] = gu[0] = 1.0;
-    for (Index j = 1; j < m; ++j) gl[j] = -2e19, gu[j] = 0.0;
+    gl[at_.budget_row.offset] = gu[at_.budget_row.offset] = 1.0;
+    for (Eigen::Index j = at_.ramp_rows.offset; j < at_.constraints; ++j) gl[j] = -2e19, gu[j] = 0.0;
     return true;
   }
 
@@ -126,34 +148,34 @@ class RelaxedNlp : public Ipopt::TNLP {
   double ramp(bool heating) const { return s_.options().chamber.limit_c_per_min(heating) * s_.budget_s() / 60.0 / kTempScale; }
 
   bool eval_g(Index, const Number* z, bool, Index, Number* g) override {
-    g[0] = 0.0;
-    for (int i = 0; i < k_; ++i) g[0] += z[1 + i];
+    double& budget = g[at_.budget_row.offset];
+    budget = 0.0;
+    for (int i = 0; i < k_; ++i) budget += z[at_.duration.at(i)];
     for (int i = 0; i < k_; ++i) {
-      const double prev = i == 0 ? z[0] : z[1 + k_ + i - 1], step = z[1 + k_ + i] - prev;
-      g[1 + 2 * i] = step - ramp(true) * z[1 + i];
-      g[2 + 2 * i] = -step - ramp(false) * z[1 + i];
-      g[1 + 2 * k_ + i] = z[1 + 2 * k_ + i] - z[1 + 3 * k_ + i];
+      const double step = z[at_.end.at(i)] - z[at_.previous_end(i)], duration = z[at_.duration.at(i)];
+      g[at_.heating_row(i)] = step - ramp(true) * duration;
+      g[at_.cooling_row(i)] = -step - ramp(false) * duration;
+      g[at_.order_rows.at(i)] = z[at_.low.at(i)] - z[at_.high.at(i)];
     }
     return true;
   }
 
   bool eval_jac_g(Index, const Number*, bool, Index, Index, Index* row, Index* col, Number* v) override {
     Index at = 0;
-    auto put = [&](Index r, Index c, double value) {
+    auto put = [&](Eigen::Index r, Eigen::Index c, double value) {
       if (v) v[at++] = value;
-      else row[at] = r, col[at++] = c;
+      else row[at] = static_cast<Index>(r), col[at++] = static_cast<Index>(c);
     };
-    for (int i = 0; i < k_; ++i) put(0, 1 + i, 1.0);
+    for (int i = 0; i < k_; ++i) put(at_.budget_row.offset, at_.duration.at(i), 1.0);
     for (int i = 0; i < k_; ++i) {
-      const Index prev = i == 0 ? 0 : 1 + k_ + i - 1;
       for (int sign : {1, -1}) {
-        const Index r = sign > 0 ? 1 + 2 * i : 2 + 2 * i;
-        put(r, 1 + k_ + i, sign);
-        put(r, prev, -sign);
-        put(r, 1 + i, -ramp(sign > 0));
+        const Index r = sign > 0 ? at_.heating_row(i) : at_.cooling_row(i);
+        put(r, at_.end.at(i), sign);
+        put(r, at_.previous_end(i), -sign);
+        put(r, at_.duration.at(i), -ramp(sign > 0));
       }
-      put(1 + 2 * k_ + i, 1 + 2 * k_ + i, 1.0);
-      put(1 + 2 * k_ + i, 1 + 3 * k_ + i, -1.0);
+      put(at_.order_rows.at(i), at_.low.at(i), 1.0);
+      put(at_.order_rows.at(i), at_.high.at(i), -1.0);
     }
     return true;
   }
@@ -178,6 +200,7 @@ class RelaxedNlp : public Ipopt::TNLP {
   SolveMonitor& monitor_;
   Progress& progress_;
   int k_;
+  RelaxedLayout at_;
   std::vector<double> start_;
 };
 

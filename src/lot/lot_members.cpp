@@ -34,13 +34,13 @@ std::string LotMemberOptions::validate() const {
 
 nlohmann::json lot_sensor_config(const LotModel& lot, const Eigen::VectorXd& theta, const std::string& name, const LotMemberOptions& o) {
   const GreyboxOptions& s = lot.structure;
-  const auto nb = static_cast<Eigen::Index>(s.bias_order + 1);
-  const std::vector<double> bias = bias_polynomial_dph(s, theta.head(nb));
+  const GreyboxThetaLayout at(s);
+  const std::vector<double> bias = bias_polynomial_dph(s, at.bias.of(theta));
   const auto nt = s.surface_temperatures_c.size(), nw = s.surface_rates_dps.size();
   std::vector<std::vector<double>> surface(nt, std::vector<double>(nw));
-  Eigen::Index k = nb;
+  Eigen::Index node = 0;
   for (auto& row : surface) {
-    for (double& v : row) v = theta(k++);
+    for (double& v : row) v = theta(at.surface.at(node++));
   }
   nlohmann::json temperature_coefficients = std::vector<double>(bias.begin(), bias.end());
   temperature_coefficients[0] = 0.0;  // the constant is constant_dph
@@ -53,14 +53,14 @@ nlohmann::json lot_sensor_config(const LotModel& lot, const Eigen::VectorXd& the
       {"noise", {{"white_dph_at_1hz", lot.noise_units > 0 ? std::exp(lot.log_noise_mean) : 0.0}}},
       {"thermal", {{"tau_s", o.package_tau_s}, {"delay_s", 0.0}, {"coil_tau_s", 0.0}}},
       {"range_dps", 500.0}};
-  if (s.shupe) sensor["shupe_dph_per_c_per_min"] = theta(k++);
-  if (s.asymmetry) sensor["scale_factor"]["asymmetry_ppm"] = theta(k++);
+  if (s.shupe) sensor["shupe_dph_per_c_per_min"] = theta(at.shupe.offset);
+  if (s.asymmetry) sensor["scale_factor"]["asymmetry_ppm"] = theta(at.asymmetry.offset);
   if (s.g_sensitivity) {
     std::vector<double> g;
-    for (int i = 0; i < 3; ++i) g.push_back(theta(k++) * units::kStandardGravity);
+    for (int i = 0; i < 3; ++i) g.push_back(theta(at.g_sensitivity.at(i)) * units::kStandardGravity);
     sensor["g_sensitivity_dph_per_g"] = g;
   }
-  if (s.thermal_lag) sensor["thermal"]["coil_tau_s"] = std::max(0.0, theta(k++));
+  if (s.thermal_lag) sensor["thermal"]["coil_tau_s"] = std::max(0.0, theta(at.lag.offset));
   return sensor;
 }
 

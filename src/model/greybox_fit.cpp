@@ -60,6 +60,19 @@ std::vector<Term> greybox_terms(const GreyboxOptions& o) {
   return terms;
 }
 
+GreyboxCoefficients::GreyboxCoefficients(const GreyboxOptions& o) {
+  SpanPacker pack;
+  bias = pack.take(o.bias_order + 1);
+  const bool surface_form = o.scale_factor == ScaleFactorForm::surface;
+  sf_temperature = pack.take_if(!surface_form, o.sf_temperature_order);
+  sf_rate = pack.take_if(!surface_form, o.sf_rate_order + 1);
+  surface = pack.take_if(surface_form, static_cast<Eigen::Index>(o.surface_temperatures_c.size() * o.surface_rates_dps.size()));
+  shupe = pack.take_if(o.shupe, 1);
+  asymmetry = pack.take_if(o.asymmetry, 1);
+  g_sensitivity = pack.take_if(o.g_sensitivity, 3);
+  size = pack.size();
+}
+
 namespace {
 
 // The recording as term inputs: the physics acts on the true (reference) rate.
@@ -146,29 +159,25 @@ double map_solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& y, double s, c
 
 // The coefficients, in greybox_terms' order, as the sensor layer's error model (SI, unscaled).
 GyroErrorModel error_model_of(const GreyboxOptions& o, const TermScaling& sc, const Eigen::VectorXd& c) {
+  const GreyboxCoefficients at(o);
   GyroErrorModel e;
-  Eigen::Index k = 0;
   e.bias_temperature_radps.reference = sc.t_ref_c;
-  for (int i = 0; i <= o.bias_order; ++i) e.bias_temperature_radps.coefficients.push_back(c(k++) / std::pow(sc.t_scale_c, i));
+  for (int i = 0; i <= o.bias_order; ++i) e.bias_temperature_radps.coefficients.push_back(c(at.bias.at(i)) / std::pow(sc.t_scale_c, i));
   if (o.scale_factor == ScaleFactorForm::surface) {
     const auto nt = static_cast<Eigen::Index>(o.surface_temperatures_c.size()), nw = static_cast<Eigen::Index>(o.surface_rates_dps.size());
-    Eigen::MatrixXd v(nt, nw);
-    for (Eigen::Index a = 0; a < nt; ++a)
-      for (Eigen::Index b = 0; b < nw; ++b) v(a, b) = c(k++);
+    const Eigen::MatrixXd v = at.surface.of(c).reshaped<Eigen::RowMajor>(nt, nw);
     std::vector<double> rates;
     for (double r : o.surface_rates_dps) rates.push_back(units::dps_to_radps(r));
     e.scale_factor_surface = SplineSurface(o.surface_temperatures_c, rates, v, OutsideGridPolicy::clamp);
   } else {
     e.scale_factor_temperature.reference = sc.t_ref_c;
     e.scale_factor_temperature.coefficients.push_back(0.0);
-    for (int i = 1; i <= o.sf_temperature_order; ++i) e.scale_factor_temperature.coefficients.push_back(c(k++) / std::pow(sc.t_scale_c, i));
-    for (int i = 0; i <= o.sf_rate_order; ++i) e.scale_factor_rate.coefficients.push_back(c(k++) / std::pow(sc.rate_scale_radps, i));
+    for (int i = 1; i <= o.sf_temperature_order; ++i) e.scale_factor_temperature.coefficients.push_back(c(at.sf_temperature.at(i - 1)) / std::pow(sc.t_scale_c, i));
+    for (int i = 0; i <= o.sf_rate_order; ++i) e.scale_factor_rate.coefficients.push_back(c(at.sf_rate.at(i)) / std::pow(sc.rate_scale_radps, i));
   }
-  if (o.shupe) e.shupe_rad_per_c = c(k++);
-  if (o.asymmetry) e.scale_factor_asymmetry = 2.0 * c(k++);  // the column is |w| = (a/2)^-1 of dSF's jump
-  if (o.g_sensitivity) {
-    for (int i = 0; i < 3; ++i) e.g_sensitivity(i) = c(k++);
-  }
+  if (o.shupe) e.shupe_rad_per_c = c(at.shupe.offset);
+  if (o.asymmetry) e.scale_factor_asymmetry = 2.0 * c(at.asymmetry.offset);  // the column is |w| = (a/2)^-1 of dSF's jump
+  if (o.g_sensitivity) e.g_sensitivity = at.g_sensitivity.of(c);
   return e;
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/enum_names.h"
+#include "core/packed_layout.h"
 #include "core/solve_summary.h"
 #include "model/greybox_model.h"
 #include "model/physics_terms.h"
@@ -47,6 +48,15 @@ struct GreyboxOptions {
 std::vector<std::string> greybox_features(const GreyboxOptions& options);
 // The model's structure as physics terms, in the order of its coefficients.
 std::vector<Term> greybox_terms(const GreyboxOptions& options);
+
+// greybox_terms' coefficients as named spans: the bias polynomial (constant first), then the scale factor
+// (separable: eps_T's orders 1.. and eps(omega)'s orders 0..; surface: the grid's nodes, temperature-major),
+// Shupe, asymmetry, g-sensitivity (x, y, z). Absent parts have size 0.
+struct GreyboxCoefficients {
+  explicit GreyboxCoefficients(const GreyboxOptions& options);
+  Span bias, sf_temperature, sf_rate, surface, shupe, asymmetry, g_sensitivity;
+  Eigen::Index size = 0;
+};
 
 // The summary's details: samples, parameters, rms_residual_dph, lag_tau_s, lag_evaluations. Its
 // termination is the lag search's (NLopt's code, or no_progress when it stopped on round-off with its best

@@ -30,22 +30,33 @@ std::vector<GreyboxCoordinate> greybox_coordinates(const GreyboxOptions& o) {
   return c;
 }
 
+GreyboxThetaLayout::GreyboxThetaLayout(const GreyboxOptions& o) {
+  SpanPacker pack;
+  bias = pack.take(o.bias_order + 1);
+  surface = pack.take(static_cast<Eigen::Index>(o.surface_temperatures_c.size() * o.surface_rates_dps.size()));
+  shupe = pack.take_if(o.shupe, 1);
+  asymmetry = pack.take_if(o.asymmetry, 1);
+  g_sensitivity = pack.take_if(o.g_sensitivity, 3);
+  lag = pack.take_if(o.thermal_lag, 1);
+  size = pack.size();
+}
+
 Eigen::VectorXd greybox_theta(const GyroErrorModel& e, double lag_tau_s, const GreyboxOptions& o) {
-  const auto coordinates = greybox_coordinates(o);
-  Eigen::VectorXd theta(static_cast<Eigen::Index>(coordinates.size()));
-  Eigen::Index k = 0;
-  for (double t : greybox_bias_nodes_c(o)) theta(k++) = units::radps_to_dph(e.bias_radps + e.bias_temperature_radps(t));
+  if (o.scale_factor != ScaleFactorForm::surface) fail("a grey-box prior needs the surface form of the scale factor (scale_factor=surface)");
+  const GreyboxThetaLayout at(o);
+  Eigen::VectorXd theta(at.size);
+  const std::vector<double> nodes = greybox_bias_nodes_c(o);
+  for (std::size_t j = 0; j < nodes.size(); ++j) theta(at.bias.at(static_cast<Eigen::Index>(j))) = units::radps_to_dph(e.bias_radps + e.bias_temperature_radps(nodes[j]));
+  Eigen::Index node = 0;
   for (double t : o.surface_temperatures_c) {
     for (double w : o.surface_rates_dps) {
-      theta(k++) = e.scale_factor_surface ? units::ratio_to_ppm((*e.scale_factor_surface)(t, units::dps_to_radps(w)).value) : 0.0;
+      theta(at.surface.at(node++)) = e.scale_factor_surface ? units::ratio_to_ppm((*e.scale_factor_surface)(t, units::dps_to_radps(w)).value) : 0.0;
     }
   }
-  if (o.shupe) theta(k++) = units::radps_to_dph(e.shupe_rad_per_c) / units::kSecondsPerMinute;
-  if (o.asymmetry) theta(k++) = units::ratio_to_ppm(e.scale_factor_asymmetry);
-  if (o.g_sensitivity) {
-    for (int i = 0; i < 3; ++i) theta(k++) = units::radps_to_dph(e.g_sensitivity(i));
-  }
-  if (o.thermal_lag) theta(k++) = lag_tau_s;
+  if (o.shupe) theta(at.shupe.offset) = units::radps_to_dph(e.shupe_rad_per_c) / units::kSecondsPerMinute;
+  if (o.asymmetry) theta(at.asymmetry.offset) = units::ratio_to_ppm(e.scale_factor_asymmetry);
+  if (o.g_sensitivity) at.g_sensitivity.of(theta) = e.g_sensitivity.unaryExpr([](double g) { return units::radps_to_dph(g); });
+  if (o.thermal_lag) theta(at.lag.offset) = lag_tau_s;
   return theta;
 }
 

@@ -31,6 +31,12 @@ struct GreyboxCoordinate {
 // The structure must have the surface form (a polynomial scale factor has no grid to compare units on).
 std::vector<GreyboxCoordinate> greybox_coordinates(const GreyboxOptions& options);
 std::vector<double> greybox_bias_nodes_c(const GreyboxOptions& options);
+// theta's coordinates as named spans, in greybox_coordinates' order; absent parts have size 0.
+struct GreyboxThetaLayout {
+  explicit GreyboxThetaLayout(const GreyboxOptions& options);
+  Span bias, surface, shupe, asymmetry, g_sensitivity, lag;  // surface: the grid's nodes, temperature-major
+  Eigen::Index size = 0;
+};
 // theta of a grey-box error model and lag (the lag last when the structure has one).
 Eigen::VectorXd greybox_theta(const GyroErrorModel& errors, double lag_tau_s, const GreyboxOptions& options);
 

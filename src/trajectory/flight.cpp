@@ -63,8 +63,10 @@ Commands command(const FlightSegment& s, double tau, double bank_at_start) {
   return c;
 }
 
-// y = [lat, lon, h, V, gamma, chi, phi, dtheta(3), dv(3)]
-using State = Eigen::Matrix<double, 13, 1>;
+// The integrated state y = [lat, lon, h, V, gamma, chi, phi, dtheta(3), dv(3)], by name: the point-mass
+// flight's position, speed, path angle, heading and bank, and the IMU's increments over the current step.
+enum StateIndex : Eigen::Index { kLat, kLon, kHeight, kSpeed, kPathAngle, kHeading, kBank, kDeltaTheta, kDeltaV = kDeltaTheta + 3, kStateSize = kDeltaV + 3 };
+using State = Eigen::Matrix<double, kStateSize, 1>;
 
 struct Rates {
   State dy;
@@ -120,7 +122,7 @@ FlightTrajectory generate_flight(const FlightProfile& p, double rate_hz, int sub
     while (s + 1 < p.segments.size() && t >= start[s + 1]) ++s;
     const double tau = std::clamp(t - start[s], 0.0, p.segments[s].duration_s);
     const Commands c = command(p.segments[s], tau, bank0[s]);
-    const double lat = y(0), hh = y(2), v = y(3), g = y(4), chi = y(5), phi = y(6);
+    const double lat = y(kLat), hh = y(kHeight), v = y(kSpeed), g = y(kPathAngle), chi = y(kHeading), phi = y(kBank);
     const earth::EarthRadii r = earth::radii(lat);
     const double grav = earth::normal_gravity(lat, hh);
     const double gamma_dot = c.load_factor > 0 ? grav * (c.load_factor - std::cos(g)) / v : c.gamma_dot;
@@ -138,7 +140,7 @@ FlightTrajectory generate_flight(const FlightProfile& p, double rate_hz, int sub
     Rates out;
     out.f_b = c_n_b.transpose() * f_n;
     out.w_ib_b = w_nb_b + c_n_b.transpose() * (w_ie + w_en);
-    out.dy << v_n.x() / (r.meridian + hh), v_n.y() / ((r.transverse + hh) * std::cos(lat)), -v_n.z(), c.v_dot, gamma_dot,
+    out.dy << /* in StateIndex order */ v_n.x() / (r.meridian + hh), v_n.y() / ((r.transverse + hh) * std::cos(lat)), -v_n.z(), c.v_dot, gamma_dot,
         chi_dot, c.phi_dot, out.w_ib_b, out.f_b;
     return out;
   };
@@ -147,15 +149,15 @@ FlightTrajectory generate_flight(const FlightProfile& p, double rate_hz, int sub
   f.name = p.name;
   f.dt_s = dt;
   State y = State::Zero();
-  y(0) = deg_to_rad(p.initial.lat_deg), y(1) = deg_to_rad(p.initial.lon_deg), y(2) = p.initial.h_m;
-  y(3) = p.initial.speed_mps, y(4) = deg_to_rad(p.initial.flight_path_deg), y(5) = deg_to_rad(p.initial.heading_deg);
-  y(6) = deg_to_rad(p.initial.bank_deg);
+  y(kLat) = deg_to_rad(p.initial.lat_deg), y(kLon) = deg_to_rad(p.initial.lon_deg), y(kHeight) = p.initial.h_m;
+  y(kSpeed) = p.initial.speed_mps, y(kPathAngle) = deg_to_rad(p.initial.flight_path_deg), y(kHeading) = deg_to_rad(p.initial.heading_deg);
+  y(kBank) = deg_to_rad(p.initial.bank_deg);
   auto record = [&](double t) {
     NavState s;
-    s.lat = y(0), s.lon = y(1), s.h = y(2);
-    const double v = y(3), g = y(4), chi = y(5);
+    s.lat = y(kLat), s.lon = y(kLon), s.h = y(kHeight);
+    const double v = y(kSpeed), g = y(kPathAngle), chi = y(kHeading);
     s.v_n = Eigen::Vector3d(v * std::cos(g) * std::cos(chi), v * std::cos(g) * std::sin(chi), -v * std::sin(g));
-    s.q_n_b = euler_to_quaternion(y(6), g, chi);
+    s.q_n_b = euler_to_quaternion(y(kBank), g, chi);
     f.t_s.push_back(t);
     f.truth.push_back(s);
   };
@@ -163,7 +165,7 @@ FlightTrajectory generate_flight(const FlightProfile& p, double rate_hz, int sub
   record(0.0);
   double t = 0.0;
   for (std::size_t k = 0; k < steps; ++k) {
-    y.tail<6>().setZero();
+    y.segment<6>(kDeltaTheta).setZero();  // the increments start again each step
     for (int sub = 0; sub < substeps; ++sub) {
       const double t0 = dt * static_cast<double>(k) + h * sub;
       const State k1 = rates(t0, y).dy;
@@ -173,10 +175,10 @@ FlightTrajectory generate_flight(const FlightProfile& p, double rate_hz, int sub
       y += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
     }
     t = dt * static_cast<double>(k + 1);
-    f.dtheta.push_back(y.segment<3>(7));
-    f.dv.push_back(y.segment<3>(10));
+    f.dtheta.push_back(y.segment<3>(kDeltaTheta));
+    f.dv.push_back(y.segment<3>(kDeltaV));
     record(t);
-    if (!(y(3) > 1.0)) fail("flight '", p.name, "': speed fell to ", y(3), " m/s at t = ", t, " s");
+    if (!(y(kSpeed) > 1.0)) fail("flight '", p.name, "': speed fell to ", y(kSpeed), " m/s at t = ", t, " s");
   }
   return f;
 }

@@ -27,7 +27,7 @@ using ::testing::HasSubstr;
 
 Dataset noisy_dual_scan(int samples, std::uint64_t seed) {
   TrajectorySpec t = load_trajectory_file("builtin:trajectories/dual_scan.yaml");
-  t.sampling = Sampling{samples, 0.0};
+  t.sampling = Sampling{static_cast<std::size_t>(samples), 0.0};
   const Recording rec = simulate(load_sensor_file("builtin:sensors/open_loop_fog.yaml"), t, seed).recording;
   return make_dataset(rec, greybox_features(GreyboxOptions{}), ModelTarget::error);
 }

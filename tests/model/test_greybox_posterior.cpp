@@ -240,7 +240,9 @@ TEST(GreyboxPosterior, TheBandIsCalibratedOverUnitsOfItsPriorAndThePriorFillsIn)
       const double at_60 = radps_to_dph(p.sigma(static_cast<Eigen::Index>(5 * nw + j))), at_0 = radps_to_dph(p.sigma(static_cast<Eigen::Index>(1 * nw + j)));
       EXPECT_GT(at_60, 0.9 * prior_sd_dph(prior, o, 5, j)) << o.surface_rates_dps[j];
       EXPECT_LE(at_60, (1 + 1e-9) * prior_sd_dph(prior, o, 5, j)) << o.surface_rates_dps[j];  // data never add variance
-      if (std::abs(o.surface_rates_dps[j]) >= 60) EXPECT_LT(at_0, prior_sd_dph(prior, o, 1, j) / 5) << o.surface_rates_dps[j];
+      if (std::abs(o.surface_rates_dps[j]) >= 60) {
+        EXPECT_LT(at_0, prior_sd_dph(prior, o, 1, j) / 5) << o.surface_rates_dps[j];
+      }
     }
   }
   for (int h = 0; h < 2; ++h) {

@@ -146,7 +146,9 @@ TEST_P(ModelKind, CompensatingAFileAChunkAtATimeWritesWhatTheWholeRecordingGives
       else EXPECT_EQ(chunks.column(name)[i], all.column(name)[i]) << name << "[" << i << "]";
     }
   }
-  if (!all.has("compensated_sigma_dps")) EXPECT_EQ(text(dir() / "chunks.csv"), text(dir() / "whole.csv"));
+  if (!all.has("compensated_sigma_dps")) {
+    EXPECT_EQ(text(dir() / "chunks.csv"), text(dir() / "whole.csv"));
+  }
   const CompensatedRecording whole = compensate_recording(*m, r);
   EXPECT_EQ(streamed.samples, 200u);
   EXPECT_NEAR(*streamed.rms_after_dph, *whole.rms_after_dph, 1e-9 * *whole.rms_after_dph);
