@@ -40,8 +40,10 @@ SolveSummary train(RbfSolver& solver, const RbfProblem& problem, RbfNetwork& net
   return s;
 }
 
-const RbfSolverRegistry& rbf_solvers() {
-  static const RbfSolverRegistry registry = [] {
+const RbfSolverRegistry& rbf_solvers() { return extend_rbf_solvers(); }
+
+RbfSolverRegistry& extend_rbf_solvers() {
+  static RbfSolverRegistry registry = [] {
     RbfSolverRegistry r("solver");
     r.add(solver_entry<OlsSolver>("ols", "orthogonal least-squares forward selection (Chen 1991) with Orr's regularisation"))
         .add(solver_entry<LrolsLooSolver>("lrols_loo", "locally regularised OLS with leave-one-out selection (Chen et al. 2004)"))

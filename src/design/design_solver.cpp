@@ -8,8 +8,10 @@ SolveSummary run_design_solver(DesignSolver& solver, const DesignProblem& proble
   return s;
 }
 
-const DesignSolverRegistry& design_solvers() {
-  static const DesignSolverRegistry registry = [] {
+const DesignSolverRegistry& design_solvers() { return extend_design_solvers(); }
+
+DesignSolverRegistry& extend_design_solvers() {
+  static DesignSolverRegistry registry = [] {
     DesignSolverRegistry r("design solver");
     r.add(options_entry<DesignSolver, NloptDesigner, std::uint64_t>(
              "nlopt", "NLopt: global derivative-free search of the programme, then local refinement", "design solver "))

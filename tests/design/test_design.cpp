@@ -1,8 +1,8 @@
 // Trajectory design: the whitened Fisher information equals generalised least squares with the dense noise
 // covariance; the regressors are the derivatives of gyrosid's own models; the INS sensitivity is linear;
 // the predicted parameter covariance and criterion of fit match many simulated calibrations scored by the
-// real INS; every decoded design keeps the chamber's limits; the solvers improve on their start,
-// deterministically; a design separates Shupe from hysteresis where a single scan cannot.
+// real INS; every decoded design keeps the chamber's limits (the solvers' own properties:
+// test_design_solver_properties.cpp); a design separates Shupe from hysteresis where a single scan cannot.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -29,28 +29,18 @@
 #include "solvers/bayes/hybrid_fit.h"
 #include "solvers/calibrate.h"
 #include "error_of.h"
+#include "small_design_problem.h"
 #include "trajectory/programme.h"
 
 namespace gyrosid::design {
 namespace {
 
 using testing_support::error_of;
+using fixtures::reference_sensor;
+using fixtures::short_and_medium;
+using fixtures::SmallProblem;
 using units::dph_to_radps;
 using units::dps_to_radps;
-
-const SensorSpec& reference_sensor() {
-  static const SensorSpec s = load_sensor_file("builtin:sensors/open_loop_fog.yaml");
-  return s;
-}
-
-std::shared_ptr<const Envelope> short_and_medium() {
-  static const auto e = [] {
-    EnvelopeOptions o;
-    o.flights = {"short", "medium"};
-    return std::make_shared<const Envelope>(load_envelope(o, as_triad(reference_sensor())));
-  }();
-  return e;
-}
 
 Domain domain_of(const Envelope& e, double margin = 10.0) {
   Domain d = e.domain;
@@ -517,24 +507,6 @@ TEST(DesignSpace, EveryDecodedProgrammeKeepsTheLimits) {
   EXPECT_EQ(space.decode_smooth(x).check_limits(), "");
 }
 
-// A small design problem (classical model, short and medium flights, 20 min in 3 segments).
-struct SmallProblem {
-  SmallProblem(ModelFamily family = ModelFamily::classical, Criterion criterion = Criterion::cof, ModelOptions model = {},
-               const SensorSpec& sensor = reference_sensor())
-      : space([] {
-          DesignSpaceOptions o;
-          o.budget_min = 20;
-          o.segments = 3;
-          o.rate_hz = 1;
-          return o;
-        }(), short_and_medium()->domain.temp_min_c, short_and_medium()->domain.temp_max_c, short_and_medium()->domain.rate_max_radps),
-        context(sensor, short_and_medium(), family, model, criterion, model_domain(space)),
-        problem(context, space, QuadratureOptions{}) {}
-  DesignSpace space;
-  DesignContext context;
-  DesignProblem problem;
-};
-
 TEST(DesignProblem, TheSolversObjectiveIsTheOneOfTheTrajectorysOwnSamples) {
   // The quadrature the solvers score a programme by (a few points per rate cycle) against every sample of the
   // trajectory at 3 Hz, for the grey-box model, whose scale-factor grid needs the rates between the cycle's
@@ -589,35 +561,6 @@ TEST(DesignProblem, TheUpperTailMeanIsTheMeanOfTheWorstShareOfTheWeight) {
   EXPECT_DOUBLE_EQ(upper_tail_mean(v, {1.0, 1.0, 6.0, 1.0}, 0.5), (5.0 + 3.5 * 3.0) / 4.5);  // weights count, not members
   // Continuous in the values: two members crossing change nothing at the crossing.
   EXPECT_DOUBLE_EQ(upper_tail_mean({3.0, 3.0}, {1.0, 1.0}, 0.5), 3.0);
-}
-
-TEST(DesignSolvers, BothImproveOnTheirStartDeterministicallyAndNameBadOptions) {
-  const SmallProblem small;
-  const double start = small.problem.objective(small.space.initial());
-  for (const auto& [name, options] : std::vector<std::pair<std::string, OptionMap>>{
-           {"nlopt", {{"global_evaluations", "150"}, {"local_evaluations", "100"}}}, {"ipopt", {{"max_iterations", "20"}}}}) {
-    std::string first;
-    for (int repeat = 0; repeat < 2; ++repeat) {
-      auto solver = make_design_solver(name, options, 3);
-      TableProfile best = small.space.initial();
-      const SolveSummary s = run_design_solver(*solver, small.problem, best);
-      EXPECT_TRUE(s.usable()) << name << ": " << s.message;
-      EXPECT_GT(s.iterations, 0) << name;
-      EXPECT_EQ(best.check_limits(), "") << name;
-      EXPECT_NEAR(best.duration_min(), 20.0, 1e-9) << name;
-      const double value = small.problem.objective(best);
-      EXPECT_LT(value, start - 0.05) << name;  // a real improvement in log variance
-      EXPECT_DOUBLE_EQ(s.details["objective"].get<double>(), value) << name;
-      TrajectorySpec spec;
-      spec.profile = best;
-      spec.sampling.rate_hz = 1;
-      if (repeat == 0) first = programme_yaml(spec);
-      else EXPECT_EQ(programme_yaml(spec), first) << name << ": same seed, same design";
-    }
-  }
-  EXPECT_THAT(error_of([] { make_design_solver("cmaes", {}, 1); }), ::testing::HasSubstr("known: nlopt, ipopt"));
-  EXPECT_THAT(error_of([] { make_design_solver("nlopt", {{"global", "LD_MMA"}}, 1); }), ::testing::HasSubstr("'global' = 'LD_MMA'"));
-  EXPECT_THAT(error_of([] { make_design_solver("ipopt", {{"max_iter", "3"}}, 1); }), ::testing::HasSubstr("unknown option 'max_iter'"));
 }
 
 TEST(DesignCriteria, CofMinimaxAgainstItsOwnPredictionIsTheSmoothMaximumsOffset) {
