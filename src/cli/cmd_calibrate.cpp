@@ -17,7 +17,9 @@
 #include "model/calibration_model.h"
 #include "solvers/calibrate.h"
 #include "solvers/preset_choice.h"
+#include "solvers/nls/nls_solver.h"
 #include "solvers/solver.h"
+#include "solvers/triad/triad_fit.h"
 
 namespace gyrosid::cli {
 namespace {
@@ -84,6 +86,14 @@ CalibrationRequest request_of(CalibrateOptions& o) {
 }
 
 // What the fit says beside its model: left-out physics, a lot prior's share and predictive sigma, the noise.
+// "a, b (note), c": a registry's names for help text, `marked` annotated.
+std::string noted(std::vector<std::string> names, std::string_view marked, std::string_view note) {
+  for (std::string& name : names) {
+    if (name == marked) name += str_cat(" (", note, ")");
+  }
+  return join(names);
+}
+
 void print_fit_notes(const nlohmann::json& details) {
   if (details.contains("physics_left_out")) std::cout << "physics: " << details["physics_left_out"]["note"].get<std::string>() << "\n";
   if (details.contains("data_share")) {
@@ -148,10 +158,11 @@ void run_calibrate(CalibrateOptions o) {
 
 void register_calibrate(CLI::App& app, Action& action) {
   auto o = std::make_shared<CalibrateOptions>();
-  CLI::App* cmd = app.add_subcommand("calibrate", "Fit a calibration model (rbf, classical, greybox, hybrid) to a recording; without options, a preset chosen from its noise");
+  CLI::App* cmd = app.add_subcommand("calibrate", str_cat("Fit a calibration model (", model_fitters().known(), ") to a recording; without options, a preset chosen from its noise"));
   cmd->add_option("--recording", o->recording, "Training recording (single gyro, with ref_rate_dps)");
-  cmd->add_option("--model", o->model, "rbf, classical, greybox, hybrid (physics + Bayesian RBF), or triad (three gyros: misalignment, biases, surfaces)");
-  cmd->add_option("--solver", o->solver, "RBF solver: ols (default with --model rbf), lrols_loo, ofs_loo, ceres, nlopt, ipopt, bayes; triad: ceres (default), nlopt, ipopt");
+  cmd->add_option("--model", o->model, str_cat(noted(model_fitters().names(), "hybrid", "physics + Bayesian RBF"), ", or triad (three gyros: misalignment, biases, surfaces)"));
+  cmd->add_option("--solver", o->solver, str_cat("RBF solver: ", noted(rbf_solvers().names(), CalibrationRequest{}.solver, "default with --model rbf"),
+                                                  "; triad: ", noted(nls_solvers().names(), TriadFitOptions{}.solver, "default")));
   cmd->add_option("--surfaces", o->surfaces, "triad: per-gyro error surfaces none (default), classical, greybox or rbf");
   cmd->add_flag("--joint", o->joint, "triad: estimate everything in one least-squares problem (default)");
   cmd->add_flag("--sequential", o->sequential, "triad: misalignment and biases first, then the surfaces");

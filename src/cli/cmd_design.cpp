@@ -150,11 +150,11 @@ void register_design(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_option("--noise", c->noise, "An allan.json (gyrosid allan on a recording of the gyro): its identified noise model replaces the "
                                        "sensor config's - the design for the noise the gyro showed");
-  cmd->add_option("--solver", c->solver, "Design solver: nlopt or ipopt")->capture_default_str();
+  cmd->add_option("--solver", c->solver, "Design solver: " + join(design::design_solvers().names(), ", ", " or "))->capture_default_str();
   cmd->add_option("--set", c->set, "Option key=value (repeatable): solver options, or space.*, model.*, envelope.*, quadrature.*, select.* "
                   "(cof_minimax's exact final selection: select.rounds, select.emphasis, select.blend_shares); "
                   "--options-of design lists them");
-  cmd->add_option("--options-of", c->options_of, "Print the options of a solver (nlopt, ipopt) or of the design (design) and exit");
+  cmd->add_option("--options-of", c->options_of, str_cat("Print the options of a solver (", design::design_solvers().known(), ") or of the design (design) and exit"));
   cmd->add_option("--seed", c->seed, "Seed of the solver's random streams (same seed, same design)")->capture_default_str();
   cmd->add_option("--reference", c->reference, "cof_minimax: the trajectory to beat on every flight (default: the first --compare)");
   cmd->add_option("--reference-model", c->reference_model, "The reference's calibration model (default: --model)");

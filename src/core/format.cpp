@@ -34,6 +34,12 @@ std::string join(const std::vector<std::string>& items, std::string_view separat
   return out;
 }
 
+std::string join(const std::vector<std::string>& items, std::string_view separator, std::string_view last) {
+  std::string out;
+  for (std::size_t i = 0; i < items.size(); ++i) (out += i == 0 ? std::string_view{} : i + 1 == items.size() ? last : separator) += items[i];
+  return out;
+}
+
 std::string format_numbers(const std::vector<double>& values, std::string_view separator) {
   std::vector<std::string> items;
   items.reserve(values.size());

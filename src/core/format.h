@@ -16,6 +16,8 @@ std::string format_significant(double value, int digits = 4);
 
 // The items with `separator` between them ("a, b, c").
 std::string join(const std::vector<std::string>& items, std::string_view separator = ", ");
+// The same with `last` before the final item ("a, b or c"), for lists in help text.
+std::string join(const std::vector<std::string>& items, std::string_view separator, std::string_view last);
 // The numbers, each as format_number writes it, with `separator` between them ("-20, 0, 1e-07").
 std::string format_numbers(const std::vector<double>& values, std::string_view separator = ", ");
 

@@ -109,6 +109,11 @@ TEST(Config, ListsSplitIntoTheirTrimmedItems) {
   EXPECT_EQ(split_list("short,medium"), split_list(join({"short", "medium"}, ",")));
   EXPECT_TRUE(split_list(" , ").empty());
   EXPECT_EQ(split_list("a b;c", ';'), (std::vector<std::string>{"a b", "c"}));
+  // Help text's lists (registries' names): "a, b or c".
+  EXPECT_EQ(join({"nlopt", "ipopt", "compass"}, ", ", " or "), "nlopt, ipopt or compass");
+  EXPECT_EQ(join({"nlopt", "ipopt"}, ", ", " or "), "nlopt or ipopt");
+  EXPECT_EQ(join({"nlopt"}, ", ", " or "), "nlopt");
+  EXPECT_EQ(join({}, ", ", " or "), "");
 }
 
 // A list of numbers written as text reads back bit for bit (format_number's shortest round trip, each item).
