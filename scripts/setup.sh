@@ -83,11 +83,12 @@ case "$job" in
     ;;
   sanitize)
     # Leaks are reported too; a sanitizer report fails the test that triggered it.
-    # To keep .ci/run under 60 min on 2 cores, fifteen end-to-end tests are left out here - and only here: they run
+    # To keep .ci/run under 60 min on 2 cores, sixteen end-to-end tests are left out here - and only here: they run
     # in the test job, and the library code they drive is run under the sanitizer by the faster tests of the same
     # modules. The first eight are the slowest in Release (about 40 % of the suite's Release time); the last four
     # slow down most under the sanitizer (1.3 to 3.5 min each on 2 cores, a quarter of the job's test time); the
-    # lot's kill-and-resume test is a kill test like the others (its lot code runs under Cli.LotLearns...), and its
+    # lot's and the session's kill-and-resume tests are kill tests like the others (their code runs under
+    # Cli.LotLearns... and Cli.SessionAdaptsToTheUnitAndWaitsForTheLab), and the lot's
     # two-rank test took 366 s under the sanitizer (at 357de35; the MPI row distributor is sanitized by
     # Mpi.MonteCarloEqualsSingleProcess). The allocator-layout test checks nothing here: the sanitizer replaces
     # glibc's malloc, whose GLIBC_TUNABLES it varies.
@@ -96,9 +97,9 @@ case "$job" in
     sanitize_skip+='|HybridFit\.FindsTheNetworkALevelledSoakSupportsOnlyWithUnequalWidths|Explain\.ARateRandomWalkIsNotAChangePointOnAnySeed'
     sanitize_skip+='|Cli\.MainJobWritesItsReport|Explain\.AWarmupsSlowTailIsAnAlternativeNotAnAgeingTrend'
     sanitize_skip+='|Cli\.AxisPicksTheTriadGyroAndTemperatureIsRequiredWhereItIsUsed|Cli\.CalibrationChainOnNoiseFreeDataBeatsTheRawGyroByOrdersOfMagnitude'
-    sanitize_skip+='|Cli\.KilledMonteCarloResumesToTheSameResult|Report\.BrowserFindsThePlots|Cli\.LotRunsResumeToTheSameBytesAndScreenInBatches'
+    sanitize_skip+='|Cli\.KilledMonteCarloResumesToTheSameResult|Cli\.KilledSessionResumesToTheSameResult|Report\.BrowserFindsThePlots|Cli\.LotRunsResumeToTheSameBytesAndScreenInBatches'
     sanitize_skip+='|Mpi\.LotEqualsSingleProcess|Cli\.ATriadsSigmasDoNotFollowTheAllocatorsLayout)$'
-    echo "setup: the sanitizer job leaves out fifteen end-to-end tests (they ran in the test job): $sanitize_skip" >&2
+    echo "setup: the sanitizer job leaves out sixteen end-to-end tests (they ran in the test job): $sanitize_skip" >&2
     # Leaks that libraries outside gyrosid (OpenMPI, CPython) keep by design are suppressed by tests/sanitize/lsan.supp.
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     LSAN_OPTIONS=suppressions="$(pwd)/tests/sanitize/lsan.supp" \
