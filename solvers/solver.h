@@ -84,17 +84,7 @@ std::string solver_help(const std::string& name);  // the solver's options with 
 // constructor S(Options). Options are applied and validated when the solver is made.
 template <typename S>
 RbfSolverRegistry::Entry solver_entry(std::string name, std::string summary) {
-  return {name, summary,
-          [name, summary] {
-            typename S::Options o;
-            return name + " - " + summary + ":\n" + o.table().help();
-          },
-          [name](const OptionMap& map) -> std::unique_ptr<RbfSolver> {
-            typename S::Options o;
-            o.table().apply(map);
-            if (const std::string problem = o.validate(); !problem.empty()) fail(name, ": ", problem);
-            return std::make_unique<S>(std::move(o));
-          }};
+  return options_entry<RbfSolver, S>(std::move(name), std::move(summary), "");
 }
 
 }  // namespace gyrosid

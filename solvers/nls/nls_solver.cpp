@@ -68,10 +68,9 @@ ceres::LinearSolverType linear_solver_type(const std::string& name) {
   return ceres::DENSE_QR;
 }
 
-class CeresNls : public NlsSolver {
+class CeresNls : public NlsSolverWithOptions<NlsCeresOptions> {
  public:
-  using Options = NlsCeresOptions;
-  explicit CeresNls(Options o) : o_(std::move(o)) {}
+  using NlsSolverWithOptions::NlsSolverWithOptions;
   std::string_view name() const override { return "ceres"; }
 
   SolveOutcome minimize(NlsProblem& p, SolveMonitor& monitor) override {
@@ -96,17 +95,13 @@ class CeresNls : public NlsSolver {
             {{"successful_steps", summary.num_successful_steps}, {"unsuccessful_steps", summary.num_unsuccessful_steps},
              {"linear_solver", o_.linear_solver}}};
   }
-
- private:
-  Options o_;
 };
 
 // --- nlopt -----------------------------------------------------------------------------------------
 
-class NloptNls : public NlsSolver {
+class NloptNls : public NlsSolverWithOptions<NlsNloptOptions> {
  public:
-  using Options = NlsNloptOptions;
-  explicit NloptNls(Options o) : o_(std::move(o)) {}
+  using NlsSolverWithOptions::NlsSolverWithOptions;
   std::string_view name() const override { return "nlopt"; }
 
   SolveOutcome minimize(NlsProblem& p, SolveMonitor& monitor) override {
@@ -141,7 +136,6 @@ class NloptNls : public NlsSolver {
     if (grad) Eigen::Map<Eigen::VectorXd>(grad, n) = g;
     return v;
   }
-  Options o_;
 };
 
 // --- ipopt -----------------------------------------------------------------------------------------
@@ -216,10 +210,9 @@ class NlsNlp : public Ipopt::TNLP {
   bool exact_;
 };
 
-class IpoptNls : public NlsSolver {
+class IpoptNls : public NlsSolverWithOptions<NlsIpoptOptions> {
  public:
-  using Options = NlsIpoptOptions;
-  explicit IpoptNls(Options o) : o_(std::move(o)) {}
+  using NlsSolverWithOptions::NlsSolverWithOptions;
   std::string_view name() const override { return "ipopt"; }
 
   SolveOutcome minimize(NlsProblem& p, SolveMonitor& monitor) override {
@@ -241,24 +234,11 @@ class IpoptNls : public NlsSolver {
     f.store_best();
     return {termination_of(nlp->status), str_cat("Ipopt application status ", static_cast<int>(status)), {{"hessian", o_.hessian}}};
   }
-
- private:
-  Options o_;
 };
 
 template <typename S>
 NlsSolverRegistry::Entry nls_entry(std::string name, std::string summary) {
-  return {name, summary,
-          [name, summary] {
-            typename S::Options o;
-            return name + " - " + summary + ":\n" + o.table().help();
-          },
-          [name](const OptionMap& map) -> std::unique_ptr<NlsSolver> {
-            typename S::Options o;
-            o.table().apply(map);
-            if (const std::string problem = o.validate(); !problem.empty()) fail("nls solver ", name, ": ", problem);
-            return std::make_unique<S>(std::move(o));
-          }};
+  return options_entry<NlsSolver, S>(std::move(name), std::move(summary), "nls solver ");
 }
 
 }  // namespace

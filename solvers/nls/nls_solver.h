@@ -62,6 +62,17 @@ struct NlsIpoptOptions {
   std::string validate() const;
 };
 
+// Base of a back-end whose options struct O has defaults, table() and validate() (what nls_entry needs).
+template <typename O>
+class NlsSolverWithOptions : public NlsSolver {
+ public:
+  using Options = O;
+  explicit NlsSolverWithOptions(Options options) : o_(std::move(options)) {}
+
+ protected:
+  Options o_;
+};
+
 using NlsSolverRegistry = Registry<NlsSolver, const OptionMap&>;
 const NlsSolverRegistry& nls_solvers();
 std::unique_ptr<NlsSolver> make_nls_solver(const std::string& name, const OptionMap& options);
