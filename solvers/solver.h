@@ -57,14 +57,7 @@ class RbfSolver {
 
 // Base of a solver whose options struct O has defaults, table() and validate() (what solver_entry<S> needs).
 template <typename O>
-class RbfSolverWithOptions : public RbfSolver {
- public:
-  using Options = O;
-  explicit RbfSolverWithOptions(Options options) : options_(std::move(options)) {}
-
- protected:
-  Options options_;
-};
+using RbfSolverWithOptions = WithOptions<RbfSolver, O>;
 
 // Runs the solver through timed_solve; the summary's details gain "nodes".
 SolveSummary train(RbfSolver& solver, const RbfProblem& problem, RbfNetwork& net);

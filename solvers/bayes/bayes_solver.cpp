@@ -18,8 +18,8 @@ SolveOutcome BayesRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, Sol
   p.fixed = Eigen::MatrixXd::Ones(problem.size(), 1);
   p.t_s = problem.t_s;
   p.report_scale = units::radps_to_dph(problem.y_scale);
-  if (options_.noise == "given") p.given_noise = given_noise_model(options_, median_sample_interval(p.t_s), problem.y_scale);
-  const BayesFit f = fit_bayes(p, options_, monitor);
+  if (o_.noise == "given") p.given_noise = given_noise_model(o_, median_sample_interval(p.t_s), problem.y_scale);
+  const BayesFit f = fit_bayes(p, o_, monitor);
   const Eigen::Index m = f.centres.rows();
   net.centres = f.centres;
   net.widths = f.widths.replicate(m, 1);

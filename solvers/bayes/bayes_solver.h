@@ -16,7 +16,7 @@ struct BayesOptions : BayesFitOptions {
 
 class BayesRbfSolver : public RbfSolverWithOptions<BayesOptions> {
  public:
-  using RbfSolverWithOptions::RbfSolverWithOptions;
+  using WithOptions::WithOptions;
   std::string_view name() const override { return "bayes"; }
   SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
 };

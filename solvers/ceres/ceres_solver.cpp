@@ -227,7 +227,7 @@ nlohmann::json parameter_sigmas(PackedNetwork& packed, ceres::Problem& cp, doubl
 }  // namespace
 
 SolveOutcome CeresRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) {
-  const CeresOptions& o = options_;
+  const CeresOptions& o = o_;
   const SolveSummary init = initial_network(o.init, o.init_options, problem, net);
   PackedNetwork packed(net);
   const Baseline constant{1, [](const double*, const double* beta, double* g) {

@@ -33,7 +33,7 @@ struct CeresOptions {
 
 class CeresRbfSolver : public RbfSolverWithOptions<CeresOptions> {
  public:
-  using RbfSolverWithOptions::RbfSolverWithOptions;
+  using WithOptions::WithOptions;
   std::string_view name() const override { return "ceres"; }
   SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
 };

@@ -50,6 +50,18 @@ class OptionTable {
   std::vector<Passthrough> passthroughs_;
 };
 
+// Base of a family member (an RBF solver, a least-squares back-end, a design solver) whose options struct O
+// has defaults, table() and validate(): what options_entry<Base, S> needs.
+template <typename Base, typename O>
+class WithOptions : public Base {
+ public:
+  using Options = O;
+  explicit WithOptions(Options options) : o_(std::move(options)) {}
+
+ protected:
+  Options o_;
+};
+
 // A registry entry for a class S of family Base with `using Options = ...;` (defaults, table(), validate())
 // and a constructor S(Options, extra...): its help lists the options with their defaults and ranges; the
 // options are applied and validated when S is made, errors prefixed by `owner` and the name.

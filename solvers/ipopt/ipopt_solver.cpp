@@ -35,8 +35,8 @@ std::string IpoptOptions::validate() const {
   return check_init(init, init_options);
 }
 
-IpoptRbfSolver::IpoptRbfSolver(Options options) : RbfSolverWithOptions(std::move(options)) {
-  if (!options_.init_options.count("max_nodes")) options_.init_options["max_nodes"] = std::to_string(options_.nodes);
+IpoptRbfSolver::IpoptRbfSolver(Options options) : WithOptions(std::move(options)) {
+  if (!o_.init_options.count("max_nodes")) o_.init_options["max_nodes"] = std::to_string(o_.nodes);
 }
 
 namespace {
@@ -229,24 +229,24 @@ class RbfNlp : public Ipopt::TNLP {
 }  // namespace
 
 SolveOutcome IpoptRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) {
-  const SolveSummary init = initial_network(options_.init, options_.init_options, problem, net);
-  if (net.nodes() > options_.nodes) {  // keep the budget (forward selection orders nodes by importance)
-    net.centres.conservativeResize(options_.nodes, Eigen::NoChange);
-    net.widths.conservativeResize(options_.nodes, Eigen::NoChange);
-    net.weights.conservativeResize(options_.nodes);
+  const SolveSummary init = initial_network(o_.init, o_.init_options, problem, net);
+  if (net.nodes() > o_.nodes) {  // keep the budget (forward selection orders nodes by importance)
+    net.centres.conservativeResize(o_.nodes, Eigen::NoChange);
+    net.widths.conservativeResize(o_.nodes, Eigen::NoChange);
+    net.weights.conservativeResize(o_.nodes);
   }
-  Ipopt::SmartPtr<RbfNlp> nlp = new RbfNlp(problem, net, options_, monitor);
-  if (options_.constraint != "none") {
+  Ipopt::SmartPtr<RbfNlp> nlp = new RbfNlp(problem, net, o_, monitor);
+  if (o_.constraint != "none") {
     std::vector<double> x0(static_cast<std::size_t>(net.nodes() * NodeBlock<double>::size(problem.dimension())));
     nlp->get_starting_point(0, true, x0.data(), false, nullptr, nullptr, 0, false, nullptr);
-    nlp->bound_ = options_.bound > 0 ? options_.bound : 1.5 * nlp->constraint_value(x0.data());
+    nlp->bound_ = o_.bound > 0 ? o_.bound : 1.5 * nlp->constraint_value(x0.data());
   }
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-  app->Options()->SetIntegerValue("print_level", options_.print_level);
+  app->Options()->SetIntegerValue("print_level", o_.print_level);
   app->Options()->SetStringValue("sb", "yes");
-  app->Options()->SetStringValue("hessian_approximation", options_.hessian == "gauss_newton" ? "exact" : "limited-memory");
-  app->Options()->SetIntegerValue("max_iter", options_.max_iterations);
-  app->Options()->SetNumericValue("tol", options_.tolerance);
+  app->Options()->SetStringValue("hessian_approximation", o_.hessian == "gauss_newton" ? "exact" : "limited-memory");
+  app->Options()->SetIntegerValue("max_iter", o_.max_iterations);
+  app->Options()->SetNumericValue("tol", o_.tolerance);
   // Bounds are rarely active at the solution: start the barrier small and decrease it monotonically, so it
   // does not hold the iterates away from the least-squares minimum.
   app->Options()->SetStringValue("mu_strategy", "monotone");
@@ -254,7 +254,7 @@ SolveOutcome IpoptRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, Sol
   if (app->Initialize() != Ipopt::Solve_Succeeded) fail("ipopt: initialisation failed");
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(nlp);
   return {termination_of(nlp->status), str_cat("Ipopt application status ", static_cast<int>(status)),
-          {{"init", init}, {"constraint", options_.constraint}, {"bound", nlp->bound_}}};
+          {{"init", init}, {"constraint", o_.constraint}, {"bound", nlp->bound_}}};
 }
 
 }  // namespace gyrosid

@@ -106,18 +106,18 @@ Selection select_pass(const Eigen::MatrixXd& h, const Eigen::VectorXd& y, const 
 
 SolveOutcome LrolsLooSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) {
   const Eigen::Index n = problem.size(), dim = problem.dimension();
-  const Eigen::RowVectorXd r = node_widths(options_.width, parse_list(options_.widths, "lrols_loo option 'widths'"), dim);
-  const std::vector<Eigen::Index> cand = select_candidates(problem.x, options_.candidates);
+  const Eigen::RowVectorXd r = node_widths(o_.width, parse_list(o_.widths, "lrols_loo option 'widths'"), dim);
+  const std::vector<Eigen::Index> cand = select_candidates(problem.x, o_.candidates);
   const Eigen::Index m = static_cast<Eigen::Index>(cand.size());
   const Eigen::MatrixXd h = gaussian_columns(problem.x, rows_of(problem.x, cand), r);
 
-  Eigen::VectorXd lambda = Eigen::VectorXd::Constant(m, options_.lambda);
+  Eigen::VectorXd lambda = Eigen::VectorXd::Constant(m, o_.lambda);
   Selection s;
   std::vector<Eigen::Index> previous;
   int pass = 0;
   bool settled = false;
-  for (; pass < options_.passes; ++pass) {
-    s = select_pass(h, problem.y, lambda, options_.max_nodes);
+  for (; pass < o_.passes; ++pass) {
+    s = select_pass(h, problem.y, lambda, o_.max_nodes);
     if (s.nodes.empty()) fail("lrols_loo: no node lowers the leave-one-out error (target constant or zero?)");
     monitor.iteration(s.loo);
     // Evidence update of the selected lambdas (the others keep theirs).

@@ -29,7 +29,7 @@ struct LrolsLooOptions {
 
 class LrolsLooSolver : public RbfSolverWithOptions<LrolsLooOptions> {
  public:
-  using RbfSolverWithOptions::RbfSolverWithOptions;
+  using WithOptions::WithOptions;
   std::string_view name() const override { return "lrols_loo"; }
   SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
 };

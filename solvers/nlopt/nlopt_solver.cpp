@@ -44,7 +44,7 @@ std::string NloptOptions::validate() const {
 }
 
 SolveOutcome NloptRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) {
-  const NloptOptions& o = options_;
+  const NloptOptions& o = o_;
   const Eigen::Index d = problem.dimension();
   const Eigen::Index nw = o.per_input_widths ? d : 1;
   const unsigned nv = static_cast<unsigned>(nw + 1);

@@ -26,7 +26,7 @@ struct NloptOptions {
 
 class NloptRbfSolver : public RbfSolverWithOptions<NloptOptions> {
  public:
-  using RbfSolverWithOptions::RbfSolverWithOptions;
+  using WithOptions::WithOptions;
   std::string_view name() const override { return "nlopt"; }
   SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
 };

@@ -70,7 +70,7 @@ ceres::LinearSolverType linear_solver_type(const std::string& name) {
 
 class CeresNls : public NlsSolverWithOptions<NlsCeresOptions> {
  public:
-  using NlsSolverWithOptions::NlsSolverWithOptions;
+  using WithOptions::WithOptions;
   std::string_view name() const override { return "ceres"; }
 
   SolveOutcome minimize(NlsProblem& p, SolveMonitor& monitor) override {
@@ -101,7 +101,7 @@ class CeresNls : public NlsSolverWithOptions<NlsCeresOptions> {
 
 class NloptNls : public NlsSolverWithOptions<NlsNloptOptions> {
  public:
-  using NlsSolverWithOptions::NlsSolverWithOptions;
+  using WithOptions::WithOptions;
   std::string_view name() const override { return "nlopt"; }
 
   SolveOutcome minimize(NlsProblem& p, SolveMonitor& monitor) override {
@@ -212,7 +212,7 @@ class NlsNlp : public Ipopt::TNLP {
 
 class IpoptNls : public NlsSolverWithOptions<NlsIpoptOptions> {
  public:
-  using NlsSolverWithOptions::NlsSolverWithOptions;
+  using WithOptions::WithOptions;
   std::string_view name() const override { return "ipopt"; }
 
   SolveOutcome minimize(NlsProblem& p, SolveMonitor& monitor) override {

@@ -64,14 +64,7 @@ struct NlsIpoptOptions {
 
 // Base of a back-end whose options struct O has defaults, table() and validate() (what nls_entry needs).
 template <typename O>
-class NlsSolverWithOptions : public NlsSolver {
- public:
-  using Options = O;
-  explicit NlsSolverWithOptions(Options options) : o_(std::move(options)) {}
-
- protected:
-  Options o_;
-};
+using NlsSolverWithOptions = WithOptions<NlsSolver, O>;
 
 using NlsSolverRegistry = Registry<NlsSolver, const OptionMap&>;
 const NlsSolverRegistry& nls_solvers();

@@ -116,7 +116,7 @@ TunedNode tune_node(const RbfProblem& problem, const OrthogonalModel& model, con
 }  // namespace
 
 SolveOutcome OfsLooSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) {
-  const OfsLooOptions& o = options_;
+  const OfsLooOptions& o = o_;
   const Eigen::Index n = problem.size(), dim = problem.dimension();
   const std::vector<Eigen::Index> cand = select_candidates(problem.x, o.candidates);
   OrthogonalModel model{Eigen::MatrixXd(n, o.max_nodes), 0, RecursiveLoo(problem.y), o.lambda};

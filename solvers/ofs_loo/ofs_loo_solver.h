@@ -27,7 +27,7 @@ struct OfsLooOptions {
 
 class OfsLooSolver : public RbfSolverWithOptions<OfsLooOptions> {
  public:
-  using RbfSolverWithOptions::RbfSolverWithOptions;
+  using WithOptions::WithOptions;
   std::string_view name() const override { return "ofs_loo"; }
   SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
 };

@@ -43,12 +43,12 @@ void fill_network(const ForwardSelectionResult& r, const Eigen::RowVectorXd& wid
 }
 
 SolveOutcome OlsSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) {
-  const ForwardSelectionOptions s = options_.selection(problem.dimension());
+  const ForwardSelectionOptions s = o_.selection(problem.dimension());
   const ForwardSelectionResult r = forward_select(problem.x, problem.y, s);
   for (double c : r.criterion_history) monitor.iteration(c);
   fill_network(r, s.widths, net);
   return {r.termination, r.stop_reason,
-          {{"criterion", options_.criterion}, {"criterion_value", r.criterion}, {"lambda", r.lambda},
+          {{"criterion", o_.criterion}, {"criterion_value", r.criterion}, {"lambda", r.lambda},
            {"effective_parameters", r.effective_parameters}, {"rss", r.rss}, {"candidates", r.candidates},
            {"skipped_collinear", r.skipped_collinear},
            {"width", std::vector<double>(s.widths.data(), s.widths.data() + s.widths.size())}}};

@@ -25,7 +25,7 @@ struct OlsOptions {
 
 class OlsSolver : public RbfSolverWithOptions<OlsOptions> {
  public:
-  using RbfSolverWithOptions::RbfSolverWithOptions;
+  using WithOptions::WithOptions;
   std::string_view name() const override { return "ols"; }
   SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override;
 };

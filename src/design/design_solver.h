@@ -70,13 +70,11 @@ struct NloptDesignOptions {
 
 // Base of a design solver whose options struct O has defaults, table() and validate().
 template <typename O>
-class DesignSolverWithOptions : public DesignSolver {
+class DesignSolverWithOptions : public WithOptions<DesignSolver, O> {
  public:
-  using Options = O;
-  DesignSolverWithOptions(Options options, std::uint64_t seed) : o_(std::move(options)), seed_(seed) {}
+  DesignSolverWithOptions(O options, std::uint64_t seed) : WithOptions<DesignSolver, O>(std::move(options)), seed_(seed) {}
 
  protected:
-  Options o_;
   std::uint64_t seed_;
 };
 

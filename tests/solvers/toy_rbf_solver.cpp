@@ -27,16 +27,16 @@ struct GridLsOptions {
 
 class GridLsSolver : public RbfSolverWithOptions<GridLsOptions> {
  public:
-  using RbfSolverWithOptions::RbfSolverWithOptions;
+  using WithOptions::WithOptions;
   std::string_view name() const override { return "grid_ls"; }
   SolveOutcome fit(const RbfProblem& problem, RbfNetwork& net, SolveMonitor& monitor) override {
-    const Eigen::Index d = problem.dimension(), k = options_.nodes_per_axis;
+    const Eigen::Index d = problem.dimension(), k = o_.nodes_per_axis;
     const auto m = static_cast<Eigen::Index>(std::pow(static_cast<double>(k), static_cast<double>(d)));
     net.centres.resize(m, d);
     for (Eigen::Index j = 0; j < m; ++j) {
       for (Eigen::Index a = 0, rest = j; a < d; ++a, rest /= k) net.centres(j, a) = -1.0 + 2.0 * static_cast<double>(rest % k) / static_cast<double>(k - 1);
     }
-    net.widths = Eigen::MatrixXd::Constant(m, d, options_.width);
+    net.widths = Eigen::MatrixXd::Constant(m, d, o_.width);
     net.weights = Eigen::VectorXd::Zero(m);
     Eigen::MatrixXd a(problem.size(), m + 1);
     a.leftCols(m) = net.basis(problem.x);
