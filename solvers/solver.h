@@ -66,7 +66,7 @@ using RbfSolverRegistry = Registry<RbfSolver, const OptionMap&>;
 // Every RBF solver, in the order listings show them.
 const RbfSolverRegistry& rbf_solvers();
 // The same registry, open for a program to add its own solvers before it makes any (not thread-safe:
-// register at start-up). tests/solvers/test_solver_properties.cpp adds one this way.
+// register at start-up). tests/solvers/toy_rbf_solver.cpp adds one this way.
 RbfSolverRegistry& extend_rbf_solvers();
 
 std::unique_ptr<RbfSolver> make_solver(const std::string& name, const OptionMap& options);

@@ -93,8 +93,6 @@ class AllTurnsCost {
  public:
   AllTurnsCost(std::vector<GravityTurnCost> turns, std::vector<Eigen::Matrix<double, 3, 2>> bases, Eigen::MatrixXd whitening)
       : turns_(std::move(turns)), bases_(std::move(bases)), whitening_(std::move(whitening)) {}
-  static constexpr int kFirstBiasBlock = 3;  // p[0..2]: M's rows; p[kFirstBiasBlock + axis]: the axis's bias
-
   template <typename T>
   bool operator()(T const* const* p, T* residual) const {
     const auto n = static_cast<Eigen::Index>(2 * turns_.size());

@@ -85,7 +85,6 @@ CalibrationRequest request_of(CalibrateOptions& o) {
   return request;
 }
 
-// What the fit says beside its model: left-out physics, a lot prior's share and predictive sigma, the noise.
 // "a, b (note), c": a registry's names for help text, `marked` annotated.
 std::string noted(std::vector<std::string> names, std::string_view marked, std::string_view note) {
   for (std::string& name : names) {
@@ -94,6 +93,7 @@ std::string noted(std::vector<std::string> names, std::string_view marked, std::
   return join(names);
 }
 
+// What the fit says beside its model: left-out physics, a lot prior's share and predictive sigma, the noise.
 void print_fit_notes(const nlohmann::json& details) {
   if (details.contains("physics_left_out")) std::cout << "physics: " << details["physics_left_out"]["note"].get<std::string>() << "\n";
   if (details.contains("data_share")) {

@@ -51,7 +51,7 @@ SolveSummary run_design_solver(DesignSolver& solver, const DesignProblem& proble
 using DesignSolverRegistry = Registry<DesignSolver, const OptionMap&, std::uint64_t>;
 const DesignSolverRegistry& design_solvers();
 // The same registry, open for a program to add its own solvers before it makes any (not thread-safe:
-// register at start-up). tests/design/test_design_solver_properties.cpp adds one this way.
+// register at start-up). tests/design/toy_design_solver.cpp adds one this way.
 DesignSolverRegistry& extend_design_solvers();
 std::unique_ptr<DesignSolver> make_design_solver(const std::string& name, const OptionMap& options, std::uint64_t seed);
 

@@ -14,8 +14,17 @@ std::vector<double> greybox_bias_nodes_c(const GreyboxOptions& o) {
   return nodes;
 }
 
-std::vector<GreyboxCoordinate> greybox_coordinates(const GreyboxOptions& o) {
+namespace {
+
+// theta is defined on the surface form only (a polynomial scale factor has no grid to compare units on).
+void require_surface_form(const GreyboxOptions& o) {
   if (o.scale_factor != ScaleFactorForm::surface) fail("a grey-box prior needs the surface form of the scale factor (scale_factor=surface)");
+}
+
+}  // namespace
+
+std::vector<GreyboxCoordinate> greybox_coordinates(const GreyboxOptions& o) {
+  require_surface_form(o);
   std::vector<GreyboxCoordinate> c;
   for (double t : greybox_bias_nodes_c(o)) c.push_back({str_cat("bias(", format_number(t), " C)"), "bias", "dph", t, 0.0});
   for (double t : o.surface_temperatures_c) {
@@ -42,7 +51,7 @@ GreyboxThetaLayout::GreyboxThetaLayout(const GreyboxOptions& o) {
 }
 
 Eigen::VectorXd greybox_theta(const GyroErrorModel& e, double lag_tau_s, const GreyboxOptions& o) {
-  if (o.scale_factor != ScaleFactorForm::surface) fail("a grey-box prior needs the surface form of the scale factor (scale_factor=surface)");
+  require_surface_form(o);
   const GreyboxThetaLayout at(o);
   Eigen::VectorXd theta(at.size);
   const std::vector<double> nodes = greybox_bias_nodes_c(o);

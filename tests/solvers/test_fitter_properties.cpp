@@ -21,8 +21,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The reference FOG along the thesis's dual scan, 1500 samples (a minute of the 4-h scan is not enough: the
-// whole scan at 0.1 Hz sees every temperature and rate).
+// The reference FOG along the thesis's dual scan, 1500 samples: the whole 62-min scan at 0.4 Hz, every
+// temperature and rate it visits.
 const Recording& dual_scan() {
   static const Recording r = [] {
     TrajectorySpec t = load_trajectory_file("builtin:trajectories/dual_scan.yaml");
