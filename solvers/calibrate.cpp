@@ -206,10 +206,13 @@ CalibrationResult calibrate(const Recording& recording, const CalibrationRequest
   return result;
 }
 
-void state_decimation(CalibrationResult& result, const Recording& recording, const Decimation& decimation) {
+std::string state_decimation(CalibrationResult& result, const Recording& recording, const Decimation& decimation) {
   const Dataset d = make_dataset(recording, result.model->features(), result.model->target());
   const double rms = units::radps_to_dph(std::sqrt((d.target - result.model->predict(d)).squaredNorm() / static_cast<double>(std::max<Eigen::Index>(d.size(), 1))));
-  result.summary.details["decimation"] = decimation_summary(decimation, averaging_bias(*result.model, d, decimation, rms));
+  nlohmann::json summary = decimation_summary(decimation, averaging_bias(*result.model, d, decimation, rms));
+  std::string statement = summary.at("statement").get<std::string>();
+  result.summary.details["decimation"] = std::move(summary);
+  return statement;
 }
 
 CalibrationRequest calibration_request_from_config(const ConfigNode& c, const std::vector<std::string>& also_allowed) {

@@ -56,8 +56,8 @@ GreyboxOptions greybox_options(const OptionMap& options);
 
 // A result fitted to block means (core/decimation.h) says so: summary.details["decimation"] holds the
 // decimation, the fitted model's averaging bias on `recording` (the block means it was fitted to;
-// model/averaging_bias.h) and their "statement".
-void state_decimation(CalibrationResult& result, const Recording& recording, const Decimation& decimation);
+// model/averaging_bias.h) and their "statement", which it returns.
+std::string state_decimation(CalibrationResult& result, const Recording& recording, const Decimation& decimation);
 
 class ConfigNode;
 // A request from a calibration YAML (keys model, solver, features, target, normalization, options; the

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "model/fit_notes.h"
 #include "solvers/bayes/bayes_solver.h"
 #include "solvers/ceres/ceres_solver.h"
 #include "solvers/ipopt/ipopt_solver.h"
@@ -36,7 +37,9 @@ RbfProblem make_rbf_problem(const Dataset& data, NormalizationKind normalization
 
 SolveSummary train(RbfSolver& solver, const RbfProblem& problem, RbfNetwork& net) {
   SolveSummary s = timed_solve(std::string(solver.name()), [&](SolveMonitor& monitor) { return solver.fit(problem, net, monitor); });
-  s.details["nodes"] = net.nodes();
+  FitNotes notes;
+  notes.nodes = static_cast<int>(net.nodes());
+  write_fit_notes(notes, s.details);
   return s;
 }
 

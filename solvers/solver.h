@@ -7,8 +7,8 @@
 //
 // A solver's options are a struct with defaults, an OptionTable binding their key=value names, and
 // validate() for what the table's ranges cannot say (cross-field rules); make_solver checks both before any
-// solve. Every solve returns the shared SolveSummary (core/solve_summary.h); details["nodes"] is the size of
-// the fitted network.
+// solve. Every solve returns the shared SolveSummary (core/solve_summary.h); its fit notes
+// (model/fit_notes.h) give the size of the fitted network.
 #pragma once
 
 #include <Eigen/Core>

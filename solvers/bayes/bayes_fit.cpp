@@ -14,6 +14,7 @@
 #include "core/format.h"
 #include "core/recording.h"
 #include "core/units.h"
+#include "model/fit_notes.h"
 #include "model/gaussian_node.h"
 #include "solvers/bayes/evidence.h"
 #include "solvers/bayes/model_error.h"
@@ -581,10 +582,12 @@ nlohmann::json BayesFit::details(double y_scale) const {
   nlohmann::json j = {{"width", std::vector<double>(widths.data(), widths.data() + widths.size())},
                       {"alpha", std::exp(log_alpha)}, {"beta", std::exp(log_beta)},
                       {"effective_parameters", gamma}, {"log_evidence", log_evidence},
-                      {"noise_sigma_radps", noise_sigma * y_scale}, {"noise_choice", noise_choice},
-                      {"evaluations", evaluations}};
+                      {"noise_sigma_radps", noise_sigma * y_scale}, {"evaluations", evaluations}};
+  FitNotes notes;
+  notes.noise_choice = noise_choice;
+  notes.noise_identification = noise_identification;
+  write_fit_notes(notes, j);
   if (!noise_averaging.empty()) j["noise_averaging"] = noise_averaging;
-  if (!noise_identification.empty()) j["noise_identification"] = noise_identification;
   if (!model_error_note.empty()) {
     const double to_dph2 = std::pow(y_scale * 180.0 / 3.14159265358979323846 * 3600.0, 2);
     j["model_error"] = model_error_note;

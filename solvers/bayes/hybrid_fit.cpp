@@ -5,6 +5,7 @@
 #include "core/recording.h"
 #include "core/units.h"
 #include "model/dataset.h"
+#include "model/fit_notes.h"
 #include "model/held_inputs.h"
 #include "model/terms/term_kinds.h"
 #include "solvers/common/candidates.h"
@@ -144,10 +145,12 @@ std::unique_ptr<HybridModel> fit_hybrid(const Recording& recording, const Hybrid
     f = fit_bayes(p, o, monitor);
     nlohmann::json details = f.details(y_scale);
     details["physics_columns"] = p.fixed.cols();
-    if (!physics.note.empty()) details["physics_left_out"] = {{"columns", physics.left_out}, {"note", physics.note}};
+    FitNotes notes;
+    notes.nodes = static_cast<int>(f.centres.rows());
+    if (!physics.note.empty()) notes.physics_left_out = PhysicsLeftOut{physics.left_out, physics.note};
+    write_fit_notes(notes, details);
     return SolveOutcome{f.termination, f.message, details};
   });
-  summary.details["nodes"] = f.centres.rows();
   const Eigen::Index m = f.centres.rows();
   rbf.centres = f.centres;
   rbf.widths = f.widths.replicate(m, 1);

@@ -69,6 +69,7 @@ namespace {
 TriadFit as_auto(TriadFit f, const TriadFitOptions& options, const char* chosen, const std::string& why) {
   f.options = options;
   f.summary.details["estimation"] = "auto";
+  f.estimation_chosen = chosen;
   f.summary.details["estimation_chosen"] = chosen;
   f.notes.insert(f.notes.begin(), "estimation=auto: " + why);
   return f;

@@ -202,6 +202,7 @@ struct TriadFit {
   SolveSummary summary;             // the final solve; details["stages"] holds every stage's summary,
                                     // details["information_criterion"] the criterion above
   TriadFitOptions options;
+  std::string estimation_chosen;    // estimation=auto: the fit it returned, joint or sequential (auto_estimation.h)
 };
 
 TriadFit fit_triad(const TriadData& data, const TriadFitOptions& options, const std::string& reference_metadata = "");

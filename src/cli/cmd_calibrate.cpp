@@ -15,6 +15,7 @@
 #include "core/recording_reader.h"
 #include "lot/lot_model.h"
 #include "model/calibration_model.h"
+#include "model/fit_notes.h"
 #include "solvers/calibrate.h"
 #include "solvers/preset_choice.h"
 #include "solvers/nls/nls_solver.h"
@@ -94,24 +95,21 @@ std::string noted(std::vector<std::string> names, std::string_view marked, std::
 }
 
 // What the fit says beside its model: left-out physics, a lot prior's share and predictive sigma, the noise.
-void print_fit_notes(const nlohmann::json& details) {
-  if (details.contains("physics_left_out")) std::cout << "physics: " << details["physics_left_out"]["note"].get<std::string>() << "\n";
-  if (details.contains("data_share")) {
+void print_fit_notes(const FitNotes& n) {
+  if (n.physics_left_out) std::cout << "physics: " << n.physics_left_out->note << "\n";
+  if (!n.data_share.empty()) {
     std::cout << "share of each term's information from the recording (1) or the lot's prior (0):";
-    for (const auto& [group, share] : details["data_share"].items()) std::cout << " " << group << " " << format_significant(share.get<double>(), 2);
+    for (const auto& [group, share] : n.data_share) std::cout << " " << group << " " << format_significant(share, 2);
     std::cout << "\n";
   }
-  if (details.contains("predictive_sigma")) {  // where the prior filled in: the estimate's sd is largest there
-    const nlohmann::json& ps = details["predictive_sigma"];
-    std::cout << "predictive sigma of the estimated error over the surface grid's nodes: rms " << format_significant(ps["rms_dph"].get<double>(), 3)
-              << " deg/h, max " << format_significant(ps["max_dph"].get<double>(), 3) << " deg/h at " << format_number(ps["max_at_temp_c"].get<double>())
-              << " C, " << format_number(ps["max_at_rate_dps"].get<double>()) << " deg/s\n";
+  if (const auto& ps = n.predictive_sigma) {  // where the prior filled in: the estimate's sd is largest there
+    std::cout << "predictive sigma of the estimated error over the surface grid's nodes: rms " << format_significant(ps->rms_dph, 3)
+              << " deg/h, max " << format_significant(ps->max_dph, 3) << " deg/h at " << format_number(ps->max_at_temp_c)
+              << " C, " << format_number(ps->max_at_rate_dps) << " deg/s\n";
   }
-  if (details.contains("physics_note")) std::cout << "physics: " << details["physics_note"].get<std::string>() << "\n";
-  if (details.contains("noise_choice")) std::cout << "noise model: " << details["noise_choice"].get<std::string>() << "\n";
-  if (details.contains("noise_identification")) {
-    std::cout << "noise identification of the residual (as gyrosid allan would give it): " << details["noise_identification"].get<std::string>() << "\n";
-  }
+  if (!n.physics_note.empty()) std::cout << "physics: " << n.physics_note << "\n";
+  if (!n.noise_choice.empty()) std::cout << "noise model: " << n.noise_choice << "\n";
+  if (!n.noise_identification.empty()) std::cout << "noise identification of the residual (as gyrosid allan would give it): " << n.noise_identification << "\n";
 }
 
 void run_calibrate(CalibrateOptions o) {
@@ -139,15 +137,13 @@ void run_calibrate(CalibrateOptions o) {
   progress_note(str_cat("calibrate: fitting the ", request.model, " model to ", rec.rows(), " samples"));
   CalibrationResult result = calibrate(rec, request);
   if (choice) result.training["preset"] = {{"chosen", choice->preset}, {"reasons", choice->reasons}};
-  if (read.decimation.applied()) {
-    state_decimation(result, rec, read.decimation);
-    std::cout << result.summary.details["decimation"]["statement"].get<std::string>() << "\n";
-  }
-  print_fit_notes(result.summary.details);
+  if (read.decimation.applied()) std::cout << state_decimation(result, rec, read.decimation) << "\n";
+  const FitNotes notes = fit_notes_of(result.summary.details);
+  print_fit_notes(notes);
   save_model(o.out, *result.model, {{"training", result.training}, {"summary", result.summary}});
   std::cout << "wrote " << o.out << ": " << result.model->kind() << " model";
   const SolveSummary& s = result.summary;
-  if (s.details.contains("nodes")) std::cout << ", " << s.details["nodes"].get<int>() << " nodes";
+  if (notes.nodes) std::cout << ", " << notes.size();
   std::cout << ", " << to_string(s.termination);
   if (!s.message.empty()) std::cout << " (" << s.message << ")";
   std::cout << ", " << format_significant(s.time_s, 3) << " s, peak " << format_significant(s.peak_rss_mb, 3) << " MB";

@@ -39,7 +39,7 @@ void calibrate_triad(const TriadCalibrateRequest& r) {
   const nlohmann::json training = {{"recording", rec.source()}, {"samples", rec.rows()}, {"options", map}};
   write_file_atomic(r.out, triad_fit_json(fit, training).dump(1) + "\n");
 
-  const std::string estimation = o.estimation == "auto" ? "auto (" + fit.summary.details["estimation_chosen"].get<std::string>() + " returned)" : o.estimation;
+  const std::string estimation = o.estimation == "auto" ? "auto (" + fit.estimation_chosen + " returned)" : o.estimation;
   std::cout << "wrote " << r.out << ": triad model, " << estimation << ", surfaces " << o.surfaces << ", " << o.solver << " "
             << to_string(fit.summary.termination) << ", " << format_significant(fit.summary.time_s, 3) << " s\n";
   for (int i = 0; i < 3; ++i) {

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/units.h"
+#include "model/fit_notes.h"
 #include "model/held_inputs.h"
 
 namespace gyrosid {
@@ -212,10 +213,13 @@ std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const Classic
     const double rss = (all * coeff - data.target).squaredNorm();
     monitor.iteration(0.5 * rss);
     const auto diag = qr.matrixR().diagonal().cwiseAbs();
-    nlohmann::json details = {{"samples", n}, {"parameters", p},
+    nlohmann::json details = {{"samples", n},
                               {"rms_residual_dph", units::radps_to_dph(std::sqrt(rss / static_cast<double>(n)))},
                               {"condition_estimate", diag.maxCoeff() / diag.minCoeff()}};
-    if (!left_out.empty()) details["physics_left_out"] = {{"columns", left_out}, {"note", held.left_out_note(left_out)}};
+    FitNotes notes;
+    notes.parameters = static_cast<int>(p);
+    if (!left_out.empty()) notes.physics_left_out = PhysicsLeftOut{left_out, held.left_out_note(left_out)};
+    write_fit_notes(notes, details);
     return SolveOutcome{Termination::converged, "linear least squares by column-pivoted QR", details};
   });
   if (summary) *summary = s;

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/units.h"
+#include "model/fit_notes.h"
 #include "model/greybox_prior.h"
 #include "model/held_inputs.h"
 #include "model/surface_comparison.h"
@@ -214,7 +215,7 @@ LagSearch search_lag(const std::function<double(double)>& rss_at, const GreyboxO
 }
 
 // 1 - posterior / prior variance, averaged over each group of coordinates (the lag apart).
-nlohmann::json data_share(const GreyboxOptions& o, const Eigen::MatrixXd& posterior, const GreyboxPrior& prior) {
+std::vector<std::pair<std::string, double>> data_share(const GreyboxOptions& o, const Eigen::MatrixXd& posterior, const GreyboxPrior& prior) {
   std::map<std::string, std::pair<double, int>> sum;
   const auto coordinates = greybox_coordinates(o);
   for (Eigen::Index i = 0; i < posterior.rows(); ++i) {
@@ -223,8 +224,8 @@ nlohmann::json data_share(const GreyboxOptions& o, const Eigen::MatrixXd& poster
     share += std::clamp(1.0 - posterior(i, i) / prior.covariance(i, i), 0.0, 1.0);
     ++count;
   }
-  nlohmann::json out = nlohmann::json::object();
-  for (const auto& [group, sc] : sum) out[group] = sc.first / sc.second;
+  std::vector<std::pair<std::string, double>> out;
+  for (const auto& [group, sc] : sum) out.emplace_back(group, sc.first / sc.second);
   return out;
 }
 
@@ -262,9 +263,9 @@ Eigen::MatrixXd theta_covariance_of(const Eigen::MatrixXd& m, const Eigen::Matri
 
 // The predictive sigma of a model with a posterior over the nodes of its surface grid (deg/h): what a user
 // reads to see where the prior filled in.
-nlohmann::json predictive_sigma_details(const CalibrationModel& model, const GreyboxOptions& o) {
+PredictiveSigma predictive_sigma(const CalibrationModel& model, const GreyboxOptions& o) {
   const SigmaMap map = predictive_sigma_map(model, o.surface_temperatures_c, o.surface_rates_dps);
-  return {{"grid", "surface nodes"}, {"rms_dph", map.rms_dph}, {"max_dph", map.max_dph}, {"max_at_temp_c", map.max_temp_c}, {"max_at_rate_dps", map.max_rate_dps}};
+  return {map.rms_dph, map.max_dph, map.max_temp_c, map.max_rate_dps};
 }
 
 GreyboxEstimate estimate(const Dataset& data, const GreyboxOptions& o, const GreyboxPrior* prior, SolveSummary* summary, bool want_covariance) {
@@ -323,19 +324,25 @@ GreyboxEstimate estimate(const Dataset& data, const GreyboxOptions& o, const Gre
     out.model = std::make_unique<GreyboxModel>(data.features, error_model_of(o, scaling, c), lag.tau_s, std::move(posterior));
     out.residual_sd_radps = sd;
     lag.outcome.details = {{"samples", data.size()},
-                           {"parameters", p + (o.thermal_lag ? 1 : 0)},
                            {"rms_residual_dph", units::radps_to_dph(std::sqrt(rss / static_cast<double>(data.size())))},
                            {"lag_tau_s", lag.tau_s},
                            {"lag_evaluations", o.thermal_lag ? lag.evaluations : 0}};
     if (covariance.size() > 0) out.theta_covariance = theta_covariance_of(m, covariance, o.thermal_lag);
+    FitNotes notes;
+    notes.parameters = p + (o.thermal_lag ? 1 : 0);
     if (prior) {
       lag.outcome.details["prior"] = prior->source;
-      lag.outcome.details["data_share"] = data_share(o, out.theta_covariance, *prior);
+      notes.data_share = data_share(o, out.theta_covariance, *prior);
     }
-    if (const HeldInputs held = held_inputs(s.rate, s.temp_c); held.temperature || held.rate) lag.outcome.details["physics_note"] = held.ridge_note();
+    if (const HeldInputs held = held_inputs(s.rate, s.temp_c); held.temperature || held.rate) notes.physics_note = held.ridge_note();
+    write_fit_notes(notes, lag.outcome.details);
     return lag.outcome;
   });
-  if (out.model->posterior()) result.details["predictive_sigma"] = predictive_sigma_details(*out.model, o);
+  if (out.model->posterior()) {
+    FitNotes notes;
+    notes.predictive_sigma = predictive_sigma(*out.model, o);
+    write_fit_notes(notes, result.details);
+  }
   if (want_covariance) out.theta = greybox_theta(out.model->errors(), out.model->lag_tau_s(), o);
   if (summary) *summary = result;
   return out;

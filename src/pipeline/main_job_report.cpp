@@ -6,6 +6,7 @@
 #include "core/format.h"
 #include "pipeline/main_job.h"
 #include "core/version.h"
+#include "model/fit_notes.h"
 #include "report/cof_json.h"
 #include "report/html.h"
 
@@ -20,10 +21,7 @@ nlohmann::json uncompensated_json(const nav::CofRun& run) {
   return j;
 }
 
-std::string model_size(const SolveSummary& fit) {
-  if (fit.details.contains("nodes")) return std::to_string(fit.details["nodes"].get<int>()) + " nodes";
-  return std::to_string(fit.details.value("parameters", 0)) + " coefficients";
-}
+std::string model_size(const SolveSummary& fit) { return fit_notes_of(fit.details).size(); }
 
 void surfaces_section(std::ostream& md, const MainJobResult& r) {
   md << "## Models against the true error surface (cf. Tables 5.2/5.3)\n\n"

@@ -13,6 +13,7 @@
 #include "core/units.h"
 #include "model/averaging_bias.h"
 #include "model/classical_model.h"
+#include "model/fit_notes.h"
 #include "model/greybox_fit.h"
 #include "model/hybrid_model.h"
 #include "model/physics_terms.h"
@@ -71,7 +72,7 @@ TEST(ClassicalModel, RecoversPlantedPolynomialCoefficients) {
   }
   EXPECT_EQ(s.termination, Termination::converged);
   EXPECT_LT(s.details["rms_residual_dph"].get<double>(), 1e-8);
-  EXPECT_EQ(s.details["parameters"].get<int>(), 4 + 2 + 7);
+  EXPECT_EQ(fit_notes_of(s.details).parameters, 4 + 2 + 7);
 }
 
 // sf_cross_order: the rate shape's coefficients polynomial in temperature (v^i u^k w). A planted surface whose
@@ -101,7 +102,7 @@ TEST(ClassicalModel, CrossTermsRecoverARateShapeThatMovesWithTemperature) {
       EXPECT_NEAR(fit->predict(x), truth.predict(x), 1e-12 * dps_to_radps(1)) << t << " C, " << w << " deg/s";
     }
   }
-  EXPECT_EQ(s.details["parameters"].get<int>(), 2 + 1 + 4 + 2 * 3);
+  EXPECT_EQ(fit_notes_of(s.details).parameters, 2 + 1 + 4 + 2 * 3);
   EXPECT_LT(s.details["rms_residual_dph"].get<double>(), 1e-8);
   o.sf_cross_order = 0;  // separable: the temperature-dependent rate^2 term is out of reach (7.5 deg/h rms left)
   fit_classical(d, o, &s);
@@ -129,7 +130,7 @@ TEST(ClassicalModel, LeavesOutWhatAHeldInputCannotDetermine) {
   plant(one_temperature);
   SolveSummary s;
   auto fit = fit_classical(one_temperature, ClassicalOptions{}, &s);
-  EXPECT_EQ(s.details["physics_left_out"]["columns"].get<std::vector<std::string>>(),
+  EXPECT_EQ(fit_notes_of(s.details).physics_left_out.value().columns,
             (std::vector<std::string>{"bias v^1", "bias v^2", "bias v^3", "sf_temperature v^1", "sf_temperature v^2"}));
   for (double w : {-100.0, -7.0, 0.5, 88.0}) {
     const double x[2] = {dps_to_radps(w), 25.0};
@@ -143,7 +144,7 @@ TEST(ClassicalModel, LeavesOutWhatAHeldInputCannotDetermine) {
     at_rest.x(i, 0) = at_rest.target(i) += dph_to_radps(5.0) * r.normal();
   }
   fit = fit_classical(at_rest, ClassicalOptions{}, &s);
-  EXPECT_EQ(s.details["physics_left_out"]["columns"].size(), 2u + 7u);
+  EXPECT_EQ(fit_notes_of(s.details).physics_left_out.value().columns.size(), 2u + 7u);
   EXPECT_TRUE(fit->sf_rate.isZero() && fit->sf_temperature.isZero());
   for (double t : {-20.0, 0.0, 33.3, 60.0}) {
     const double x[2] = {0.0, t};
