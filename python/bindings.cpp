@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/recording.h"
 #include "core/builtin_configs.h"
 #include "core/enum_names.h"
@@ -24,6 +25,7 @@
 #include "nav/cof_report.h"
 #include "pipeline/design_job.h"
 #include "pipeline/main_job.h"
+#include "pipeline/session.h"
 #include "report/allan_report.h"
 #include "report/cof_json.h"
 #include "report/design_report.h"
@@ -192,6 +194,24 @@ py::tuple design_py(double budget_min, const std::string& model, const std::vect
   return py::make_tuple(programme_yaml(r.result.trajectory), to_python(r.design_file));
 }
 
+// `gyrosid session` in-process: the same job (pipeline/session.h), so a session started here can be resumed by
+// the command and the other way round. Options as --set: session.* for the session, the rest for the designs.
+py::dict session_py(const std::string& prior, const std::filesystem::path& out, const std::string& truth, double budget_min, double pilot_min,
+                    const std::vector<double>& updates_at_min, const std::string& model, const std::string& calibration,
+                    const std::vector<std::string>& envelope, const std::string& equipment, const py::dict& options, std::uint64_t seed, bool resume) {
+  SessionOptions o;
+  o.prior = prior, o.out = out, o.truth = truth, o.budget_min = budget_min, o.pilot_min = pilot_min, o.updates_at_min = updates_at_min;
+  o.model = model, o.calibration = calibration, o.envelope = join(envelope, ","), o.equipment = equipment, o.seed = seed, o.resume = resume;
+  o.set(option_map(options));
+  const SessionResult r = run_session(o);
+  py::dict d;
+  d["segments_done"] = r.segments_done, d["segments"] = r.segments;
+  d["waiting_for"] = r.waiting_for ? py::object(py::str(r.waiting_for->string())) : py::none();
+  d["model"] = r.model.empty() ? py::none() : py::object(py::str(r.model.string()));
+  d["session"] = to_python(r.session);
+  return d;
+}
+
 void bind_recording(py::module_& m) {
   py::class_<Recording>(m, "Recording", "A recording (docs/recording_format.md): named columns with their unit in the name.")
       .def(py::init(&recording_of_columns), py::arg("columns"), py::arg("metadata") = py::dict(), py::arg("source") = "<python>",
@@ -284,4 +304,13 @@ PYBIND11_MODULE(_gyrosid, m) {
         py::arg("sensor") = kDefaultSensor, py::arg("solver") = "nlopt", py::arg("criterion") = "cof", py::arg("seed") = 1,
         py::arg("options") = py::dict(), py::arg("reference") = "", py::arg("prior") = "",
         "A calibration trajectory designed for a time budget by `gyrosid design`'s job: (trajectory YAML text, design.json as a dict).");
+  const SessionOptions session_defaults;
+  m.def("session", &session_py, py::arg("prior"), py::arg("out"), py::arg("truth") = "", py::arg("budget_min") = session_defaults.budget_min,
+        py::arg("pilot_min") = session_defaults.pilot_min, py::arg("updates_at_min") = std::vector<double>{}, py::arg("model") = session_defaults.model,
+        py::arg("calibration") = "", py::arg("envelope") = std::vector<std::string>{"short", "medium", "long"},
+        py::arg("equipment") = session_defaults.equipment, py::arg("options") = py::dict(), py::arg("seed") = session_defaults.seed,
+        py::arg("resume") = false,
+        "An adaptive calibration session, `gyrosid session`'s job: a pilot, the prior over sensors updated by the recording, a redesign of "
+        "the rest. Without truth it stops after each designed segment for the lab's recording (waiting_for); call again with resume=True. "
+        "Returns {segments_done, segments, waiting_for, model, session (session.json)}.");
 }

@@ -1,5 +1,5 @@
 """gyrosid from Python: simulate a gyro, calibrate, compensate, analyse noise, score by the criterion of fit,
-explain a mismatch, design a calibration trajectory - in-process, numpy arrays in and out. Models save to and load from the same JSON files as
+explain a mismatch, design a calibration trajectory or run an adaptive session - in-process, numpy arrays in and out. Models save to and load from the same JSON files as
 the `gyrosid` command, so the two can be mixed freely.
 
     import gyrosid
@@ -8,7 +8,7 @@ the `gyrosid` command, so the two can be mixed freely.
     print(gyrosid.cof(model, trajectory="short")["end_error_m"])
 """
 from ._gyrosid import (Error, Model, Recording, allan, calibrate, calibrate_triad, cof, compensate, design,  # noqa: F401
-                       explain, load_model, run_main_job, simulate)
+                       explain, load_model, run_main_job, session, simulate)
 
 __all__ = ["Error", "Model", "Recording", "allan", "calibrate", "calibrate_triad", "cof", "compensate", "design",
-           "explain", "load_model", "run_main_job", "simulate"]
+           "explain", "load_model", "run_main_job", "session", "simulate"]

@@ -121,6 +121,38 @@ class Bindings(unittest.TestCase):
         self.assertEqual(d["predicted"], cli["predicted"])
         self.assertEqual(d["objective"], cli["objective"])
 
+    def test_session_is_the_commands_job_and_resumes_across_them(self):
+        # One job behind both, one fingerprint of the inputs: a lab session started in Python is resumed by the
+        # command and finished in Python, and ends as the simulated session of the command does.
+        with open(self.path("two.yaml"), "w") as f:
+            f.write("format: gyrosid-prior/1\nname: two\nmembers:\n  - {sensor: builtin:sensors/open_loop_fog.yaml}\n"
+                    "  - {sensor: builtin:priors/open_loop_fog_drift.yaml}\n")
+        truth = "builtin:priors/open_loop_fog_drift.yaml"
+        opts = {"space.segments": 2, "global_evaluations": 30, "local_evaluations": 20}
+        cli = ["session", "--prior", self.path("two.yaml"), "--budget-min", "12", "--pilot-min", "4", "--envelope", "short",
+               "--model", "classical", "--seed", "4"] + [a for k, v in opts.items() for a in ("--set", "%s=%s" % (k, v))]
+        run_gyrosid(*cli, "--truth", truth, "--out", self.path("sim"))
+        lab = dict(prior=self.path("two.yaml"), out=self.path("lab"), budget_min=12, pilot_min=4, envelope=["short"], model="classical",
+                   options=opts, seed=4)
+        first = gyrosid.session(**lab)
+        self.assertEqual((first["segments_done"], first["segments"]), (0, 2))
+        self.assertEqual(first["waiting_for"], self.path("lab/segment_1/recording.csv"))
+        self.assertIsNone(first["model"])
+        for k in ("1", "2"):
+            with open(self.path("sim/segment_%s/trajectory.yaml" % k)) as a, open(self.path("lab/segment_%s/trajectory.yaml" % k)) as b:
+                self.assertEqual(a.read(), b.read())
+            with open(self.path("sim/segment_%s/recording.csv" % k)) as a, open(self.path("lab/segment_%s/recording.csv" % k), "w") as b:
+                b.write(a.read())
+            if k == "1":
+                run_gyrosid(*cli, "--out", self.path("lab"), "--resume")  # the command takes the session on
+        done = gyrosid.session(**lab, resume=True)
+        self.assertEqual(done["session"]["status"], "complete")
+        self.assertEqual(done["model"], self.path("lab/model.json"))
+        with open(self.path("sim/recording.csv")) as a, open(self.path("lab/recording.csv")) as b:
+            self.assertEqual(a.read(), b.read())
+        with self.assertRaises(ValueError):  # other inputs: refused, naming the fingerprint
+            gyrosid.session(**dict(lab, pilot_min=5), resume=True)
+
 
 if __name__ == "__main__":
     unittest.main()

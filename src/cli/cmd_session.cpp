@@ -4,7 +4,6 @@
 #include <memory>
 
 #include "cli/app.h"
-#include "cli/resume.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/progress.h"
@@ -18,21 +17,17 @@ struct SessionCommand {
   SessionOptions session;
   std::string out;
   std::vector<std::string> set;
-  const CLI::App* command = nullptr;
 };
 
 void run(SessionCommand& c) {
   SessionOptions& o = c.session;
   o.out = c.out;
-  OptionMap own;
+  OptionMap set;
   for (const auto& kv : c.set) {
     const auto [key, value] = split_option(kv);
-    (key.rfind("session.", 0) == 0 ? own : o.settings)[key] = value;
+    set[key] = value;
   }
-  OptionTable table("session");
-  o.bind(table);
-  table.apply(own);
-  o.fingerprint = run_fingerprint(*c.command, {o.prior, o.truth, o.calibration, o.equipment});
+  o.set(set);
   o.on_step = [](const std::string& what) { progress_note(what); };
   const SessionResult r = run_session(o);
   if (r.waiting_for) {
@@ -98,7 +93,6 @@ void register_session(CLI::App& app, Action& action) {
       "  gyrosid session --prior builtin:priors/open_loop_fog_type.yaml --budget-min 60 --out lab/     # designs segment 1, stops\n"
       "  gyrosid session --prior builtin:priors/open_loop_fog_type.yaml --budget-min 60 --out lab/ --resume   # after recording it\n"
       "  gyrosid cof --model s/model.json --flight long");
-  c->command = cmd;
   cmd->callback([c, &action] {
     action = [c] { run(*c); };
   });

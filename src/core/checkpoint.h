@@ -47,4 +47,9 @@ std::vector<double> saved_numbers(const nlohmann::json& array);
 // A short hex digest of text (FNV-1a 64), for fingerprints.
 std::string digest(std::string_view text);
 
+// The files' contents for a fingerprint: "|<digest>" per file, read 1 MB at a time (a 10^7-sample recording is
+// a GB of text), a built-in config by its text; a name that is no readable file (a built-in flight) counts as
+// itself.
+std::string file_digests(const std::vector<std::string>& files);
+
 }  // namespace gyrosid

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <iomanip>
 #include <numeric>
+#include <sstream>
 
 #include "core/atomic_file.h"
 #include "core/checkpoint.h"
@@ -30,6 +32,24 @@ void SessionOptions::bind(OptionTable& t) {
       .real("session.drop_share", &drop_share, 0.0, 0.5, "members below this posterior weight are left out of a redesign")
       .flag("session.measured_white_noise", &measured_white_noise, "after each segment the white noise the recording shows replaces "
                                                                    "every member's (their coloured noise stays); default off: measured worse in experiments/adaptive_session");
+}
+
+void SessionOptions::set(const OptionMap& options) {
+  OptionMap own;
+  for (const auto& [key, value] : options) (key.rfind("session.", 0) == 0 ? own : settings)[key] = value;
+  OptionTable table("session");
+  bind(table);
+  table.apply(own);
+}
+
+std::string SessionOptions::fingerprint() const {
+  std::ostringstream text;
+  text << std::setprecision(17) << prior << '\n' << truth << '\n' << budget_min << ' ' << pilot_min << " [";
+  for (double u : updates_at_min) text << u << ' ';
+  text << "]\n" << model << '\n' << calibration << '\n' << envelope << '\n' << equipment << '\n';
+  for (const auto& [key, value] : settings) text << key << '=' << value << '\n';
+  text << min_effective_members << ' ' << drop_share << ' ' << measured_white_noise << ' ' << seed;
+  return digest(text.str() + file_digests({prior, truth, calibration, equipment}));
 }
 
 std::string SessionOptions::validate() const {
@@ -144,18 +164,18 @@ Recording joined(const std::vector<Recording>& segments, const std::vector<doubl
 
 class SessionRun {
  public:
-  SessionRun(const SessionOptions& o, const SessionSetup& s) : o_(o), s_(s) {
+  SessionRun(const SessionOptions& o, const SessionSetup& s, std::string fingerprint) : o_(o), s_(s), fingerprint_(std::move(fingerprint)) {
     for (const auto& m : s_.prior.members) {
       weights_.push_back(m.weight / s_.prior.total_weight());
       sensors_.push_back(std::get<GyroSensor>(m.sensor));
     }
     contexts_.resize(sensors_.size());
     boundaries_ = o_.boundaries_min();
-    checkpoint_ = Checkpoint(o_.out / ".session_checkpoint.json", o_.fingerprint, o_.resume);
+    checkpoint_ = Checkpoint(o_.out / ".session_checkpoint.json", fingerprint_, o_.resume);
     json_ = {{"format", "gyrosid-session/1"},
              {"prior", {{"file", o_.prior}, {"name", s_.prior.name}, {"members", members_json(weights_)}}},
              {"truth", o_.truth}, {"budget_min", o_.budget_min}, {"seed", o_.seed}, {"model", o_.model},
-             {"calibration", s_.calibration_source}, {"fingerprint", o_.fingerprint}, {"segments", nlohmann::json::array()}};
+             {"calibration", s_.calibration_source}, {"fingerprint", fingerprint_}, {"segments", nlohmann::json::array()}};
   }
 
   SessionResult run() {
@@ -257,7 +277,7 @@ class SessionRun {
       request.seed = o_.seed;
       request.recorded = recorded_;
       std::filesystem::create_directories(dir);
-      Checkpoint stages(dir / ".design_checkpoint.json", str_cat(o_.fingerprint, "/", key), o_.resume);
+      Checkpoint stages(dir / ".design_checkpoint.json", str_cat(fingerprint_, "/", key), o_.resume);
       request.checkpoint = &stages;
       design::DesignResult r = design::design_trajectory(contexts, request);
       r.trajectory.profile.name = str_cat("session segment ", k + 1);
@@ -347,6 +367,7 @@ class SessionRun {
 
   const SessionOptions& o_;
   const SessionSetup& s_;
+  const std::string fingerprint_;
   Checkpoint checkpoint_;
   nlohmann::json json_;
   std::vector<double> weights_, boundaries_, starts_s_;
@@ -361,10 +382,11 @@ class SessionRun {
 
 SessionResult run_session(const SessionOptions& o) {
   if (auto p = o.validate(); !p.empty()) fail(p);
+  const std::string fingerprint = o.fingerprint();
   if (std::filesystem::exists(o.out / "session.json")) {
     if (!o.resume) fail(o.out.string(), " holds a session (session.json): continue it with --resume, or choose another --out");
     const nlohmann::json j = nlohmann::json::parse(config_text((o.out / "session.json").string()), nullptr, false);
-    if (!j.is_object() || j.value("fingerprint", "") != o.fingerprint) {
+    if (!j.is_object() || j.value("fingerprint", "") != fingerprint) {
       fail(o.out.string(), "/session.json: the session there was started with other inputs, options or seed (another fingerprint); "
            "--resume continues a session with the same ones");
     }
@@ -377,7 +399,7 @@ SessionResult run_session(const SessionOptions& o) {
   SessionSetup setup;
   prepare(o, setup);
   if (o.calibration.empty()) write_file_atomic(o.out / "calibration.yaml", setup.calibration_text);
-  return SessionRun(o, setup).run();
+  return SessionRun(o, setup, fingerprint).run();
 }
 
 }  // namespace gyrosid

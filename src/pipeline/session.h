@@ -48,12 +48,16 @@ struct SessionOptions {
   bool measured_white_noise = false;  // after each segment the recording's white noise replaces the members'
                                       // (measured worse on the five test sensors: experiments/adaptive_session)
   std::uint64_t seed = 1;             // the designs' and the truth's
-  std::string fingerprint;            // of the inputs: a resume with others is refused
   bool resume = false;
   std::function<void(const std::string&)> on_step;  // "segment 2/2: designing 45 min for 3 members"
 
   void bind(OptionTable& table);  // keys session.min_effective_members, session.drop_share, session.measured_white_noise
+  // `--set`'s key=value pairs: the session.* keys into this struct (bind), every other into settings. Error
+  // naming a bad session.* key or value.
+  void set(const OptionMap& options);
   std::string validate() const;
+  // Of every input but out and resume, and of the contents of the files named: a resume with others is refused.
+  std::string fingerprint() const;
   std::vector<double> boundaries_min() const;  // each segment's end, minutes from the start
 };
 
