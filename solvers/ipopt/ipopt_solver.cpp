@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "solvers/ceres/ceres_solver.h"
+#include "solvers/common/ipopt_support.h"
 #include "solvers/common/terminations.h"
 
 namespace gyrosid {
@@ -241,18 +242,8 @@ SolveOutcome IpoptRbfSolver::fit(const RbfProblem& problem, RbfNetwork& net, Sol
     nlp->get_starting_point(0, true, x0.data(), false, nullptr, nullptr, 0, false, nullptr);
     nlp->bound_ = o_.bound > 0 ? o_.bound : 1.5 * nlp->constraint_value(x0.data());
   }
-  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-  app->Options()->SetIntegerValue("print_level", o_.print_level);
-  app->Options()->SetStringValue("sb", "yes");
-  app->Options()->SetStringValue("hessian_approximation", o_.hessian == "gauss_newton" ? "exact" : "limited-memory");
-  app->Options()->SetIntegerValue("max_iter", o_.max_iterations);
-  app->Options()->SetNumericValue("tol", o_.tolerance);
-  // Bounds are rarely active at the solution: start the barrier small and decrease it monotonically, so it
-  // does not hold the iterates away from the least-squares minimum.
-  app->Options()->SetStringValue("mu_strategy", "monotone");
-  app->Options()->SetNumericValue("mu_init", 1e-8);
-  if (app->Initialize() != Ipopt::Solve_Succeeded) fail("ipopt: initialisation failed");
-  const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(nlp);
+  const Ipopt::ApplicationReturnStatus status =
+      solve_with_ipopt(nlp, {o_.print_level, o_.hessian == "gauss_newton", o_.max_iterations, o_.tolerance}, "ipopt");
   return {termination_of(nlp->status), str_cat("Ipopt application status ", static_cast<int>(status)),
           {{"init", init}, {"constraint", o_.constraint}, {"bound", nlp->bound_}}};
 }

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "solvers/common/ceres_support.h"
+#include "solvers/common/ipopt_support.h"
 #include "solvers/common/terminations.h"
 #include "solvers/nls/nls_scaling.h"
 
@@ -219,18 +220,8 @@ class IpoptNls : public NlsSolverWithOptions<NlsIpoptOptions> {
     ScaledObjective f(p, monitor, /*report_every_evaluation=*/false);
     if (f.size() == 0) return {Termination::converged, "no free parameters", {}};
     Ipopt::SmartPtr<NlsNlp> nlp = new NlsNlp(f, o_.hessian == "gauss_newton");
-    Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-    app->Options()->SetIntegerValue("print_level", o_.print_level);
-    app->Options()->SetStringValue("sb", "yes");
-    app->Options()->SetStringValue("hessian_approximation", o_.hessian == "gauss_newton" ? "exact" : "limited-memory");
-    app->Options()->SetIntegerValue("max_iter", o_.max_iterations);
-    app->Options()->SetNumericValue("tol", o_.tolerance);
-    // Bounds are rarely active at a least-squares minimum: a small, monotone barrier keeps Ipopt from
-    // holding the iterates away from it.
-    app->Options()->SetStringValue("mu_strategy", "monotone");
-    app->Options()->SetNumericValue("mu_init", 1e-8);
-    if (app->Initialize() != Ipopt::Solve_Succeeded) fail("nls ipopt: initialisation failed");
-    const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(nlp);
+    const Ipopt::ApplicationReturnStatus status =
+        solve_with_ipopt(nlp, {o_.print_level, o_.hessian == "gauss_newton", o_.max_iterations, o_.tolerance}, "nls ipopt");
     f.store_best();
     return {termination_of(nlp->status), str_cat("Ipopt application status ", static_cast<int>(status)), {{"hessian", o_.hessian}}};
   }

@@ -34,7 +34,7 @@ void run_simulate(const SimulateOptions& o) {
   if (!o.plots.empty()) {
     const std::filesystem::path dir = o.plots;
     const GyroSensor& gyro = representative_gyro(sim.sensor);
-    plot_surface(dir / "error_surface.png", error_surface_dps(gyro), SurfaceGrid{},
+    plot_surface(dir / "error_surface.png", error_surface_dps(gyro), kPlotSurfaceGrid,
                  "True rate error of '" + gyro.name + "' (steady temperature)", "rate error (deg/s)");
     const auto& temp = sim.recording.column("temp_c");
     const auto& rate = sim.recording.column(sim.recording.kind() == RecordingKind::single ? "ref_rate_dps" : "ref_rate_z_dps");

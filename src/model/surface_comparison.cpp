@@ -15,6 +15,17 @@ std::string SurfaceGridSpec::validate() const {
   return "";
 }
 
+namespace {
+std::vector<double> even_points(double low, double high, int n) {
+  std::vector<double> v;
+  for (int i = 0; i < n; ++i) v.push_back(low + (high - low) * i / (n - 1));
+  return v;
+}
+}  // namespace
+
+std::vector<double> SurfaceGridSpec::temperatures_c() const { return even_points(temp_min_c, temp_max_c, temp_points); }
+std::vector<double> SurfaceGridSpec::rates_dps() const { return even_points(rate_min_dps, rate_max_dps, rate_points); }
+
 nlohmann::json SurfaceStats::to_json() const {
   return {{"mean_dph", mean_dph}, {"sigma_dph", sigma_dph}, {"max_dph", max_dph}, {"min_dph", min_dph}, {"rms_dph", rms_dph}};
 }
@@ -56,8 +67,8 @@ void steady_inputs(const CalibrationModel& model, double wm, double temp_c, doub
 SurfaceComparison compare_surfaces(const CalibrationModel& model, const GyroSensor& truth, const SurfaceGridSpec& g) {
   if (auto p = g.validate(); !p.empty()) fail("surface grid: ", p);
   SurfaceComparison c;
-  for (int i = 0; i < g.temp_points; ++i) c.temps_c.push_back(g.temp_min_c + (g.temp_max_c - g.temp_min_c) * i / (g.temp_points - 1));
-  for (int j = 0; j < g.rate_points; ++j) c.rates_dps.push_back(g.rate_min_dps + (g.rate_max_dps - g.rate_min_dps) * j / (g.rate_points - 1));
+  c.temps_c = g.temperatures_c();
+  c.rates_dps = g.rates_dps();
   c.true_dph.resize(g.temp_points, g.rate_points);
   c.estimated_dph.resize(g.temp_points, g.rate_points);
   const double gravity = earth::normal_gravity(0.0);

@@ -8,16 +8,22 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include <string>
+#include <vector>
+
 #include "model/calibration_model.h"
 #include "sensor/gyro_sensor.h"
 
 namespace gyrosid {
 
+// A (T, omega) grid, evenly spaced, ends included: the comparisons' (81 x 101) and the plots' (plots.h).
 struct SurfaceGridSpec {
   double temp_min_c = -20, temp_max_c = 60;
   double rate_min_dps = -100, rate_max_dps = 100;
   int temp_points = 81, rate_points = 101;
   std::string validate() const;
+  std::vector<double> temperatures_c() const;
+  std::vector<double> rates_dps() const;
 };
 
 struct SurfaceStats {

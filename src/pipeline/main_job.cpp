@@ -135,7 +135,7 @@ MainJobResult run_main_job(const MainJobOptions& o) {
   write_recording(dual.recording, dir / "data" / "dual_scan.csv");
   write_recording(soak.recording, dir / "data" / "classical_soak.csv");
   const GyroSensor& truth = representative_gyro(sensor);
-  plot_surface(dir / "error_surface.png", error_surface_dps(truth), SurfaceGrid{},
+  plot_surface(dir / "error_surface.png", error_surface_dps(truth), kPlotSurfaceGrid,
                "True rate error of '" + truth.name + "' (steady temperature)", "rate error (deg/s)");
   plot_coverage(dir / "coverage.png", dual.recording.column("temp_c"), dual.recording.column("ref_rate_dps"),
                 "Samples of " + dual.trajectory.profile.name + " over (T, omega)");

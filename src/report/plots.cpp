@@ -30,10 +30,8 @@ void plot_grid_surface(const std::filesystem::path& png, const std::vector<doubl
 }
 
 void plot_surface(const std::filesystem::path& png, const std::function<double(double, double)>& error,
-                  const SurfaceGrid& g, const std::string& title, const std::string& z_label) {
-  std::vector<double> temps, rates;
-  for (int i = 0; i < g.temp_points; ++i) temps.push_back(g.temp_min_c + (g.temp_max_c - g.temp_min_c) * i / (g.temp_points - 1));
-  for (int j = 0; j < g.rate_points; ++j) rates.push_back(g.rate_min_dps + (g.rate_max_dps - g.rate_min_dps) * j / (g.rate_points - 1));
+                  const SurfaceGridSpec& g, const std::string& title, const std::string& z_label) {
+  const std::vector<double> temps = g.temperatures_c(), rates = g.rates_dps();
   Eigen::MatrixXd z(g.temp_points, g.rate_points);
   for (int i = 0; i < g.temp_points; ++i)
     for (int j = 0; j < g.rate_points; ++j) z(i, j) = error(temps[static_cast<std::size_t>(i)], rates[static_cast<std::size_t>(j)]);

@@ -11,20 +11,18 @@
 #include <Eigen/Core>
 #include <array>
 
+#include "model/surface_comparison.h"
 #include "noise/allan.h"
 #include "noise/identify.h"
 
 namespace gyrosid {
 
-struct SurfaceGrid {
-  double temp_min_c = -20, temp_max_c = 60;
-  double rate_min_dps = -100, rate_max_dps = 100;
-  int temp_points = 41, rate_points = 81;
-};
+// A plotted surface's grid: coarser than a comparison's, for a mesh one can read.
+inline const SurfaceGridSpec kPlotSurfaceGrid{.temp_points = 41, .rate_points = 81};
 
 // 3-D surface with a contour map underneath of error(T, omega) in the unit named by `z_label`.
 void plot_surface(const std::filesystem::path& png, const std::function<double(double temp_c, double rate_dps)>& error,
-                  const SurfaceGrid& grid, const std::string& title, const std::string& z_label);
+                  const SurfaceGridSpec& grid, const std::string& title, const std::string& z_label);
 
 // The same from values on a grid: z(i, j) at (temps[i], rates[j]).
 void plot_grid_surface(const std::filesystem::path& png, const std::vector<double>& temps_c,
