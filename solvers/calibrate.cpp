@@ -149,8 +149,10 @@ GreyboxOptions greybox_options(const OptionMap& map) {
   return o;
 }
 
-const ModelFitterRegistry& model_fitters() {
-  static const ModelFitterRegistry registry = [] {
+const ModelFitterRegistry& model_fitters() { return extend_model_fitters(); }
+
+ModelFitterRegistry& extend_model_fitters() {
+  static ModelFitterRegistry registry = [] {
     ModelFitterRegistry r("model");
     r.add({"rbf", "Gaussian RBF network trained by a named solver (--solver; its options: --options-of <solver>)",
            [] { return "rbf - options are the solver's: see --options-of <solver> (" + rbf_solvers().known() + ")\n"; },

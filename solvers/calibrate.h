@@ -48,6 +48,9 @@ class ModelFitter {
 // Every model kind `calibrate` can fit (rbf, classical, greybox, ...); help() lists a kind's options.
 using ModelFitterRegistry = Registry<ModelFitter, const CalibrationRequest&>;
 const ModelFitterRegistry& model_fitters();
+// The same registry, open for a program to add the fitter of its own kind (model/model_kinds.h) before it
+// fits any (not thread-safe: register at start-up).
+ModelFitterRegistry& extend_model_fitters();
 
 CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& request);
 

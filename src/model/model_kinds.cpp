@@ -8,8 +8,10 @@
 
 namespace gyrosid {
 
-const ModelKindRegistry& model_kinds() {
-  static const ModelKindRegistry registry = [] {
+const ModelKindRegistry& model_kinds() { return extend_model_kinds(); }
+
+ModelKindRegistry& extend_model_kinds() {
+  static ModelKindRegistry registry = [] {
     ModelKindRegistry r("model kind");
     auto none = [] { return std::string(); };
     r.add({"rbf", "Gaussian RBF network with a width per input per node (thesis eqs 4.1-4.5)", none,

@@ -1,6 +1,7 @@
 // Every calibration model kind, in one registry: its name (the "kind" of a model file), a one-line summary
 // and its loader from the model file's JSON. A new kind is one entry in model_kinds() (model_kinds.cpp);
-// its fitter registers beside the others in solvers/calibrate.cpp.
+// its fitter registers beside the others in solvers/calibrate.cpp. tests/model/toy_model_kind.cpp adds a
+// kind and its fitter from outside the library (extend_model_kinds, extend_model_fitters).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -23,5 +24,8 @@ struct ModelFile {
 
 using ModelKindRegistry = Registry<CalibrationModel, const ModelFile&>;
 const ModelKindRegistry& model_kinds();
+// The same registry, open for a program to add its own kinds before it loads any model (not thread-safe:
+// register at start-up).
+ModelKindRegistry& extend_model_kinds();
 
 }  // namespace gyrosid

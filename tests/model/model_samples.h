@@ -140,9 +140,10 @@ inline const std::map<std::string, std::string>& sample_variants() {
   return variants;
 }
 
-// Every registered kind's sample, by kind name (and every variant's, by its name).
-inline const std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>>& model_samples() {
-  static const std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>> samples{
+// Every registered kind's sample, by kind name (and every variant's, by its name). A kind registered from a
+// test binary adds its own at start-up (toy_model_kind.cpp).
+inline std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>>& model_samples() {
+  static std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>> samples{
       {"rbf", sample_rbf}, {"classical", sample_classical}, {"greybox", sample_greybox}, {"explained", sample_explained},
       {"hybrid", sample_hybrid}, {"rbf_relative", sample_relative_rbf},
       {"greybox_posterior", sample_greybox_posterior}};
