@@ -4,7 +4,8 @@
 // and the experiment that tells it apart from another effect. Its C export is its term's (physics_terms.h).
 //
 // The library (effect_library()) holds one of every registered effect; a new effect is one class (effects/)
-// and one entry in effect_registry() (effects/registry.cpp). Effects that are not physics (a recorded
+// and one entry in effect_registry() (effects/registry.cpp), or from outside the library one line with
+// extend_effect_registry(). Effects that are not physics (a recorded
 // channel the residual follows, a change point) are selected the same way and reported as unexplained.
 #pragma once
 
@@ -142,6 +143,10 @@ class Effect {
 
 using EffectRegistry = Registry<Effect>;
 const EffectRegistry& effect_registry();
+// The same registry, open for a program to add its own effects at start-up, before anything reads the
+// library (which is built once, from the registry, on first use; not thread-safe). Every added effect is
+// tried by every explain run of that program. tests/explain/toy_effect.cpp adds one this way.
+EffectRegistry& extend_effect_registry();
 // One instance of every registered effect, in registry order (the order candidates are tried in).
 const std::vector<const Effect*>& effect_library();
 const Effect& find_effect(std::string_view id);  // Error listing the known ids

@@ -3,8 +3,10 @@
 
 namespace gyrosid::explain {
 
-const EffectRegistry& effect_registry() {
-  static const EffectRegistry registry = [] {
+const EffectRegistry& effect_registry() { return extend_effect_registry(); }
+
+EffectRegistry& extend_effect_registry() {
+  static EffectRegistry registry = [] {
     EffectRegistry r("effect");
     using Factory = std::unique_ptr<Effect> (*)();
     for (Factory make : {effects::temperature_bias, effects::scale_factor_nonlinearity, effects::scale_factor_temperature,
