@@ -9,6 +9,13 @@
 
 namespace gyrosid::cli {
 
+std::vector<VerbRegistration>& extend_verbs() {
+  static std::vector<VerbRegistration> verbs{register_run,    register_simulate, register_allan,  register_calibrate, register_compensate,
+                                             register_surface, register_export,  register_cof,    register_explain,   register_design,
+                                             register_import,  register_session, register_lot};
+  return verbs;
+}
+
 int main(int argc, char** argv) {
   CLI::App app{
       "gyrosid - gyroscope calibration as system identification.\n"
@@ -26,19 +33,7 @@ int main(int argc, char** argv) {
              "--quiet and --threads, before the subcommand, override both); GYROSID_GNUPLOT names the gnuplot executable\n"
              "(default: gnuplot on PATH). Nothing else is read from the environment.");
   Action action;
-  register_run(app, action);
-  register_simulate(app, action);
-  register_allan(app, action);
-  register_calibrate(app, action);
-  register_compensate(app, action);
-  register_surface(app, action);
-  register_export(app, action);
-  register_cof(app, action);
-  register_explain(app, action);
-  register_design(app, action);
-  register_import(app, action);
-  register_session(app, action);
-  register_lot(app, action);
+  for (const VerbRegistration add : extend_verbs()) add(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <vector>
 
 namespace gyrosid::cli {
 
@@ -27,5 +28,11 @@ void register_design(CLI::App& app, Action& action);
 void register_import(CLI::App& app, Action& action);
 void register_session(CLI::App& app, Action& action);
 void register_lot(CLI::App& app, Action& action);
+
+// Adds one subcommand to the app: its options and help, and the action it sets when it is chosen.
+using VerbRegistration = void (*)(CLI::App& app, Action& action);
+// Every subcommand of `gyrosid`, in the order --help lists them: the thirteen above. A program built on
+// gyrosid_cli adds its own before it calls main (not thread-safe); tests/cli/toy_verb.cpp adds one.
+std::vector<VerbRegistration>& extend_verbs();
 
 }  // namespace gyrosid::cli
