@@ -26,10 +26,12 @@
 #include "pipeline/design_job.h"
 #include "pipeline/main_job.h"
 #include "pipeline/session.h"
+#include "pipeline/surface_job.h"
 #include "report/allan_report.h"
 #include "report/cof_json.h"
 #include "report/design_report.h"
 #include "report/explain_json.h"
+#include "report/surface_report.h"
 #include "report/triad_json.h"
 #include "noise/allan.h"
 #include "noise/identify.h"
@@ -212,6 +214,33 @@ py::dict session_py(const std::string& prior, const std::filesystem::path& out, 
   return d;
 }
 
+// A temps x rates matrix as a 2-D numpy array (a copy, row-major).
+py::array_t<double> grid_to_numpy(const Eigen::MatrixXd& m) {
+  py::array_t<double> out({static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
+  auto v = out.mutable_unchecked<2>();
+  for (Eigen::Index i = 0; i < m.rows(); ++i)
+    for (Eigen::Index j = 0; j < m.cols(); ++j) v(i, j) = m(i, j);
+  return out;
+}
+
+// `gyrosid surface`'s job (pipeline/surface_job.h): surface.json as a dict under "summary", and the grid's axes
+// and surfaces (deg/h, temperatures x rates) as numpy arrays.
+py::dict surface_py(const std::string& model, const std::string& sensor, std::optional<std::array<double, 2>> temp_range_c,
+                    std::optional<std::array<double, 2>> rate_range_dps, std::optional<std::array<int, 2>> points) {
+  SurfaceJobInput in;
+  in.model = model, in.sensor = sensor, in.temp_range_c = temp_range_c, in.rate_range_dps = rate_range_dps, in.points = points;
+  const SurfaceJobResult r = run_surface_job(in);
+  const SurfaceComparison& c = r.comparison;
+  py::dict d;
+  d["summary"] = to_python(surface_json(in.model, in.sensor, *r.model, r.grid, c));
+  d["temps_c"] = to_numpy(c.temps_c.data(), c.temps_c.size());
+  d["rates_dps"] = to_numpy(c.rates_dps.data(), c.rates_dps.size());
+  d["true_dph"] = grid_to_numpy(c.true_dph);
+  d["estimated_dph"] = grid_to_numpy(c.estimated_dph);
+  d["sigma_dph"] = c.sigma_dph.size() > 0 ? py::object(grid_to_numpy(c.sigma_dph)) : py::none();
+  return d;
+}
+
 void bind_recording(py::module_& m) {
   py::class_<Recording>(m, "Recording", "A recording (docs/recording_format.md): named columns with their unit in the name.")
       .def(py::init(&recording_of_columns), py::arg("columns"), py::arg("metadata") = py::dict(), py::arg("source") = "<python>",
@@ -304,6 +333,10 @@ PYBIND11_MODULE(_gyrosid, m) {
         py::arg("sensor") = kDefaultSensor, py::arg("solver") = "nlopt", py::arg("criterion") = "cof", py::arg("seed") = 1,
         py::arg("options") = py::dict(), py::arg("reference") = "", py::arg("prior") = "",
         "A calibration trajectory designed for a time budget by `gyrosid design`'s job: (trajectory YAML text, design.json as a dict).");
+  m.def("surface", &surface_py, py::arg("model"), py::arg("sensor") = kDefaultSensor, py::arg("temp_range_c") = std::nullopt,
+        py::arg("rate_range_dps") = std::nullopt, py::arg("points") = std::nullopt,
+        "A model's estimated error surface against the sensor's true one, `gyrosid surface`'s job: {summary (surface.json), temps_c, "
+        "rates_dps, true_dph, estimated_dph, sigma_dph (None without a posterior)}; the grid defaults to the model's training temperatures.");
   const SessionOptions session_defaults;
   m.def("session", &session_py, py::arg("prior"), py::arg("out"), py::arg("truth") = "", py::arg("budget_min") = session_defaults.budget_min,
         py::arg("pilot_min") = session_defaults.pilot_min, py::arg("updates_at_min") = std::vector<double>{}, py::arg("model") = session_defaults.model,

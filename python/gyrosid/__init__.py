@@ -8,7 +8,7 @@ the `gyrosid` command, so the two can be mixed freely.
     print(gyrosid.cof(model, trajectory="short")["end_error_m"])
 """
 from ._gyrosid import (Error, Model, Recording, allan, calibrate, calibrate_triad, cof, compensate, design,  # noqa: F401
-                       explain, load_model, run_main_job, session, simulate)
+                       explain, load_model, run_main_job, session, simulate, surface)
 
 __all__ = ["Error", "Model", "Recording", "allan", "calibrate", "calibrate_triad", "cof", "compensate", "design",
-           "explain", "load_model", "run_main_job", "session", "simulate"]
+           "explain", "load_model", "run_main_job", "session", "simulate", "surface"]

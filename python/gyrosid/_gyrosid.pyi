@@ -59,6 +59,8 @@ def run_main_job(out: Path, flights: Sequence[str] = ..., noisy: bool = False, r
 def design(budget_min: float, model: str = "rbf", envelope: Sequence[str] = ..., sensor: str = "builtin:sensors/open_loop_fog.yaml",
            solver: str = "nlopt", criterion: str = "cof", seed: int = 1, options: dict[str, Any] = ..., reference: str = "",
            prior: str = "") -> tuple[str, dict[str, Any]]: ...
+def surface(model: str, sensor: str = "builtin:sensors/open_loop_fog.yaml", temp_range_c: tuple[float, float] | None = None,
+            rate_range_dps: tuple[float, float] | None = None, points: tuple[int, int] | None = None) -> dict[str, Any]: ...
 def session(prior: str, out: Path, truth: str = "", budget_min: float = 60.0, pilot_min: float = 15.0,
             updates_at_min: Sequence[float] = ..., model: str = "rbf", calibration: str = "", envelope: Sequence[str] = ...,
             equipment: str = "builtin:equipment/thesis_lab.yaml", options: dict[str, Any] = ..., seed: int = 1,

@@ -121,6 +121,23 @@ class Bindings(unittest.TestCase):
         self.assertEqual(d["predicted"], cli["predicted"])
         self.assertEqual(d["objective"], cli["objective"])
 
+    def test_surface_is_the_commands_job(self):
+        # The same job as `gyrosid surface`: the same surface.json; the arrays are its grid, and their difference
+        # gives its statistics.
+        model = gyrosid.calibrate(gyrosid.simulate(samples=1500, seed=2), model="classical")
+        model.save(self.path("m.json"))
+        s = gyrosid.surface(self.path("m.json"), temp_range_c=(0, 40), points=(11, 21))
+        run_gyrosid("surface", "--model", self.path("m.json"), "--temp-range", "0,40", "--points", "11,21", "--out", self.path("s"))
+        with open(self.path("s/surface.json")) as f:
+            self.assertEqual(s["summary"], json.load(f))
+        self.assertEqual(s["estimated_dph"].shape, (11, 21))
+        self.assertAlmostEqual(s["temps_c"][-1], 40.0)
+        diff = s["estimated_dph"] - s["true_dph"]
+        self.assertAlmostEqual(np.sqrt(np.mean(diff ** 2)), s["summary"]["difference"]["rms_dph"], places=9)
+        self.assertIsNone(s["sigma_dph"])
+        with self.assertRaises(ValueError):
+            gyrosid.surface(self.path("m.json"), points=(1, 21))
+
     def test_session_is_the_commands_job_and_resumes_across_them(self):
         # One job behind both, one fingerprint of the inputs: a lab session started in Python is resumed by the
         # command and finished in Python, and ends as the simulated session of the command does.
