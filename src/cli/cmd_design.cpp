@@ -65,16 +65,10 @@ void print_options_of(const std::string& name) {
 void write_evaluation(const DesignCommand& c, const design::DesignContext& context, const DesignReportInput& report,
                       const nlohmann::json& provenance) {
   const std::filesystem::path dir = c.out;
-  nlohmann::json j = {{"format", "gyrosid-design-evaluation/1"}, {"provenance", provenance}, {"trajectories", nlohmann::json::object()}};
   // A --reference (cof_minimax) comes first in report.compared, before the evaluated trajectories.
-  const std::size_t first = report.compared.size() - c.evaluate.size();
-  for (std::size_t i = 0; i < report.compared.size(); ++i) {
-    const auto& [name, p] = report.compared[i];
-    std::cout << name << " (" << format_significant(p.duration_min, 4) << " min): predicted " << describe(p) << "\n";
-    if (i >= first) j["trajectories"][c.evaluate[i - first]] = prediction_json(p);
-  }
+  for (const auto& [name, p] : report.compared) std::cout << name << " (" << format_significant(p.duration_min, 4) << " min): predicted " << describe(p) << "\n";
   if (!c.out.empty()) {
-    write_file_atomic(dir / "evaluation.json", j.dump(2) + "\n");
+    write_file_atomic(dir / "evaluation.json", evaluation_json(report, c.evaluate, provenance).dump(2) + "\n");
     write_file_atomic(dir / "report.md", design_report_markdown(report));
     const TrajectorySpec first = load_trajectory_file(c.evaluate.front());
     plot_design_coverage(dir / "coverage.png", design::observe_trajectory(context, first), context.envelope(),
@@ -97,9 +91,7 @@ void design_and_write(const DesignCommand& c, PreparedDesign& p) {
   p.report.result = &r;
   p.report.prior = job.members;
   const std::filesystem::path dir = c.out;
-  write_file_atomic(dir / "trajectory.yaml", programme_yaml(r.trajectory));
-  write_file_atomic(dir / "setpoints.csv", setpoint_table_csv(r.trajectory.profile));
-  write_file_atomic(dir / "design.json", job.design_file.dump(2) + "\n");
+  write_designed_programme(dir, r.trajectory, job.design_file);
   write_file_atomic(dir / "calibration.yaml", design::calibration_yaml(p.setup.family, p.setup.settings.model, context.model_domain(), context.noise()));
   plot_design_coverage(dir / "coverage.png", design::observe_trajectory(context, r.trajectory), context.envelope(),
                        str_cat("design for ", c.envelope, " (", format_significant(r.trajectory.profile.duration_min(), 4), " min, ",

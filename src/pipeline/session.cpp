@@ -287,9 +287,7 @@ class SessionRun {
       record = {{"segment", k + 1}, {"start_min", start_min(k)}, {"duration_min", minutes}, {"trajectory", (segment_dir(k) + "/trajectory.yaml")},
                 {"designed_for", designed_for}, {"predicted_before", band_json(predicted, w)},
                 {"design", {{"evaluations", r.summary.evaluations}, {"time_s", r.summary.time_s}, {"objective", r.summary.final_cost}}}};
-      write_file_atomic(file, programme_yaml(r.trajectory));
-      write_file_atomic(dir / "setpoints.csv", setpoint_table_csv(r.trajectory.profile));
-      write_file_atomic(dir / "design.json", design_json(r, {{"session", o_.out.string()}, {"segment", k + 1}}).dump(2) + "\n");
+      write_designed_programme(dir, r.trajectory, design_json(r, {{"session", o_.out.string()}, {"segment", k + 1}}));
       stages.finish();
       checkpoint_.save_record(key, record);
     }

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <sstream>
 
+#include "core/atomic_file.h"
 #include "core/format.h"
 #include "core/gnuplot.h"
 #include "core/units.h"
+#include "trajectory/equipment.h"
+#include "trajectory/programme.h"
 
 namespace gyrosid {
 
@@ -216,6 +219,19 @@ std::string design_report_markdown(const DesignReportInput& in) {
         << ".\n\nSimulate it: `gyrosid simulate --trajectory trajectory.yaml --sensor " << in.sensor << " --out rec.csv`\n";
   }
   return out.str();
+}
+
+void write_designed_programme(const std::filesystem::path& dir, const TrajectorySpec& trajectory, const nlohmann::json& design_file) {
+  write_file_atomic(dir / "trajectory.yaml", programme_yaml(trajectory));
+  write_file_atomic(dir / "setpoints.csv", setpoint_table_csv(trajectory.profile));
+  write_file_atomic(dir / "design.json", design_file.dump(2) + "\n");
+}
+
+nlohmann::json evaluation_json(const DesignReportInput& report, const std::vector<std::string>& evaluated, const nlohmann::json& provenance) {
+  nlohmann::json j = {{"format", "gyrosid-design-evaluation/1"}, {"provenance", provenance}, {"trajectories", nlohmann::json::object()}};
+  const std::size_t first = report.compared.size() - evaluated.size();
+  for (std::size_t i = first; i < report.compared.size(); ++i) j["trajectories"][evaluated[i - first]] = prediction_json(report.compared[i].second);
+  return j;
 }
 
 }  // namespace gyrosid

@@ -46,4 +46,12 @@ struct DesignReportInput {
 };
 std::string design_report_markdown(const DesignReportInput& input);
 
+// A designed programme's files in `dir`: trajectory.yaml (what `gyrosid simulate --trajectory` takes),
+// setpoints.csv (the chamber's and table's set points) and design.json (`design_file`), each atomically.
+void write_designed_programme(const std::filesystem::path& dir, const TrajectorySpec& trajectory, const nlohmann::json& design_file);
+
+// --evaluate's evaluation.json: every evaluated trajectory's prediction, by the name it was given (`evaluated`:
+// the last entries of report.compared, after a cof_minimax reference).
+nlohmann::json evaluation_json(const DesignReportInput& report, const std::vector<std::string>& evaluated, const nlohmann::json& provenance);
+
 }  // namespace gyrosid
