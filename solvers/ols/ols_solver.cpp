@@ -1,6 +1,7 @@
 #include "solvers/ols/ols_solver.h"
 
 #include "core/error.h"
+#include "model/fit_notes.h"
 #include "solvers/common/candidates.h"
 
 namespace gyrosid {
@@ -47,11 +48,15 @@ SolveOutcome OlsSolver::fit(const RbfProblem& problem, RbfNetwork& net, SolveMon
   const ForwardSelectionResult r = forward_select(problem.x, problem.y, s);
   for (double c : r.criterion_history) monitor.iteration(c);
   fill_network(r, s.widths, net);
-  return {r.termination, r.stop_reason,
-          {{"criterion", o_.criterion}, {"criterion_value", r.criterion}, {"lambda", r.lambda},
-           {"effective_parameters", r.effective_parameters}, {"rss", r.rss}, {"candidates", r.candidates},
-           {"skipped_collinear", r.skipped_collinear},
-           {"width", std::vector<double>(s.widths.data(), s.widths.data() + s.widths.size())}}};
+  SolveOutcome outcome{r.termination, r.stop_reason,
+                       {{"criterion", o_.criterion}, {"criterion_value", r.criterion},
+                        {"effective_parameters", r.effective_parameters}, {"rss", r.rss}, {"candidates", r.candidates},
+                        {"skipped_collinear", r.skipped_collinear},
+                        {"width", std::vector<double>(s.widths.data(), s.widths.data() + s.widths.size())}}};
+  FitNotes notes;
+  notes.ridge_lambda = r.lambda;
+  write_fit_notes(notes, outcome.details);
+  return outcome;
 }
 
 }  // namespace gyrosid

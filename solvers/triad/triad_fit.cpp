@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "model/fit_notes.h"
 #include "core/recording.h"
 #include "core/stats.h"
 #include "core/triad_axes.h"
@@ -452,15 +453,15 @@ std::pair<Eigen::MatrixXd, Eigen::VectorXd> joint_weight_rows(const TriadData& d
   const Eigen::MatrixXd h = relative ? Eigen::MatrixXd(surface_rate.col(a).asDiagonal() * net.basis(x)) : net.basis(x);
   const Eigen::MatrixXd constraint = owned_column_rows(h, owned, kOwnedWeight);
   const Eigen::MatrixXd slope = o.rbf_diagonal == "zero_rate" ? zero_rate_slope_row(net, x.col(1).minCoeff(), x.col(1).maxCoeff()) : Eigen::MatrixXd();
-  const nlohmann::json details = summary.value("details", nlohmann::json::object());
+  const FitNotes fit = fit_notes_of(summary.value("details", nlohmann::json::object()));
   Eigen::MatrixXd ridge;
   if (relative) {
     // No ridge: the fitter chose its lambda by GCV on r = e / g, whose noise is the output's over |g| (the
     // slowest turns' noise sets it); on the joint rows it has no exact counterpart. Carried over scaled by the
     // mean g^2 of the turns it moved the planted-law test by 2 % (between the training rates 4.44 against
     // 4.53 deg/h, TriadFit.ARelativeRbf...).
-  } else if (o.surface_solver == "ols" && details.contains("lambda") && details["lambda"].is_number()) {
-    ridge = ols_ridge_penalty(h, details["lambda"].get<double>());
+  } else if (o.surface_solver == "ols" && fit.ridge_lambda) {
+    ridge = ols_ridge_penalty(h, *fit.ridge_lambda);
   } else if (a == 0) {
     notes.push_back(str_cat("joint rbf: the ", o.surface_solver, " fitter's regularisation is not carried into the joint problem"));
   }

@@ -24,6 +24,7 @@ void write_fit_notes(const FitNotes& n, nlohmann::json& details) {
   if (!n.physics_note.empty()) details["physics_note"] = n.physics_note;
   if (!n.noise_choice.empty()) details["noise_choice"] = n.noise_choice;
   if (!n.noise_identification.empty()) details["noise_identification"] = n.noise_identification;
+  if (n.ridge_lambda) details["lambda"] = *n.ridge_lambda;
 }
 
 FitNotes fit_notes_of(const nlohmann::json& details) {
@@ -47,6 +48,7 @@ FitNotes fit_notes_of(const nlohmann::json& details) {
   n.physics_note = text("physics_note");
   n.noise_choice = text("noise_choice");
   n.noise_identification = text("noise_identification");
+  if (details.contains("lambda") && details.at("lambda").is_number()) n.ridge_lambda = details.at("lambda").get<double>();
   return n;
 }
 

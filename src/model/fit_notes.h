@@ -37,6 +37,8 @@ struct FitNotes {
   std::string physics_note;          // grey-box: the ridge, not the recording, set the held inputs' terms
   std::string noise_choice;          // Bayesian fits: what was decided about the noise, and why
   std::string noise_identification;  // Bayesian fits: the residual's noise terms, as `gyrosid allan` gives them
+  std::optional<double> ridge_lambda;  // the OLS solver: the global ridge it chose (unit-RMS target); the triad's
+                                       // joint rows carry it over (solvers/triad/triad_fit.cpp)
 
   // "N nodes" or "N coefficients"; "" for a fit that says neither.
   std::string size() const;

@@ -18,6 +18,7 @@ FitNotes every_note() {
   n.physics_note = "the ridge, not the recording, sets the terms in it";
   n.noise_choice = "white (option noise=white)";
   n.noise_identification = "white + random walk: ...";
+  n.ridge_lambda = 0.03125;
   return n;
 }
 
@@ -40,6 +41,7 @@ void expect_same(const FitNotes& a, const FitNotes& b) {
   EXPECT_EQ(a.physics_note, b.physics_note);
   EXPECT_EQ(a.noise_choice, b.noise_choice);
   EXPECT_EQ(a.noise_identification, b.noise_identification);
+  EXPECT_EQ(a.ridge_lambda, b.ridge_lambda);
 }
 
 TEST(FitNotes, WhatIsWrittenIsReadBackBesideTheOtherDetails) {
