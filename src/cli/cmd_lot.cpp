@@ -108,11 +108,7 @@ void run_learn(const LotLearnCommand& c) {
     set_conditional_nulls(lot, conditional_scores(paths, lot, "lot learn: the conditional tests' null", &checkpoint, "conditional",
                                                   [&](std::size_t k) { return lot_without(lot, units, lot.null_units[k], options); }));
   }
-  const nlohmann::json file = {{"format", "gyrosid-prior/1"},
-                               {"name", c.name.empty() ? str_cat("lot of ", lot.unit_names.size(), " units") : c.name},
-                               {"members", lot_members(lot, {c.package_tau_s})},
-                               {"population", lot.to_json()}};
-  write_file_atomic(c.out, file.dump(1) + "\n");
+  write_file_atomic(c.out, lot_prior_file(lot, c.name, {c.package_tau_s}).dump(1) + "\n");
   checkpoint.finish();
   std::cout << "wrote " << c.out << ": " << lot.unit_names.size() << " units, " << lot.coordinates.size() << " coordinates, " << lot.modes.cols()
             << " modes (";

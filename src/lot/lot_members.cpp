@@ -6,6 +6,7 @@
 
 #include "core/format.h"
 #include "core/units.h"
+#include "sensor/sensor_prior.h"
 
 namespace gyrosid {
 namespace {
@@ -78,6 +79,13 @@ nlohmann::json lot_members(const LotModel& lot, const LotMemberOptions& o) {
     }
   }
   return members;
+}
+
+nlohmann::json lot_prior_file(const LotModel& lot, const std::string& name, const LotMemberOptions& options) {
+  return {{"format", kSensorPriorFormat},
+          {"name", name.empty() ? str_cat("lot of ", lot.unit_names.size(), " units") : name},
+          {"members", lot_members(lot, options)},
+          {"population", lot.to_json()}};
 }
 
 }  // namespace gyrosid

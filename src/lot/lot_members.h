@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <string>
+
 #include "lot/lot_model.h"
 
 namespace gyrosid {
@@ -23,6 +25,10 @@ struct LotMemberOptions {
 
 // [{sensor: {kind: gyro, ...}, weight: w}, ...], the mean first.
 nlohmann::json lot_members(const LotModel& lot, const LotMemberOptions& options = {});
+
+// The lot file `gyrosid lot learn` writes: a prior over sensors (format, name - "lot of N units" when empty -,
+// the members above) with the lot's `population` beside them.
+nlohmann::json lot_prior_file(const LotModel& lot, const std::string& name, const LotMemberOptions& options = {});
 
 // The sensor config (gyrosid's YAML keys, as JSON) of a point theta of the lot's coordinates.
 nlohmann::json lot_sensor_config(const LotModel& lot, const Eigen::VectorXd& theta, const std::string& name, const LotMemberOptions& options);

@@ -12,12 +12,11 @@
 #include "core/format.h"
 #include "core/stats.h"
 #include "nav/statistics.h"
+#include "sensor/sensor_prior.h"
 #include "solvers/calibrate.h"
 
 namespace gyrosid {
 namespace {
-
-constexpr const char* kPriorFormat = "gyrosid-prior/1";
 
 // The Gaussian of a set of units (rows of theta), before screening.
 struct Population {
@@ -373,7 +372,7 @@ LotModel LotModel::from_json(const nlohmann::json& j, const std::string& source)
 std::optional<LotModel> load_lot_if_learned(const std::string& path) {
   nlohmann::json j = nlohmann::json::parse(config_text(path), nullptr, false);
   if (!j.is_object() || !j.contains("population")) return std::nullopt;
-  if (j.value("format", "") != kPriorFormat) fail(path, ": format must be '", kPriorFormat, "'");
+  if (j.value("format", "") != kSensorPriorFormat) fail(path, ": format must be '", kSensorPriorFormat, "'");
   return LotModel::from_json(j["population"], path);
 }
 
@@ -384,7 +383,7 @@ LotModel load_lot(const std::string& path) {
   } catch (const nlohmann::json::parse_error& e) {
     fail(path, ": not a JSON lot file (", e.what(), ")");
   }
-  if (!j.is_object() || j.value("format", "") != kPriorFormat) fail(path, ": format must be '", kPriorFormat, "'");
+  if (!j.is_object() || j.value("format", "") != kSensorPriorFormat) fail(path, ": format must be '", kSensorPriorFormat, "'");
   if (!j.contains("population")) fail(path, ": no 'population': a prior over sensors that was not learned from a lot (gyrosid lot learn writes one)");
   return LotModel::from_json(j["population"], path);
 }

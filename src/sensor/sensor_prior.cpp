@@ -12,8 +12,6 @@
 namespace gyrosid {
 namespace {
 
-constexpr const char* kFormat = "gyrosid-prior/1";
-
 // One varied path of `draws.vary`: an additive normal draw (sd) or a log-normal factor (log_sd).
 struct Variation {
   std::string path;
@@ -108,7 +106,7 @@ void add_draws(const ConfigNode& draws, const SensorPriorMember& parent, const s
 
 SensorPrior load_prior_node(const ConfigNode& root) {
   root.allow_only({"format", "name", "members", "population"});  // population: a lot's (lot/lot_model.h), read by the lot's commands
-  if (const std::string f = root.text("format"); f != kFormat) fail(root.where("format"), ": expected '", kFormat, "', got '", f, "'");
+  if (const std::string f = root.text("format"); f != kSensorPriorFormat) fail(root.where("format"), ": expected '", kSensorPriorFormat, "', got '", f, "'");
   SensorPrior prior;
   prior.source = root.source();
   prior.name = root.text("name", root.source());

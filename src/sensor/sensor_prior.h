@@ -35,6 +35,9 @@
 
 namespace gyrosid {
 
+// The format of a prior over sensors, a learned lot included (lot/lot_members.h writes one).
+inline constexpr const char* kSensorPriorFormat = "gyrosid-prior/1";
+
 struct SensorPriorMember {
   std::string name;    // the sensor's name (draws: "<parent> (draw j)")
   std::string origin;  // where it comes from: the config path, and the draw
