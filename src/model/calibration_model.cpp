@@ -116,7 +116,7 @@ std::unique_ptr<CalibrationModel> model_from_json(const nlohmann::json& j, const
   }
 }
 
-std::unique_ptr<CalibrationModel> load_model(const std::filesystem::path& path) {
+nlohmann::json load_model_json(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) fail(path.string(), ": cannot open model");
   nlohmann::json j;
@@ -125,7 +125,9 @@ std::unique_ptr<CalibrationModel> load_model(const std::filesystem::path& path) 
   } catch (const nlohmann::json::exception& e) {
     fail(path.string(), ": not valid JSON: ", e.what());
   }
-  return model_from_json(j, path.string());
+  return j;
 }
+
+std::unique_ptr<CalibrationModel> load_model(const std::filesystem::path& path) { return model_from_json(load_model_json(path), path.string()); }
 
 }  // namespace gyrosid

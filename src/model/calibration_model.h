@@ -91,5 +91,7 @@ Eigen::VectorXd compensate(const CalibrationModel& model, const Dataset& data);
 void save_model(const std::filesystem::path& path, const CalibrationModel& model, const nlohmann::json& extra);
 std::unique_ptr<CalibrationModel> model_from_json(const nlohmann::json& j, const std::string& source);
 std::unique_ptr<CalibrationModel> load_model(const std::filesystem::path& path);
+// A model file's JSON as it is (its training and summary included); Error naming the file it cannot read.
+nlohmann::json load_model_json(const std::filesystem::path& path);
 
 }  // namespace gyrosid

@@ -1,7 +1,5 @@
 #include "pipeline/surface_job.h"
 
-#include <fstream>
-
 #include "core/error.h"
 #include "core/format.h"
 #include "sensor/sensor_config.h"
@@ -21,12 +19,8 @@ std::string SurfaceJobInput::validate() const {
 SurfaceJobResult run_surface_job(const SurfaceJobInput& in) {
   if (const std::string p = in.validate(); !p.empty()) fail(p);
   SurfaceJobResult r;
-  r.model = load_model(in.model);
-  nlohmann::json model_json;
-  {
-    std::ifstream file(in.model);
-    file >> model_json;
-  }
+  const nlohmann::json model_json = load_model_json(in.model);  // one read: the model and its training domain
+  r.model = model_from_json(model_json, in.model);
   const SensorSpec spec = load_sensor_file(in.sensor);
   const GyroSensor& truth = representative_gyro(spec);
   // The options where given, else the temperatures the model was trained on (within the sensor's surface
