@@ -14,6 +14,15 @@ std::pair<std::string, std::string> split_option(const std::string& text) {
   return {text.substr(0, eq), text.substr(eq + 1)};
 }
 
+OptionMap parse_options(const std::vector<std::string>& texts) {
+  OptionMap map;
+  for (const auto& text : texts) {
+    auto [key, value] = split_option(text);
+    map[key] = std::move(value);
+  }
+  return map;
+}
+
 OptionTable& OptionTable::real(const std::string& key, double* field, double min, double max, std::string help, bool min_open) {
   const std::string range = str_cat(min_open ? "(" : "[", format_number(min), ", ", format_number(max), "]");
   entries_.push_back({key, std::move(help), range,

@@ -82,5 +82,7 @@ typename Registry<Base, const OptionMap&, Extra...>::Entry options_entry(std::st
 
 // "key=value" -> {key, value}; Error naming the text when there is no '='.
 std::pair<std::string, std::string> split_option(const std::string& text);
+// `--set`'s "key=value" texts as a map (a later key replaces an earlier one); Error as split_option.
+OptionMap parse_options(const std::vector<std::string>& texts);
 
 }  // namespace gyrosid

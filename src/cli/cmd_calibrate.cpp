@@ -71,10 +71,7 @@ CalibrationRequest request_of(CalibrateOptions& o) {
   if (!o.features.empty()) request.features = split_list(o.features);
   if (!o.target.empty()) request.target = parse_enum<ModelTarget>(o.target, "--target");
   if (!o.normalization.empty()) request.normalization = parse_enum<NormalizationKind>(o.normalization, "--normalization");
-  for (const auto& kv : o.set) {
-    const auto [key, value] = split_option(kv);
-    request.options[key] = value;
-  }
+  for (auto& [key, value] : parse_options(o.set)) request.options[key] = std::move(value);
   if (!o.prior.empty()) {
     if (!o.model.empty() && o.model != "greybox") fail("--prior (a lot file) calibrates the greybox model, not --model ", o.model);
     if (!o.set.empty() || !o.config.empty()) fail("--prior fixes the model's structure to the lot's: --set and --config do not apply");

@@ -22,12 +22,7 @@ struct SessionCommand {
 void run(SessionCommand& c) {
   SessionOptions& o = c.session;
   o.out = c.out;
-  OptionMap set;
-  for (const auto& kv : c.set) {
-    const auto [key, value] = split_option(kv);
-    set[key] = value;
-  }
-  o.set(set);
+  o.set(parse_options(c.set));
   o.on_step = [](const std::string& what) { progress_note(what); };
   const SessionResult r = run_session(o);
   if (r.waiting_for) {

@@ -25,11 +25,7 @@ std::string triad_help() {
 
 void calibrate_triad(const TriadCalibrateRequest& r) {
   TriadFitOptions o;
-  OptionMap map;
-  for (const auto& kv : r.set) {
-    const auto [key, value] = split_option(kv);
-    map[key] = value;
-  }
+  OptionMap map = parse_options(r.set);
   if (!r.solver.empty()) map["solver"] = r.solver;
   if (!r.surfaces.empty()) map["surfaces"] = r.surfaces;
   if (!r.estimation.empty()) map["estimation"] = r.estimation;

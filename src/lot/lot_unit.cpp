@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
 
 #include "core/distributed.h"
 #include "core/error.h"
@@ -14,6 +15,7 @@
 #include "model/dataset.h"
 #include "model/greybox_fit.h"
 #include "noise/identify.h"
+#include "solvers/calibrate.h"
 
 namespace gyrosid {
 namespace {
@@ -158,6 +160,32 @@ LotUnit unit_of_model(const GreyboxModel& model, const std::string& name, const 
          " C; rates ", format_numbers(structure.surface_rates_dps), " dps)");
   }
   return {name, greybox_theta(model.errors(), model.lag_tau_s(), structure), Eigen::VectorXd(), 0.0, 0.0, {}};
+}
+
+std::vector<LotUnit> units_of_models(const std::vector<std::string>& paths, OptionMap& structure) {
+  std::vector<std::unique_ptr<GreyboxModel>> models;
+  for (const auto& path : paths) {
+    std::unique_ptr<CalibrationModel> m = load_model(path);
+    auto* g = dynamic_cast<GreyboxModel*>(m.get());
+    if (!g) fail(path, ": a lot learns from greybox models; this is a ", m->kind(), " model");
+    m.release();
+    models.emplace_back(g);
+  }
+  const GyroErrorModel& first = models.front()->errors();
+  if (!first.scale_factor_surface) fail(paths.front(), ": a lot needs the scale-factor surface form");
+  structure["bias_order"] = std::to_string(std::max<int>(0, static_cast<int>(first.bias_temperature_radps.coefficients.size()) - 1));
+  structure["surface_temperatures_c"] = format_numbers(first.scale_factor_surface->x(), ",");
+  structure["surface_rates_dps"] = format_numbers(surface_grid_rates_dps(*first.scale_factor_surface), ",");
+  for (const auto& m : models) {
+    if (m->errors().shupe_rad_per_c != 0.0) structure["shupe"] = "true";
+    if (m->errors().scale_factor_asymmetry != 0.0) structure["asymmetry"] = "true";
+    if (m->errors().g_sensitivity.any()) structure["g_sensitivity"] = "true";
+    if (m->lag_tau_s() > 0.0) structure["thermal_lag"] = "true";
+  }
+  const GreyboxOptions o = greybox_options(structure);
+  std::vector<LotUnit> units;
+  for (std::size_t i = 0; i < paths.size(); ++i) units.push_back(unit_of_model(*models[i], paths[i], o));
+  return units;
 }
 
 }  // namespace gyrosid

@@ -46,4 +46,9 @@ std::vector<Eigen::VectorXd> conditional_scores(const std::vector<std::string>& 
 
 LotUnit unit_of_model(const GreyboxModel& model, const std::string& name, const GreyboxOptions& structure);
 
+// Already-calibrated grey-box units (model files): the structure from the first - its bias order and surface
+// grid, and a term wherever some unit has it - written into `structure` as `calibrate --set` keys. Error
+// naming a file that is no grey-box model, or a first without the scale-factor surface.
+std::vector<LotUnit> units_of_models(const std::vector<std::string>& paths, OptionMap& structure);
+
 }  // namespace gyrosid

@@ -112,11 +112,7 @@ void set_envelope(const DesignJobInput& c, design::EnvelopeOptions& envelope) {
 
 DesignSetup design_setup(const DesignJobInput& c, std::ostream& log) {
   DesignSetup s;
-  OptionMap options;
-  for (const auto& kv : c.set) {
-    const auto [key, value] = split_option(kv);
-    options[key] = value;
-  }
+  const OptionMap options = parse_options(c.set);
   s.settings.space.take(load_equipment(c.equipment));  // what the hardware can do; --set space.* overrides it
   s.solver_options = s.settings.apply(options);
   set_envelope(c, s.settings.envelope);
