@@ -24,6 +24,7 @@
 #include "model/compensate_recording.h"
 #include "nav/cof_report.h"
 #include "pipeline/design_job.h"
+#include "pipeline/lot_jobs.h"
 #include "pipeline/main_job.h"
 #include "pipeline/session.h"
 #include "pipeline/surface_job.h"
@@ -83,11 +84,16 @@ Recording recording_of_columns(const py::dict& columns, const py::dict& metadata
 }
 
 Model calibrate_py(const Recording& rec, const std::string& model, const std::string& solver, const py::dict& options,
-                   const std::vector<std::string>& features, const std::string& target, const std::string& normalization) {
+                   const std::vector<std::string>& features, const std::string& target, const std::string& normalization, const std::string& prior) {
   CalibrationRequest r;
   r.model = model, r.solver = solver, r.options = option_map(options), r.features = features;
   r.target = parse_enum<ModelTarget>(target, "target");
   r.normalization = parse_enum<NormalizationKind>(normalization, "normalization");
+  if (!prior.empty()) {  // calibrate --prior
+    if (model != "greybox") throw Error("prior (a lot file) calibrates the greybox model, not model='" + model + "'");
+    if (!r.options.empty()) throw Error("prior fixes the model's structure to the lot's: options do not apply");
+    take_lot_prior(r, prior);
+  }
   CalibrationResult c = calibrate(rec, r);
   return {std::shared_ptr<CalibrationModel>(std::move(c.model)), {{"training", c.training}, {"summary", c.summary}}};
 }
@@ -214,6 +220,34 @@ py::dict session_py(const std::string& prior, const std::filesystem::path& out, 
   return d;
 }
 
+// `gyrosid lot learn`'s job (pipeline/lot_jobs.h): writes the lot file `out`; options as --set (lot.* for the
+// lot, the rest for the units' grey-box structure). Returns {file (the lot file's JSON), units, modes,
+// mode_share, left_out}.
+py::dict lot_learn_py(const std::filesystem::path& out, const std::vector<std::string>& recordings, const std::vector<std::string>& models,
+                      const std::vector<std::string>& screen_recordings, const py::dict& options, const std::string& name, double package_tau_s,
+                      bool resume) {
+  LotLearnOptions o;
+  o.out = out, o.recordings = recordings, o.models = models, o.screen_recordings = screen_recordings, o.name = name;
+  o.members.package_tau_s = package_tau_s, o.resume = resume;
+  o.set(option_map(options));
+  const LotLearnResult r = run_lot_learn(o);
+  py::dict d;
+  d["file"] = to_python(r.file);
+  d["units"] = r.lot.unit_names.size(), d["modes"] = r.lot.modes.cols(), d["mode_share"] = r.mode_share, d["left_out"] = r.lot.left_out;
+  return d;
+}
+
+// `gyrosid lot screen`'s job: each recording's screen.json as a dict, in order (written under `out` as the
+// command writes them).
+py::list lot_screen_py(const std::string& prior, const std::vector<std::string>& recordings, const std::filesystem::path& out, double alpha,
+                       bool resume) {
+  LotScreenOptions o;
+  o.prior = prior, o.recordings = recordings, o.out = out, o.screen.alpha = alpha, o.resume = resume;
+  py::list screens;
+  for (const ScreenedUnit& u : run_lot_screen(o).units) screens.append(to_python(u.file));
+  return screens;
+}
+
 // A temps x rates matrix as a 2-D numpy array (a copy, row-major).
 py::array_t<double> grid_to_numpy(const Eigen::MatrixXd& m) {
   py::array_t<double> out({static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
@@ -316,7 +350,9 @@ PYBIND11_MODULE(_gyrosid, m) {
         "A sensor along a calibration trajectory, as `gyrosid simulate` (same seed, same numbers).");
   m.def("calibrate", &calibrate_py, py::arg("recording"), py::arg("model") = "rbf", py::arg("solver") = "ols",
         py::arg("options") = py::dict(), py::arg("features") = std::vector<std::string>{}, py::arg("target") = "error",
-        py::arg("normalization") = "range", "Fit a model kind (rbf with a named solver, classical, greybox, ...) to a recording.");
+        py::arg("normalization") = "range", py::arg("prior") = "",
+        "Fit a model kind (rbf with a named solver, classical, greybox, ...) to a recording; prior: a lot file (greybox only), "
+        "the unit fitted under the lot's population as `calibrate --prior`.");
   m.def("calibrate_triad", &calibrate_triad_py, py::arg("recording"), py::arg("options") = py::dict(),
         "Estimate a triad's misalignment, biases and surfaces; returns the model file's JSON as a dict.");
   m.def("compensate", [](const Model& model, const Recording& rec) { return compensate_recording(*model.model, rec).recording; },
@@ -346,4 +382,15 @@ PYBIND11_MODULE(_gyrosid, m) {
         "An adaptive calibration session, `gyrosid session`'s job: a pilot, the prior over sensors updated by the recording, a redesign of "
         "the rest. Without truth it stops after each designed segment for the lab's recording (waiting_for); call again with resume=True. "
         "Returns {segments_done, segments, waiting_for, model, session (session.json)}.");
+  const LotLearnOptions lot_defaults;
+  m.def("lot_learn", &lot_learn_py, py::arg("out"), py::arg("recordings") = std::vector<std::string>{}, py::arg("models") = std::vector<std::string>{},
+        py::arg("screen_recordings") = std::vector<std::string>{}, py::arg("options") = py::dict(), py::arg("name") = "",
+        py::arg("package_tau_s") = lot_defaults.members.package_tau_s, py::arg("resume") = false,
+        "Learn a production lot's population from its units' recordings (or grey-box model files), `gyrosid lot learn`'s job; writes the lot "
+        "file `out`. options: lot.* (variance_kept, max_modes, trim_alpha, max_loo_units) and the units' grey-box structure. Returns {file, "
+        "units, modes, mode_share, left_out}.");
+  m.def("lot_screen", &lot_screen_py, py::arg("prior"), py::arg("recordings"), py::arg("out"), py::arg("alpha") = ScreenOptions{}.alpha,
+        py::arg("resume") = false,
+        "Screen units against a lot, `gyrosid lot screen`'s job: each recording's screen.json as a dict (out_of_family, p_value, "
+        "reasons, ...), written under `out` as the command writes them.");
 }

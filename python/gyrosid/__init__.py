@@ -1,5 +1,5 @@
 """gyrosid from Python: simulate a gyro, calibrate, compensate, analyse noise, score by the criterion of fit,
-explain a mismatch, design a calibration trajectory or run an adaptive session - in-process, numpy arrays in and out. Models save to and load from the same JSON files as
+explain a mismatch, design a calibration trajectory, run an adaptive session, or learn and screen a production lot - in-process, numpy arrays in and out. Models save to and load from the same JSON files as
 the `gyrosid` command, so the two can be mixed freely.
 
     import gyrosid
@@ -8,7 +8,7 @@ the `gyrosid` command, so the two can be mixed freely.
     print(gyrosid.cof(model, trajectory="short")["end_error_m"])
 """
 from ._gyrosid import (Error, Model, Recording, allan, calibrate, calibrate_triad, cof, compensate, design,  # noqa: F401
-                       explain, load_model, run_main_job, session, simulate, surface)
+                       explain, load_model, lot_learn, lot_screen, run_main_job, session, simulate, surface)
 
 __all__ = ["Error", "Model", "Recording", "allan", "calibrate", "calibrate_triad", "cof", "compensate", "design",
-           "explain", "load_model", "run_main_job", "session", "simulate", "surface"]
+           "explain", "load_model", "lot_learn", "lot_screen", "run_main_job", "session", "simulate", "surface"]

@@ -170,6 +170,36 @@ class Bindings(unittest.TestCase):
         with self.assertRaises(ValueError):  # other inputs: refused, naming the fingerprint
             gyrosid.session(**dict(lab, pilot_min=5), resume=True)
 
+    def test_lot_learn_screen_and_calibrate_are_the_commands_jobs(self):
+        # The same jobs as `gyrosid lot learn`, `lot screen` and `calibrate --prior`: the same lot file, screen.json
+        # and model; the lot's white noise is the simulated sensor's, 10 dph at 1 Hz.
+        units = []
+        for u in range(1, 8):
+            gyrosid.simulate(samples=2000, seed=u).save(self.path("u%d.csv" % u))
+            units.append(self.path("u%d.csv" % u))
+        learned = gyrosid.lot_learn(self.path("lot.json"), recordings=units[:6], options={"lot.max_modes": 2}, name="six")
+        run_gyrosid("lot", "learn", "--recordings", *units[:6], "--set", "lot.max_modes=2", "--name", "six", "--out", self.path("cli.json"))
+        with open(self.path("cli.json")) as f:
+            self.assertEqual(learned["file"], json.load(f))
+        self.assertEqual(learned["units"], 6)
+        self.assertLessEqual(learned["modes"], 2)
+        self.assertAlmostEqual(np.exp(learned["file"]["population"]["noise"]["white_dph_at_1hz"]["log_mean"]), 10.0, delta=1.0)
+        screens = gyrosid.lot_screen(self.path("lot.json"), [units[6], units[0]], self.path("s"))
+        run_gyrosid("lot", "screen", "--prior", self.path("lot.json"), "--recording", units[6], units[0], "--out", self.path("cs"))
+        for screen, name in zip(screens, ("u7", "u1")):
+            with open(self.path("cs/%s/screen.json" % name)) as f:
+                self.assertEqual(screen, json.load(f))
+            self.assertEqual(set(screen), set(screen) | {"out_of_family", "p_value", "reasons"})
+        unit = gyrosid.calibrate(gyrosid.Recording.load(units[6]), model="greybox", prior=self.path("lot.json"))
+        unit.save(self.path("unit.json"))
+        run_gyrosid("calibrate", "--recording", units[6], "--prior", self.path("lot.json"), "--out", self.path("cli_unit.json"))
+        with open(self.path("unit.json")) as a, open(self.path("cli_unit.json")) as b:
+            self.assertEqual(json.load(a)["parameters"], json.load(b)["parameters"])
+        with self.assertRaises(ValueError):  # a lot option that is none, named
+            gyrosid.lot_learn(self.path("x.json"), recordings=units[:6], options={"lot.bogus": 1})
+        with self.assertRaises(ValueError):
+            gyrosid.calibrate(gyrosid.Recording.load(units[6]), model="rbf", prior=self.path("lot.json"))
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -13,9 +13,9 @@
 #include "core/progress.h"
 #include "core/recording.h"
 #include "core/recording_reader.h"
-#include "lot/lot_model.h"
 #include "model/calibration_model.h"
 #include "model/fit_notes.h"
+#include "pipeline/lot_jobs.h"
 #include "solvers/calibrate.h"
 #include "solvers/preset_choice.h"
 #include "solvers/nls/nls_solver.h"
@@ -75,10 +75,7 @@ CalibrationRequest request_of(CalibrateOptions& o) {
   if (!o.prior.empty()) {
     if (!o.model.empty() && o.model != "greybox") fail("--prior (a lot file) calibrates the greybox model, not --model ", o.model);
     if (!o.set.empty() || !o.config.empty()) fail("--prior fixes the model's structure to the lot's: --set and --config do not apply");
-    const LotModel lot = load_lot(o.prior);
-    request.model = "greybox";
-    request.options = lot.greybox_options;
-    request.greybox_prior = std::make_shared<const GreyboxPrior>(lot.prior());
+    take_lot_prior(request, o.prior);
   }
   return request;
 }

@@ -1,6 +1,7 @@
 #include "pipeline/lot_jobs.h"
 
 #include <iomanip>
+#include <memory>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -96,7 +97,8 @@ LotLearnResult run_lot_learn(const LotLearnOptions& o) {
   LotLearnResult result{learn_lot(units, structure, o.lot, o.screen_recordings.empty() ? nullptr : &screen_units)};
   LotModel& lot = result.lot;
   if (!o.recordings.empty() && !single_coordinate_terms(lot.coordinates).empty()) add_conditional_nulls(lot, o, units, checkpoint);
-  write_file_atomic(o.out, lot_prior_file(lot, o.name, o.members).dump(1) + "\n");
+  result.file = lot_prior_file(lot, o.name, o.members);
+  write_file_atomic(o.out, result.file.dump(1) + "\n");
   checkpoint.finish();
   const double rest = lot.residual_variance * static_cast<double>(lot.coordinates.size() - static_cast<std::size_t>(lot.modes.cols()));
   result.mode_share = lot.mode_variance.sum() / (lot.mode_variance.sum() + rest);
@@ -130,9 +132,10 @@ LotScreenResult run_lot_screen(const LotScreenOptions& o) {
   LotScreenResult result;
   std::string table = kScreensCsvHeader;
   for (std::size_t k = 0; k < units.size(); ++k) {
-    ScreenedUnit s{o.recordings[k], dirs[k], screen_unit(lot, units[k], o.screen), units[k].white_dph_at_1hz};
+    ScreenedUnit s{o.recordings[k], dirs[k], screen_unit(lot, units[k], o.screen), units[k].white_dph_at_1hz, {}};
+    s.file = screen_json(s.result, s.recording, o.prior, o.screen.alpha, s.white_dph_at_1hz);
     std::filesystem::create_directories(s.dir);
-    write_file_atomic(s.dir / "screen.json", screen_json(s.result, s.recording, o.prior, o.screen.alpha, s.white_dph_at_1hz).dump(2) + "\n");
+    write_file_atomic(s.dir / "screen.json", s.file.dump(2) + "\n");
     table += screens_csv_row(s.result, s.recording, s.white_dph_at_1hz);
     result.out_of_family += s.result.out_of_family;
     result.units.push_back(std::move(s));
@@ -140,6 +143,13 @@ LotScreenResult run_lot_screen(const LotScreenOptions& o) {
   if (units.size() > 1) write_file_atomic(o.out / "screens.csv", table);
   checkpoint.finish();
   return result;
+}
+
+void take_lot_prior(CalibrationRequest& request, const std::string& lot_file) {
+  const LotModel lot = load_lot(lot_file);
+  request.model = "greybox";
+  request.options = lot.greybox_options;
+  request.greybox_prior = std::make_shared<const GreyboxPrior>(lot.prior());
 }
 
 }  // namespace gyrosid

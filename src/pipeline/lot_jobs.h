@@ -10,6 +10,7 @@
 #include "lot/lot_members.h"
 #include "lot/lot_model.h"
 #include "lot/screen.h"
+#include "solvers/calibrate.h"
 #include "solvers/common/options.h"
 
 namespace gyrosid {
@@ -35,6 +36,7 @@ struct LotLearnOptions {
 
 struct LotLearnResult {
   LotModel lot;
+  nlohmann::json file;      // what the lot file holds
   double mode_share = 0.0;  // of the standardised variance held by the modes
 };
 
@@ -57,6 +59,7 @@ struct ScreenedUnit {
   std::filesystem::path dir;  // where its screen.json is
   ScreenResult result;
   double white_dph_at_1hz = 0.0;
+  nlohmann::json file;        // what its screen.json holds
 };
 
 struct LotScreenResult {
@@ -67,5 +70,10 @@ struct LotScreenResult {
 // Screens every recording against the lot; writes each unit's screen.json (report/lot_report.h) and, for
 // several, screens.csv.
 LotScreenResult run_lot_screen(const LotScreenOptions& options);
+
+// `calibrate --prior lot.json`: the request becomes a unit of the lot's - the grey-box model of the lot's
+// structure (model and options replaced), the maximum a posteriori under its population. Error naming the file
+// when it holds no lot.
+void take_lot_prior(CalibrationRequest& request, const std::string& lot_file);
 
 }  // namespace gyrosid
