@@ -181,6 +181,23 @@ ModelFitterRegistry& extend_model_fitters() {
   return registry;
 }
 
+namespace {
+std::map<std::string, ModelSample>& plugin_samples() {
+  static std::map<std::string, ModelSample> samples;
+  return samples;
+}
+}  // namespace
+
+void register_model_kind(ModelKindPlugin kind) {
+  if (!kind.load || !kind.help || !kind.fit || !kind.sample) fail("model kind '", kind.name, "': a plugin needs its loader, help, fitter and sample");
+  if (model_kinds().find(kind.name) || model_fitters().find(kind.name)) fail("model kind '", kind.name, "' registered twice");
+  extend_model_kinds().add({kind.name, kind.summary, [] { return std::string(); }, std::move(kind.load)});
+  extend_model_fitters().add({kind.name, kind.summary, std::move(kind.help), std::move(kind.fit)});
+  plugin_samples()[kind.name] = std::move(kind.sample);
+}
+
+const std::map<std::string, ModelSample>& registered_model_samples() { return plugin_samples(); }
+
 std::string model_help(const std::string& model) { return model_fitters().at(model).help(); }
 
 CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& r) {

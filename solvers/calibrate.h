@@ -2,6 +2,8 @@
 // experiments: rbf (with a named solver), classical (s5.3.2) or greybox (the unified sensor model).
 #pragma once
 
+#include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,6 +17,7 @@
 #include "model/calibration_model.h"
 #include "model/greybox_fit.h"
 #include "model/greybox_prior.h"
+#include "model/model_kinds.h"
 #include "model/normalizer.h"
 #include "solvers/common/options.h"
 
@@ -51,6 +54,22 @@ const ModelFitterRegistry& model_fitters();
 // The same registry, open for a program to add the fitter of its own kind (model/model_kinds.h) before it
 // fits any (not thread-safe: register at start-up).
 ModelFitterRegistry& extend_model_fitters();
+
+// A model kind added from outside the library, whole, by one call (tests/model/toy_model_kind.cpp): its loader
+// goes into model_kinds() (model/model_kinds.h), its options' help and its fitter into model_fitters(), its
+// sample to the property suites (tests/model/model_samples.h). The built-in kinds sit in those two registries
+// themselves: loading a model file is below the solvers (nav, explain and design load models), fitting above.
+struct ModelKindPlugin {
+  std::string name, summary;
+  std::function<std::unique_ptr<CalibrationModel>(const ModelFile&)> load;   // the model file's "parameters" -> model
+  std::function<std::string()> help;                                          // its options, for --options-of
+  std::function<std::unique_ptr<ModelFitter>(const CalibrationRequest&)> fit;  // options validated here
+  std::function<std::unique_ptr<CalibrationModel>()> sample;                   // for the property suites
+};
+void register_model_kind(ModelKindPlugin kind);
+// The samples of the kinds registered so, by name: a small instance from planted parameters (no fit).
+using ModelSample = std::function<std::unique_ptr<CalibrationModel>()>;
+const std::map<std::string, ModelSample>& registered_model_samples();
 
 CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& request);
 

@@ -16,6 +16,7 @@
 #include "model/hybrid_model.h"
 #include "model/terms/term_kinds.h"
 #include "model/rbf_network.h"
+#include "solvers/calibrate.h"
 
 namespace gyrosid::testing_support {
 
@@ -140,13 +141,14 @@ inline const std::map<std::string, std::string>& sample_variants() {
   return variants;
 }
 
-// Every registered kind's sample, by kind name (and every variant's, by its name). A kind registered from a
-// test binary adds its own at start-up (toy_model_kind.cpp).
-inline std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>>& model_samples() {
-  static std::map<std::string, std::function<std::unique_ptr<CalibrationModel>()>> samples{
+// Every registered kind's sample, by kind name (and every variant's, by its name), with the samples of the
+// kinds registered whole from outside the library (register_model_kind, solvers/calibrate.h).
+inline std::map<std::string, ModelSample> model_samples() {
+  std::map<std::string, ModelSample> samples{
       {"rbf", sample_rbf}, {"classical", sample_classical}, {"greybox", sample_greybox}, {"explained", sample_explained},
       {"hybrid", sample_hybrid}, {"rbf_relative", sample_relative_rbf},
       {"greybox_posterior", sample_greybox_posterior}};
+  samples.insert(registered_model_samples().begin(), registered_model_samples().end());
   return samples;
 }
 

@@ -16,12 +16,14 @@
 #include "model/fit_notes.h"
 #include "model/greybox_fit.h"
 #include "model/hybrid_model.h"
+#include "model/model_kinds.h"
 #include "model/physics_terms.h"
 #include "error_of.h"
 #include "model_samples.h"
 #include "model/rbf_network.h"
 #include "sensor/sensor_config.h"
 #include "sim/simulate.h"
+#include "solvers/calibrate.h"
 #include "trajectory/trajectory_config.h"
 
 namespace gyrosid {
@@ -232,6 +234,20 @@ TEST(HybridModel, RegressorsTimesWeightsArePredictionsAndSigmaIsTheQuadraticForm
 
 // Found by fuzzing: polynomial orders in a model file were converted to int without a check (1.8e86 is
 // undefined behaviour). Orders are whole numbers in [0, 12] or a named error; valid ones round-trip.
+// A kind registered whole (solvers/calibrate.h): incomplete, or under a name already taken (the toy's, from
+// toy_model_kind.cpp), it is refused, and the registries are left as they were.
+TEST(ModelKindPlugin, IncompleteOrTakenIsRefused) {
+  const std::size_t kinds = model_kinds().names().size();
+  ModelKindPlugin half{"half", "no fitter", model_kinds().at("classical").make, [] { return std::string("half"); }, nullptr,
+                       [] { return testing_support::model_samples().at("classical")(); }};
+  EXPECT_THAT(testing_support::error_of([&] { register_model_kind(half); }), ::testing::HasSubstr("'half': a plugin needs its loader, help, fitter and sample"));
+  half.fit = model_fitters().at("classical").make;
+  half.name = "poly2d";
+  EXPECT_THAT(testing_support::error_of([&] { register_model_kind(half); }), ::testing::HasSubstr("model kind 'poly2d' registered twice"));
+  EXPECT_EQ(model_kinds().names().size(), kinds);
+  EXPECT_EQ(model_fitters().names().size(), model_kinds().names().size() - 1);  // every kind but explained is fitted
+}
+
 TEST(PhysicsTerms, PolynomialOrdersFromFilesAreChecked) {
   const auto load = [](const char* text) { return Term::from_json(nlohmann::json::parse(text)); };
   const Term ok = load(R"({"kind": "scale_factor", "sf_orders": [[0, 1], [2, 3]]})");

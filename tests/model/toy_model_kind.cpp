@@ -1,6 +1,6 @@
-// A toy model kind added from the test binaries alone, proving the extension points of model/model_kinds.h
-// and solvers/calibrate.h: a kind is a CalibrationModel (prediction, JSON, C export), an options struct, a
-// fitter, and one registration line per registry - its loader, its fitter, and its sample for the suites.
+// A toy model kind added from the test binaries alone, proving the extension point register_model_kind
+// (solvers/calibrate.h): a kind is a CalibrationModel (prediction, JSON, C export), an options struct, a
+// fitter, and one registration call - its loader, help, fitter and sample for the suites.
 // The property suites then run over it like over the library's own: test_model_properties.cpp over the
 // kinds (JSON, C export compiled, compensation), test_fitter_properties.cpp over the fitters (help, options,
 // a fit to the dual scan that removes the error and loads back).
@@ -117,17 +117,16 @@ std::unique_ptr<CalibrationModel> sample_poly2d() {
   return std::make_unique<Poly2dModel>(3, 1.7, 21.5, 39.0, c);
 }
 
-// The registration lines, run before gtest lists or instantiates the tests.
+// The registration line, run before gtest lists or instantiates the tests.
 const bool poly2d_registered = [] {
-  extend_model_kinds().add({"poly2d", "toy: a polynomial of total degree D in (w, T)", [] { return std::string(); }, Poly2dModel::from_json});
-  extend_model_fitters().add({"poly2d", "toy: a polynomial of total degree D in (w, T)",
-                              [] { return "poly2d - toy: a polynomial of total degree D in (w, T):\n" + Poly2dOptions{}.table().help(); },
-                              [](const CalibrationRequest& r) -> std::unique_ptr<ModelFitter> {
-                                Poly2dOptions o;
-                                o.table().apply(r.options);
-                                return std::make_unique<Poly2dFitter>(o);
-                              }});
-  testing_support::model_samples()["poly2d"] = sample_poly2d;
+  register_model_kind({"poly2d", "toy: a polynomial of total degree D in (w, T)", Poly2dModel::from_json,
+                       [] { return "poly2d - toy: a polynomial of total degree D in (w, T):\n" + Poly2dOptions{}.table().help(); },
+                       [](const CalibrationRequest& r) -> std::unique_ptr<ModelFitter> {
+                         Poly2dOptions o;
+                         o.table().apply(r.options);
+                         return std::make_unique<Poly2dFitter>(o);
+                       },
+                       sample_poly2d});
   return true;
 }();
 
