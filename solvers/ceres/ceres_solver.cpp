@@ -97,7 +97,8 @@ class VarProCost : public ceres::CostFunction {
     const Eigen::Index n = x_.rows(), m = nodes_;
     Eigen::MatrixXd centres(m, dim_), widths(m, dim_);
     for (int j = 0; j < nodes_; ++j) {
-      for (int k = 0; k < dim_; ++k) centres(j, k) = p[j][k], widths(j, k) = std::exp(p[j][dim_ + k]);
+      const NodeBlock<const double> node{p[j], dim_};  // its [c, rho]; VarPro leaves the weight out
+      for (int k = 0; k < dim_; ++k) centres(j, k) = node.centre()[k], widths(j, k) = std::exp(node.log_width()[k]);
     }
     Linear l;
     l.phi = gaussian_columns(x_, centres, widths);
@@ -199,7 +200,7 @@ void add_sample_blocks(const CeresOptions& o, const RbfProblem& problem, const R
   }
   if (o.lambda > 0) {
     for (Eigen::Index j = 0; j < packed.count; ++j) {
-      cp.AddResidualBlock(new WeightPrior(static_cast<int>(packed.block), std::sqrt(o.lambda)), nullptr, packed.node(j));
+      cp.AddResidualBlock(new WeightPrior(static_cast<int>(net.dimension()), std::sqrt(o.lambda)), nullptr, packed.node(j));
     }
   }
 }

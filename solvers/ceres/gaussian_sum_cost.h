@@ -12,8 +12,11 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <functional>
 #include <vector>
+
+#include "model/gaussian_node.h"
 
 namespace gyrosid {
 
@@ -38,24 +41,24 @@ class GaussianSumCost : public ceres::CostFunction {
   const Baseline* baseline_;
 };
 
-// sqrt(lambda) w_j: ridge on one node's weight.
+// sqrt(lambda) w_j: ridge on one node's weight (its NodeBlock's).
 class WeightPrior : public ceres::CostFunction {
  public:
-  WeightPrior(int block_size, double sqrt_lambda) : block_size_(block_size), sqrt_lambda_(sqrt_lambda) {
+  WeightPrior(int dimension, double sqrt_lambda) : dim_(dimension), sqrt_lambda_(sqrt_lambda) {
     set_num_residuals(1);
-    mutable_parameter_block_sizes()->assign(1, block_size);
+    mutable_parameter_block_sizes()->assign(1, static_cast<int>(NodeBlock<double>::size(dimension)));
   }
   bool Evaluate(double const* const* p, double* r, double** j) const override {
-    r[0] = sqrt_lambda_ * p[0][block_size_ - 1];  // the weight is the block's last entry (NodeBlock)
+    r[0] = sqrt_lambda_ * NodeBlock<const double>{p[0], dim_}.weight();
     if (j && j[0]) {
-      for (int k = 0; k < block_size_; ++k) j[0][k] = 0.0;
-      j[0][block_size_ - 1] = sqrt_lambda_;
+      std::fill(j[0], j[0] + NodeBlock<double>::size(dim_), 0.0);
+      NodeBlock<double>{j[0], dim_}.weight() = sqrt_lambda_;
     }
     return true;
   }
 
  private:
-  int block_size_;
+  Eigen::Index dim_;
   double sqrt_lambda_;
 };
 
