@@ -37,18 +37,19 @@ class ClassicalTerm : public SurfaceTerm {
     shape_.rate_scale = std::max(rates.cwiseAbs().maxCoeff(), 1e-6);
     shape_.temperature_reference = 0.5 * (temps.maxCoeff() + temps.minCoeff());
     shape_.temperature_scale = std::max(0.5 * (temps.maxCoeff() - temps.minCoeff()), 1.0);
+    // The term's linear parameters: classical_columns' but the bias group and u^0 w, which belong to the triad
+    // (b, M_ii: M_ii carries the whole constant scale factor, against the reference rate).
+    const ClassicalColumns g(options_);
+    for (Eigen::Index c = g.bias.end(); c < g.size(); ++c) {
+      if (c != g.sf_rate.first) columns_.push_back(c);
+    }
   }
-  // classical_columns gives 1 | v^1..v^nt w | u^0..u^nw w | v^i u^k w; the 1 and u^0 w belong to the triad
-  // (b, M_ii): M_ii carries the whole constant scale factor, against the reference rate.
-  int linear_size() const override { return options_.sf_temperature_order + options_.sf_rate_order * (1 + options_.sf_cross_order); }
+  int linear_size() const override { return static_cast<int>(columns_.size()); }
   void linear_columns(double rate, double temp_c, double* out) const override {
     const Eigen::MatrixXd c = classical_columns(shape_, options_, Eigen::VectorXd::Constant(1, rate), Eigen::VectorXd::Constant(1, temp_c));
-    const int nt = options_.sf_temperature_order, nw = options_.sf_rate_order, nc = options_.sf_cross_order;
-    for (int k = 0; k < nt; ++k) out[k] = c(0, 1 + k);
-    for (int k = 0; k < nw; ++k) out[nt + k] = c(0, 1 + nt + 1 + k);
-    for (int k = 0; k < nc * nw; ++k) out[nt + nw + k] = c(0, 1 + nt + 1 + nw + k);
+    for (std::size_t k = 0; k < columns_.size(); ++k) out[k] = c(0, columns_[k]);
   }
-  std::vector<double> linear_start() const override { return std::vector<double>(static_cast<std::size_t>(linear_size()), 0.0); }
+  std::vector<double> linear_start() const override { return std::vector<double>(columns_.size(), 0.0); }
   std::vector<std::string> linear_names() const override {
     std::vector<std::string> out;
     for (int k = 1; k <= options_.sf_temperature_order; ++k) out.push_back(str_cat("sf_temperature_", k));
@@ -58,23 +59,17 @@ class ClassicalTerm : public SurfaceTerm {
     return out;
   }
   std::shared_ptr<CalibrationModel> model(const std::vector<double>& linear, const std::vector<std::vector<double>>&) const override {
+    Eigen::VectorXd coefficients = Eigen::VectorXd::Zero(ClassicalColumns(options_).size());
+    for (std::size_t k = 0; k < columns_.size(); ++k) coefficients(columns_[k]) = linear[k];
     auto m = std::make_shared<ClassicalModel>(shape_);
-    const int nt = options_.sf_temperature_order, nw = options_.sf_rate_order;
-    m->bias = Eigen::VectorXd::Zero(1);
-    m->sf_temperature = Eigen::VectorXd::Zero(nt + 1);
-    m->sf_rate = Eigen::VectorXd::Zero(nw + 1);
-    for (int k = 0; k < nt; ++k) m->sf_temperature(1 + k) = linear[static_cast<std::size_t>(k)];
-    for (int k = 0; k < nw; ++k) m->sf_rate(1 + k) = linear[static_cast<std::size_t>(nt + k)];
-    const int nc = options_.sf_cross_order;
-    m->sf_cross = Eigen::MatrixXd::Zero(nc, nw);
-    for (int i = 0; i < nc; ++i)
-      for (int k = 0; k < nw; ++k) m->sf_cross(i, k) = linear[static_cast<std::size_t>(nt + nw + i * nw + k)];
+    m->set_coefficients(options_, coefficients);
     return m;
   }
 
  private:
   ClassicalOptions options_;
-  ClassicalModel shape_;  // scaling only; coefficients unused
+  ClassicalModel shape_;               // scaling only; coefficients unused
+  std::vector<Eigen::Index> columns_;  // of classical_columns, one per linear parameter
 };
 
 class RbfTerm : public SurfaceTerm {

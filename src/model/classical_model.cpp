@@ -119,12 +119,28 @@ void ClassicalModel::export_c_body(CExport& out) const {
              << sf_rate.size() << ", u)" << cross_term << ") * w;\n}\n";
 }
 
-// Columns of the additive model: v^0..v^nb | v^1..v^nt w | u^0..u^nw w, then the cross terms v^i u^k w (i = 1..nc
-// outer, k = 1..nw inner; none for the separable model).
+ClassicalColumns::ClassicalColumns(const ClassicalOptions& o)
+    : bias{0, o.bias_order + 1},
+      sf_temperature{bias.end(), o.sf_temperature_order},
+      sf_rate{sf_temperature.end(), o.sf_rate_order + 1},
+      sf_cross{sf_rate.end(), static_cast<Eigen::Index>(o.sf_cross_order) * o.sf_rate_order} {}
+
+void ClassicalModel::set_coefficients(const ClassicalOptions& o, const Eigen::VectorXd& coefficients) {
+  const ClassicalColumns g(o);
+  if (coefficients.size() != g.size()) fail("classical model: ", coefficients.size(), " coefficients for ", g.size(), " columns");
+  const auto group = [&](const ClassicalColumns::Group& at) { return coefficients.segment(at.first, at.count); };
+  bias = group(g.bias);
+  sf_temperature = Eigen::VectorXd::Zero(g.sf_temperature.count + 1);
+  sf_temperature.tail(g.sf_temperature.count) = group(g.sf_temperature);
+  sf_rate = group(g.sf_rate);
+  sf_cross = Eigen::Map<const Eigen::MatrixXd>(coefficients.data() + g.sf_cross.first, o.sf_rate_order, o.sf_cross_order).transpose();
+}
+
+// Columns of the additive model in ClassicalColumns' order (no cross terms for the separable model).
 Eigen::MatrixXd classical_columns(const ClassicalModel& m, const ClassicalOptions& o, const Eigen::VectorXd& w,
                                   const Eigen::VectorXd& temp) {
   const int nb = o.bias_order, nt = o.sf_temperature_order, nw = o.sf_rate_order, nc = o.sf_cross_order;
-  Eigen::MatrixXd a(w.size(), (nb + 1) + nt + (nw + 1) + nc * nw);
+  Eigen::MatrixXd a(w.size(), ClassicalColumns(o).size());
   for (Eigen::Index i = 0; i < w.size(); ++i) {
     const double u = w(i) / m.rate_scale, v = (temp(i) - m.temperature_reference) / m.temperature_scale;
     Eigen::Index c = 0;
@@ -163,9 +179,9 @@ struct ColumnInputs {
   bool temperature = false, rate = false;
 };
 ColumnInputs classical_column_inputs(const ClassicalOptions& o, Eigen::Index c) {
-  const Eigen::Index sf_t = o.bias_order + 1, sf_w = sf_t + o.sf_temperature_order, cross = sf_w + o.sf_rate_order + 1;
-  if (c < sf_t) return {c > 0, false};
-  return {c < sf_w || c >= cross, true};
+  const ClassicalColumns g(o);
+  if (c < g.bias.end()) return {c > g.bias.first, false};
+  return {c < g.sf_temperature.end() || c >= g.sf_cross.first, true};
 }
 
 }  // namespace
@@ -203,13 +219,7 @@ std::unique_ptr<ClassicalModel> fit_classical(const Dataset& data, const Classic
     if (qr.rank() < p) fail("classical model: the recording does not determine all ", p, " coefficients (rank ", qr.rank(), "); lower the polynomial orders or cover more temperatures and rates");
     Eigen::VectorXd coeff = Eigen::VectorXd::Zero(all.cols());
     coeff(kept) = qr.solve(data.target).cwiseQuotient(col_norm);
-    const int nb = o.bias_order, nt = o.sf_temperature_order, nw = o.sf_rate_order;
-    model->bias = coeff.head(nb + 1);
-    model->sf_temperature = Eigen::VectorXd::Zero(nt + 1);
-    model->sf_temperature.tail(nt) = coeff.segment(nb + 1, nt);
-    model->sf_rate = coeff.segment(nb + 1 + nt, nw + 1);
-    const int nc = o.sf_cross_order;
-    model->sf_cross = Eigen::Map<const Eigen::MatrixXd>(coeff.tail(nc * nw).data(), nw, nc).transpose();
+    model->set_coefficients(o, coeff);
     const double rss = (all * coeff - data.target).squaredNorm();
     monitor.iteration(0.5 * rss);
     const auto diag = qr.matrixR().diagonal().cwiseAbs();

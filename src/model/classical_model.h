@@ -41,6 +41,9 @@ class ClassicalModel : public CalibrationModel {
   static std::unique_ptr<ClassicalModel> from_json(const nlohmann::json& j, std::vector<std::string> features,
                                                    ModelTarget target);
 
+  // The coefficients from a vector in ClassicalColumns(options)' order (below); sf_temperature's v^0 is 0.
+  void set_coefficients(const ClassicalOptions& options, const Eigen::VectorXd& coefficients);
+
   double rate_scale = 1.0;        // w_s, rad/s
   double temperature_reference = 25.0, temperature_scale = 1.0;  // T_0, T_s (deg C)
   Eigen::VectorXd bias;           // beta_0..beta_nb, rad/s
@@ -49,9 +52,21 @@ class ClassicalModel : public CalibrationModel {
   Eigen::MatrixXd sf_cross;       // gamma_ik, row i-1 (v^i), column k-1 (u^k); empty: separable
 };
 
-// The model's regression columns at measured rates w and temperatures temp (N x (nb+1 + nt + nw+1 + nc nw)):
-// v^0..v^nb | v^1..v^nt w | u^0..u^nw w | v^i u^k w (i = 1..nc outer, k = 1..nw inner), with the model's rate
-// and temperature scaling.
+// Where each coefficient group sits in classical_columns' columns (and in a vector of their coefficients):
+// bias v^0..v^nb | sf_temperature v^1..v^nt w | sf_rate u^0..u^nw w | sf_cross v^i u^k w (i = 1..nc outer,
+// k = 1..nw inner).
+struct ClassicalColumns {
+  struct Group {
+    Eigen::Index first = 0, count = 0;
+    Eigen::Index end() const { return first + count; }
+  };
+  Group bias, sf_temperature, sf_rate, sf_cross;
+  explicit ClassicalColumns(const ClassicalOptions& options);
+  Eigen::Index size() const { return sf_cross.end(); }
+};
+
+// The model's regression columns at measured rates w and temperatures temp (N x ClassicalColumns(options).size()),
+// with the model's rate and temperature scaling.
 Eigen::MatrixXd classical_columns(const ClassicalModel& model, const ClassicalOptions& options, const Eigen::VectorXd& w,
                                   const Eigen::VectorXd& temp);
 
