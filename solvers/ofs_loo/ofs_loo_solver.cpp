@@ -8,6 +8,7 @@
 #include "core/bounded_search.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "model/gaussian_node.h"
 #include "solvers/common/candidates.h"
 #include "solvers/common/recursive_loo.h"
 
@@ -87,16 +88,18 @@ TunedNode tune_node(const RbfProblem& problem, const OrthogonalModel& model, con
   Eigen::Index best_j = 0;
   screen.minCoeff(&best_j);
   // Parameters [c_1..c_d, log r_1..log r_d].
+  // The node's [c, rho] (a NodeBlock without its weight, which the trial solves for).
   std::vector<double> p(static_cast<std::size_t>(2 * dim)), lb(p.size()), ub(p.size());
+  const NodeBlock<double> start{p.data(), dim}, lower{lb.data(), dim}, upper{ub.data(), dim};
   for (Eigen::Index k = 0; k < dim; ++k) {
-    const auto kc = static_cast<std::size_t>(k), kr = static_cast<std::size_t>(k + dim);
     const double margin = 0.1 * (hi(k) - lo(k));
-    p[kc] = problem.x(cand[static_cast<std::size_t>(best_j)], k), lb[kc] = lo(k) - margin, ub[kc] = hi(k) + margin;
-    p[kr] = std::log(o.width), lb[kr] = std::log(o.min_width), ub[kr] = std::log(o.max_width);
+    start.centre()[k] = problem.x(cand[static_cast<std::size_t>(best_j)], k), lower.centre()[k] = lo(k) - margin, upper.centre()[k] = hi(k) + margin;
+    start.log_width()[k] = std::log(o.width), lower.log_width()[k] = std::log(o.min_width), upper.log_width()[k] = std::log(o.max_width);
   }
   auto unpack = [dim](const std::vector<double>& v, Eigen::VectorXd& c, Eigen::VectorXd& r) {
+    const NodeBlock<const double> node{v.data(), dim};
     c.resize(dim), r.resize(dim);
-    for (Eigen::Index k = 0; k < dim; ++k) c(k) = v[static_cast<std::size_t>(k)], r(k) = std::exp(v[static_cast<std::size_t>(k + dim)]);
+    for (Eigen::Index k = 0; k < dim; ++k) c(k) = node.centre()[k], r(k) = std::exp(node.log_width()[k]);  // std::exp: Eigen's differs in the last bit
   };
   const std::function<double(const std::vector<double>&)> loo = [&](const std::vector<double>& v) {
     Eigen::VectorXd c, r;

@@ -15,12 +15,13 @@ double node_output(const double* x, NodeBlock<const double> node, double* gradie
   }
   const double phi = std::exp(-z), w = node.weight(), wphi = w * phi;
   if (gradient) {
+    const NodeBlock<double> g{gradient, d};
     for (Eigen::Index k = 0; k < d; ++k) {
       const double r = std::exp(rho[k]), u = (x[k] - c[k]) / r;
-      gradient[k] = wphi * 2.0 * u / r;
-      gradient[d + k] = wphi * 2.0 * u * u;
+      g.centre()[k] = wphi * 2.0 * u / r;
+      g.log_width()[k] = wphi * 2.0 * u * u;
     }
-    gradient[2 * d] = phi;
+    g.weight() = phi;
   }
   return wphi;
 }
