@@ -92,7 +92,7 @@ Model calibrate_py(const Recording& rec, const std::string& model, const std::st
   if (!prior.empty()) {  // calibrate --prior
     if (model != "greybox") throw Error("prior (a lot file) calibrates the greybox model, not model='" + model + "'");
     if (!r.options.empty()) throw Error("prior fixes the model's structure to the lot's: options do not apply");
-    take_lot_prior(r, prior);
+    take_lot_prior(r, load_lot(prior));
   }
   CalibrationResult c = calibrate(rec, r);
   return {std::shared_ptr<CalibrationModel>(std::move(c.model)), {{"training", c.training}, {"summary", c.summary}}};

@@ -75,7 +75,7 @@ CalibrationRequest request_of(CalibrateOptions& o) {
   if (!o.prior.empty()) {
     if (!o.model.empty() && o.model != "greybox") fail("--prior (a lot file) calibrates the greybox model, not --model ", o.model);
     if (!o.set.empty() || !o.config.empty()) fail("--prior fixes the model's structure to the lot's: --set and --config do not apply");
-    take_lot_prior(request, o.prior);
+    take_lot_prior(request, load_lot(o.prior));
   }
   return request;
 }

@@ -25,6 +25,7 @@ void run(SessionCommand& c) {
   o.set(parse_options(c.set));
   o.on_step = [](const std::string& what) { progress_note(what); };
   const SessionResult r = run_session(o);
+  if (r.session["prior"].contains("lot")) std::cout << r.session["prior"]["lot"].get<std::string>() << "\n";
   if (r.waiting_for) {
     std::cout << "designed segment " << r.segments_done + 1 << " of " << r.segments << ": run " << c.out << "/segment_" << r.segments_done + 1
               << "/trajectory.yaml (setpoints.csv), record it to " << r.waiting_for->string()
@@ -57,7 +58,10 @@ void register_session(CLI::App& app, Action& action) {
   auto c = std::make_shared<SessionCommand>();
   SessionOptions& o = c->session;
   CLI::App* cmd = app.add_subcommand("session", "An adaptive calibration session: a pilot, the prior updated by the recording, a redesign of the rest");
-  cmd->add_option("--prior", o.prior, "The prior over sensors (gyrosid-prior/1, docs/prior_format.md), or one sensor config")->required();
+  cmd->add_option("--prior", o.prior,
+                  "The prior over sensors (gyrosid-prior/1, docs/prior_format.md), or one sensor config; a lot (gyrosid lot learn) with "
+                  "--model greybox also gives its structure, and its population as every calibration's prior (calibrate --prior)")
+      ->required();
   cmd->add_option("--truth", o.truth, "Simulation: the true sensor config, which the session sees only through its recordings. "
                                       "Without it the session stops after each designed segment for the lab's recording");
   cmd->add_option("--budget-min", o.budget_min, "Total time, minutes")->capture_default_str();

@@ -326,9 +326,12 @@ std::string hybrid_noise_options(const NoiseSpec& n, std::string* why_auto) {
 std::string calibration_yaml(ModelFamily family, const ModelOptions& o, const Domain& d, const NoiseSpec& noise) {
   std::ostringstream out;
   const bool lot = family == ModelFamily::greybox && o.calibration_prior;
-  out << "# The calibration this design assumed:\n"
-      << "#   gyrosid calibrate --config calibration.yaml --recording rec.csv" << (lot ? " --prior " + o.calibration_prior->source : "")
-      << " --out model.json\n";
+  out << "# The calibration this design assumed:\n";
+  if (lot) {  // the lot fixes the structure below (calibrate takes no --config beside --prior)
+    out << "#   gyrosid calibrate --recording rec.csv --prior " << o.calibration_prior->source << " --out model.json\n";
+  } else {
+    out << "#   gyrosid calibrate --config calibration.yaml --recording rec.csv --out model.json\n";
+  }
   switch (family) {
     case ModelFamily::hybrid: {
       std::string why_auto;

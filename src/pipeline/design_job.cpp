@@ -30,22 +30,21 @@ SensorPrior prior_with_measured_noise(const DesignJobInput& c, std::ostream& log
   return prior;
 }
 
-// A lot (`gyrosid lot learn`) as --prior with the grey-box model: the design's model takes the lot's structure
-// and, unless --without-lot-prior, the calibration it designs for fits with the lot's population as its prior
-// (`calibrate --prior`), so the predicted accuracy counts what the earlier units taught. Returns whether it does.
-bool take_lot(const DesignJobInput& c, const LotModel& lot, design::ModelFamily family, const OptionMap& options, design::ModelOptions& model,
-              std::ostream& log) {
+}  // namespace
+
+bool take_lot(const std::string& lot_file, const LotModel& lot, const std::string& model_name, design::ModelFamily family, const OptionMap& options,
+              bool calibration_prior, design::ModelOptions& model, std::ostream& log) {
   if (family != design::ModelFamily::greybox) {
-    log << "prior: " << c.prior << " is a lot; its structure and population are the greybox model's, so with --model " << c.model
+    log << "prior: " << lot_file << " is a lot; its structure and population are the greybox model's, so with --model " << model_name
         << " the design takes its members only\n";
     return false;
   }
   const GreyboxOptions& s = lot.structure;
   for (const char* key : {"model.bias_order", "model.grid_temperatures", "model.grid_temperatures_c", "model.grid_rates_dps", "model.shupe", "model.thermal_lag"}) {
-    if (options.count(key)) fail("--set ", key, ": the lot ", c.prior, " fixes the grey-box structure");
+    if (options.count(key)) fail("--set ", key, ": the lot ", lot_file, " fixes the grey-box structure");
   }
   if (s.scale_factor != ScaleFactorForm::surface || s.asymmetry || s.g_sensitivity) {
-    fail("--prior ", c.prior, ": the lot's grey-box structure has ", s.asymmetry ? "asymmetry" : s.g_sensitivity ? "g-sensitivity" : "a polynomial scale factor",
+    fail("--prior ", lot_file, ": the lot's grey-box structure has ", s.asymmetry ? "asymmetry" : s.g_sensitivity ? "g-sensitivity" : "a polynomial scale factor",
          ", which the design's grey-box model has not (--model rbf, classical or hybrid design for its members alone)");
   }
   model.bias_order = s.bias_order;
@@ -53,8 +52,8 @@ bool take_lot(const DesignJobInput& c, const LotModel& lot, design::ModelFamily 
   model.grid_rates_dps = format_numbers(s.surface_rates_dps, ",");
   model.shupe = s.shupe;
   model.thermal_lag = s.thermal_lag;
-  log << "prior: the lot " << c.prior << " (" << lot.unit_names.size() << " units): its grey-box structure";
-  if (c.without_lot_prior) {
+  log << "prior: the lot " << lot_file << " (" << lot.unit_names.size() << " units): its grey-box structure";
+  if (!calibration_prior) {
     log << ", each unit calibrated by its own data (--without-lot-prior)\n";
     return false;
   }
@@ -62,6 +61,8 @@ bool take_lot(const DesignJobInput& c, const LotModel& lot, design::ModelFamily 
   log << ", and its population as the calibration's prior (calibrate --prior)\n";
   return true;
 }
+
+namespace {
 
 // A design for a prior of more than one sensor: every member's context beside the nominal one (the first's,
 // built by the caller), with the same envelope, model, criterion and domain.
@@ -123,7 +124,7 @@ DesignSetup design_setup(const DesignJobInput& c, std::ostream& log) {
   const std::optional<LotModel> lot = c.prior.empty() ? std::nullopt : load_lot_if_learned(c.prior);
   s.lot = lot.has_value();
   if (c.without_lot_prior && !s.lot) fail("--without-lot-prior is for a lot (gyrosid lot learn) as --prior");
-  s.lot_prior = s.lot && take_lot(c, *lot, s.family, options, s.settings.model, log);
+  s.lot_prior = s.lot && take_lot(c.prior, *lot, c.model, s.family, options, !c.without_lot_prior, s.settings.model, log);
   design::ModelOptions& model = s.settings.model;
   if (s.criterion == design::Criterion::effects && !model.shupe && !model.hysteresis && !model.thermal_lag) {
     model.shupe = model.hysteresis = model.thermal_lag = true;  // what the criterion separates

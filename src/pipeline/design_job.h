@@ -17,6 +17,7 @@
 #include "core/builtin_configs.h"
 #include "core/checkpoint.h"
 #include "design/design.h"
+#include "lot/lot_model.h"
 #include "report/design_report.h"
 #include "sensor/sensor_prior.h"
 
@@ -51,6 +52,14 @@ struct DesignSetup {
   bool lot_prior = false;  // ... whose population the calibration designed for fits with
   std::optional<design::ReferenceStatistic> fixed_statistic;  // --reference-statistic, none for auto
 };
+
+// A lot (`gyrosid lot learn`) as the prior of a design or session with the grey-box model: the design's model
+// takes the lot's structure and, with `calibration_prior`, the calibration it designs for fits with the lot's
+// population as its prior (`calibrate --prior`), so the predicted accuracy counts what the earlier units
+// taught. Returns whether it does. With another family only the lot's members count (said in `log`). Error for
+// a --set that would change the structure, or a structure the design's grey-box model has not.
+bool take_lot(const std::string& lot_file, const LotModel& lot, const std::string& model_name, design::ModelFamily family, const OptionMap& options,
+              bool calibration_prior, design::ModelOptions& model, std::ostream& log);
 
 struct PreparedDesign {
   DesignSetup setup;

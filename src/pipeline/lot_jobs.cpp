@@ -145,8 +145,7 @@ LotScreenResult run_lot_screen(const LotScreenOptions& o) {
   return result;
 }
 
-void take_lot_prior(CalibrationRequest& request, const std::string& lot_file) {
-  const LotModel lot = load_lot(lot_file);
+void take_lot_prior(CalibrationRequest& request, const LotModel& lot) {
   request.model = "greybox";
   request.options = lot.greybox_options;
   request.greybox_prior = std::make_shared<const GreyboxPrior>(lot.prior());

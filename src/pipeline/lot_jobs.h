@@ -72,8 +72,7 @@ struct LotScreenResult {
 LotScreenResult run_lot_screen(const LotScreenOptions& options);
 
 // `calibrate --prior lot.json`: the request becomes a unit of the lot's - the grey-box model of the lot's
-// structure (model and options replaced), the maximum a posteriori under its population. Error naming the file
-// when it holds no lot.
-void take_lot_prior(CalibrationRequest& request, const std::string& lot_file);
+// structure (model and options replaced), the maximum a posteriori under its population.
+void take_lot_prior(CalibrationRequest& request, const LotModel& lot);
 
 }  // namespace gyrosid

@@ -14,7 +14,10 @@
 #include "core/format.h"
 #include "design/design.h"
 #include "design/sensor_posterior.h"
+#include "lot/lot_model.h"
 #include "model/calibration_model.h"
+#include "pipeline/design_job.h"
+#include "pipeline/lot_jobs.h"
 #include "report/design_report.h"
 #include "sensor/sensor_prior.h"
 #include "sim/simulate.h"
@@ -93,6 +96,8 @@ struct SessionSetup {
   design::Domain domain;
   std::string calibration_text, calibration_source;
   CalibrationRequest calibration;
+  bool lot_prior = false;  // a lot as --prior with the greybox model: its structure, and its population as the calibrations' prior
+  std::string lot_note;    // what take_lot decided
 };
 
 void prepare(const SessionOptions& o, SessionSetup& s) {
@@ -103,6 +108,15 @@ void prepare(const SessionOptions& o, SessionSetup& s) {
   s.solver_options = s.settings.apply(o.settings);
   design::make_design_solver("nlopt", s.solver_options, o.seed);  // bad options fail before any work
   s.family = parse_enum<design::ModelFamily>(o.model, "--model");
+  const std::optional<LotModel> lot = load_lot_if_learned(o.prior);
+  if (lot) {
+    std::ostringstream note;
+    s.lot_prior = take_lot(o.prior, *lot, o.model, s.family, o.settings, true, s.settings.model, note);
+    s.lot_note = note.str();
+    if (s.lot_prior && !o.calibration.empty()) {
+      fail("--calibration: with the lot ", o.prior, " as --prior and --model greybox the calibration is the lot's (its grey-box structure under its population, calibrate --prior)");
+    }
+  }
   s.settings.envelope.flights = split_list(o.envelope);
   s.envelope = std::make_shared<const design::Envelope>(design::load_envelope(s.settings.envelope, as_triad(s.prior.members.front().sensor)));
   s.settings.space.budget_min = o.budget_min;
@@ -117,6 +131,7 @@ void prepare(const SessionOptions& o, SessionSetup& s) {
   }
   s.calibration = calibration_request_from_config(o.calibration.empty() ? ConfigNode::parse(s.calibration_text, s.calibration_source)
                                                                         : ConfigNode::load(o.calibration));
+  if (s.lot_prior) take_lot_prior(s.calibration, *lot);
 }
 
 // Per flight, over the members with weight: the weighted mean, least and largest predicted criterion of fit.
@@ -176,6 +191,8 @@ class SessionRun {
              {"prior", {{"file", o_.prior}, {"name", s_.prior.name}, {"members", members_json(weights_)}}},
              {"truth", o_.truth}, {"budget_min", o_.budget_min}, {"seed", o_.seed}, {"model", o_.model},
              {"calibration", s_.calibration_source}, {"fingerprint", fingerprint_}, {"segments", nlohmann::json::array()}};
+    if (!s_.lot_note.empty()) json_["prior"]["lot"] = s_.lot_note.substr(0, s_.lot_note.size() - 1);  // what take_lot decided
+    if (s_.lot_prior) json_["prior"]["calibration_prior"] = o_.prior;  // every calibration is calibrate --prior with the lot
   }
 
   SessionResult run() {

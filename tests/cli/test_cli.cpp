@@ -1030,6 +1030,32 @@ TEST_F(Cli, LotLearnsScreensAndCalibratesWithItsPrior) {
 
 // A lot run killed (SIGKILL) at random points and resumed writes the same lot file, byte for byte; a batch of
 // units screened at once gives each the same screen.json as its own run, and a table of them.
+// A lot as a session's prior with the grey-box model (issue 33): the designs take the lot's structure and count
+// its population, and every calibration of the session is `calibrate --prior` with the lot - the final model is
+// the one calibrate gives on the session's recording.
+TEST_F(Cli, ASessionUnderALotCalibratesWithItsPopulation) {
+  std::string recordings;
+  for (int u = 1; u <= 5; ++u) {
+    const std::string rec = path("unit" + std::to_string(u) + ".csv");
+    ASSERT_EQ(run("simulate --samples 2000 --seed " + std::to_string(u) + " --out " + rec).status, 0);
+    recordings += " " + rec;
+  }
+  ASSERT_EQ(run("lot learn --recordings" + recordings + " --out " + path("lot.json")).status, 0);
+  const std::string session = "session --prior " + path("lot.json") + " --model greybox --truth builtin:priors/open_loop_fog_drift.yaml --budget-min 12 "
+                              "--pilot-min 4 --envelope short --set global_evaluations=30 --set local_evaluations=20";
+  const Result r = run(session + " --out " + path("s"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("its population as the calibration's prior"));
+  EXPECT_EQ(read_json(dir_ / "s" / "session.json")["prior"]["calibration_prior"], path("lot.json"));
+  EXPECT_THAT(read_text(dir_ / "s" / "calibration.yaml"), HasSubstr("gyrosid calibrate --recording rec.csv --prior " + path("lot.json")));
+  const nlohmann::json model = read_json(dir_ / "s" / "model.json");
+  EXPECT_EQ(model["training"]["prior"], path("lot.json"));
+  ASSERT_EQ(run("calibrate --recording " + path("s/recording.csv") + " --prior " + path("lot.json") + " --out " + path("unit.json")).status, 0);
+  EXPECT_EQ(model["parameters"], read_json(path("unit.json"))["parameters"]);
+  EXPECT_THAT(run(session + " --calibration " + path("s/calibration.yaml") + " --out " + path("x")).output,
+              HasSubstr("--calibration: with the lot " + path("lot.json") + " as --prior and --model greybox the calibration is the lot's"));
+}
+
 TEST_F(Cli, LotRunsResumeToTheSameBytesAndScreenInBatches) {
   std::string recordings;
   for (int u = 1; u <= 16; ++u) {
