@@ -23,6 +23,7 @@
 #include "model/calibration_model.h"
 #include "model/compensate_recording.h"
 #include "nav/cof_report.h"
+#include "pipeline/calibrate_job.h"
 #include "pipeline/design_job.h"
 #include "pipeline/lot_jobs.h"
 #include "pipeline/main_job.h"
@@ -83,18 +84,30 @@ Recording recording_of_columns(const py::dict& columns, const py::dict& metadata
   return parse_recording(format_recording(rec), source);
 }
 
+// `gyrosid calibrate`'s job (pipeline/calibrate_job.h); model "auto": the preset chosen from the recording's
+// noise, as the command with no model.
 Model calibrate_py(const Recording& rec, const std::string& model, const std::string& solver, const py::dict& options,
-                   const std::vector<std::string>& features, const std::string& target, const std::string& normalization, const std::string& prior) {
-  CalibrationRequest r;
-  r.model = model, r.solver = solver, r.options = option_map(options), r.features = features;
-  r.target = parse_enum<ModelTarget>(target, "target");
-  r.normalization = parse_enum<NormalizationKind>(normalization, "normalization");
-  if (!prior.empty()) {  // calibrate --prior
-    if (model != "greybox") throw Error("prior (a lot file) calibrates the greybox model, not model='" + model + "'");
-    if (!r.options.empty()) throw Error("prior fixes the model's structure to the lot's: options do not apply");
-    take_lot_prior(r, load_lot(prior));
+                   const std::vector<std::string>& features, const std::string& target, const std::string& normalization, const std::string& prior,
+                   const std::string& decimate) {
+  CalibrateJobInput in;
+  in.decimate = decimate;
+  if (model == "auto") {
+    if (solver != CalibrationRequest{}.solver || !options.empty() || !features.empty() || target != "error" || normalization != "range" || !prior.empty()) {
+      throw Error("model='auto' chooses the preset from the recording's noise: solver, options, features, target, normalization and prior do not apply");
+    }
+  } else {
+    CalibrationRequest r;
+    r.model = model, r.solver = solver, r.options = option_map(options), r.features = features;
+    r.target = parse_enum<ModelTarget>(target, "target");
+    r.normalization = parse_enum<NormalizationKind>(normalization, "normalization");
+    if (!prior.empty()) {  // calibrate --prior
+      if (model != "greybox") throw Error("prior (a lot file) calibrates the greybox model, not model='" + model + "'");
+      if (!r.options.empty()) throw Error("prior fixes the model's structure to the lot's: options do not apply");
+      take_lot_prior(r, load_lot(prior));
+    }
+    in.request = r;
   }
-  CalibrationResult c = calibrate(rec, r);
+  CalibrationResult c = run_calibrate_job(rec, in).result;
   return {std::shared_ptr<CalibrationModel>(std::move(c.model)), {{"training", c.training}, {"summary", c.summary}}};
 }
 
@@ -343,16 +356,16 @@ PYBIND11_MODULE(_gyrosid, m) {
   bind_recording(m);
   bind_model(m);
   m.def("simulate", [](const std::string& sensor, const std::string& trajectory, std::uint64_t seed, bool noise_free, std::optional<std::size_t> samples) {
-    if (noise_free) return simulate(without_noise(load_sensor_file(sensor)), load_trajectory_file(trajectory), seed).recording;
-    return simulate_files(sensor, trajectory, seed, samples).recording;
+    return simulate_files(sensor, trajectory, seed, samples, noise_free).recording;
   }, py::arg("sensor") = kDefaultSensor, py::arg("trajectory") = kDefaultTrajectory,
         py::arg("seed") = 1, py::arg("noise_free") = false, py::arg("samples") = std::nullopt,
         "A sensor along a calibration trajectory, as `gyrosid simulate` (same seed, same numbers).");
   m.def("calibrate", &calibrate_py, py::arg("recording"), py::arg("model") = "rbf", py::arg("solver") = "ols",
         py::arg("options") = py::dict(), py::arg("features") = std::vector<std::string>{}, py::arg("target") = "error",
-        py::arg("normalization") = "range", py::arg("prior") = "",
-        "Fit a model kind (rbf with a named solver, classical, greybox, ...) to a recording; prior: a lot file (greybox only), "
-        "the unit fitted under the lot's population as `calibrate --prior`.");
+        py::arg("normalization") = "range", py::arg("prior") = "", py::arg("decimate") = "",
+        "Fit a model kind (rbf with a named solver, classical, greybox, ...) to a recording, `gyrosid calibrate`'s job; model 'auto': the "
+        "preset chosen from the recording's noise (the command without --model); prior: a lot file (greybox only), the unit fitted under the "
+        "lot's population as `calibrate --prior`; decimate: none, auto or N samples per block (default: auto for 'auto', else none).");
   m.def("calibrate_triad", &calibrate_triad_py, py::arg("recording"), py::arg("options") = py::dict(),
         "Estimate a triad's misalignment, biases and surfaces; returns the model file's JSON as a dict.");
   m.def("compensate", [](const Model& model, const Recording& rec) { return compensate_recording(*model.model, rec).recording; },

@@ -170,6 +170,24 @@ class Bindings(unittest.TestCase):
         with self.assertRaises(ValueError):  # other inputs: refused, naming the fingerprint
             gyrosid.session(**dict(lab, pilot_min=5), resume=True)
 
+    def test_auto_calibrate_is_the_commands_preset_choice(self):
+        # model="auto" is `gyrosid calibrate` without --model: the same job, the same preset and model, on a noisy
+        # recording and on a noise-free one (which takes the interpolating network).
+        for name, rec in (("noisy", gyrosid.simulate(samples=1500, seed=2)), ("clean", gyrosid.simulate(samples=800, seed=2, noise_free=True))):
+            rec.save(self.path(name + ".csv"))
+            model = gyrosid.calibrate(rec, model="auto")
+            run_gyrosid("calibrate", "--recording", self.path(name + ".csv"), "--out", self.path(name + ".json"))
+            with open(self.path(name + ".json")) as f:
+                cli = json.load(f)
+            model.save(self.path(name + "_py.json"))
+            with open(self.path(name + "_py.json")) as f:
+                mine = json.load(f)
+            self.assertEqual(mine["parameters"], cli["parameters"])
+            self.assertEqual(mine["training"]["preset"], cli["training"]["preset"])
+            self.assertEqual(mine["training"]["preset"]["chosen"].endswith("noise_free.yaml"), name == "clean")
+        with self.assertRaises(ValueError):
+            gyrosid.calibrate(rec, model="auto", options={"width": 0.3})
+
     def test_lot_learn_screen_and_calibrate_are_the_commands_jobs(self):
         # The same jobs as `gyrosid lot learn`, `lot screen` and `calibrate --prior`: the same lot file, screen.json
         # and model; the lot's white noise is the simulated sensor's, 10 dph at 1 Hz.

@@ -8,16 +8,12 @@
 #include "core/config.h"
 #include "core/error.h"
 #include "core/format.h"
-#include "core/axis_view.h"
-#include "core/decimation.h"
 #include "core/progress.h"
-#include "core/recording.h"
-#include "core/recording_reader.h"
 #include "model/calibration_model.h"
 #include "model/fit_notes.h"
+#include "pipeline/calibrate_job.h"
 #include "pipeline/lot_jobs.h"
 #include "solvers/calibrate.h"
-#include "solvers/preset_choice.h"
 #include "solvers/nls/nls_solver.h"
 #include "solvers/solver.h"
 #include "solvers/triad/triad_fit.h"
@@ -30,21 +26,6 @@ struct CalibrateOptions {
   bool joint = false, sequential = false, auto_estimation = false;
   std::vector<std::string> set;
 };
-
-// The gyro a single-gyro model is fitted to: the recording's columns it needs (one axis of a triad under the
-// single-gyro names), as block means when asked.
-DecimatedRecording read_gyro(const std::string& path, const std::string& axis, const DecimationRequest& decimation,
-                             const std::vector<std::string>& features) {
-  const GyroColumns g = gyro_columns(RecordingReader(path).names(), axis, path);
-  std::vector<std::string> columns{"t_s", g.gyro, g.ref}, inputs{g.ref};
-  if (!g.temp.empty()) columns.push_back(g.temp), inputs.push_back(g.temp);
-  for (const auto& f : features) {
-    if (f != "measured_rate" && f != "temperature" && f != "temperature_rate") columns.push_back(f);
-  }
-  DecimatedRecording read = read_decimated(path, decimation, inputs, columns);
-  read.recording = single_axis_view(std::move(read.recording), axis);
-  return read;
-}
 
 void run_calibrate_triad(const CalibrateOptions& o) {
   if (int(o.joint) + int(o.sequential) + int(o.auto_estimation) > 1) fail("--joint, --sequential and --auto exclude each other");
@@ -114,25 +95,21 @@ void run_calibrate(CalibrateOptions o) {
   if (o.model == "triad") return run_calibrate_triad(o);
   if (!o.surfaces.empty() || o.joint || o.sequential || o.auto_estimation) fail("--surfaces, --joint, --sequential and --auto apply to --model triad");
   CalibrationRequest request = request_of(o);
-  // Nothing chosen: characterise the noise and pick the preset for it, saying why.
+  // Nothing chosen: the job characterises the noise and picks the preset for it, saying why.
   const bool choose = o.config.empty() && o.model.empty() && o.solver.empty() && o.set.empty() && o.features.empty() &&
                       o.target.empty() && o.normalization.empty() && o.prior.empty();
-  const DecimatedRecording read = read_gyro(o.recording, o.axis, DecimationRequest::parse(o.decimate.empty() ? (choose ? "auto" : "none") : o.decimate, "--decimate"),
-                                            request.features);
-  const Recording& rec = read.recording;
-  if (read.decimation.applied()) std::cout << read.decimation.statement() << "\n";
-  std::optional<PresetChoice> choice;
-  if (choose) {
-    progress_note("calibrate: characterising the noise to choose the preset");
-    choice = choose_preset(rec);
-    request = choice->request;
-    for (const auto& line : choice->reasons) std::cout << line << "\n";
+  CalibrateJobInput input;
+  if (!choose) input.request = request;
+  input.decimate = o.decimate;
+  input.on_step = [](const std::string& what) { progress_note(what); };
+  const CalibrateJobResult job = run_calibrate_job(o.recording, o.axis, input);
+  const CalibrationResult& result = job.result;
+  if (job.decimation.applied()) std::cout << job.decimation.statement() << "\n";
+  if (job.choice) {
+    for (const auto& line : job.choice->reasons) std::cout << line << "\n";
   }
-  progress_note(str_cat("calibrate: fitting the ", request.model, " model to ", rec.rows(), " samples"));
-  CalibrationResult result = calibrate(rec, request);
-  if (choice) result.training["preset"] = {{"chosen", choice->preset}, {"reasons", choice->reasons}};
-  if (read.decimation.applied()) std::cout << state_decimation(result, rec, read.decimation) << "\n";
-  const FitNotes notes = fit_notes_of(result.summary.details);
+  if (!job.averaging_statement.empty()) std::cout << job.averaging_statement << "\n";
+  const FitNotes& notes = job.notes;
   print_fit_notes(notes);
   save_model(o.out, *result.model, {{"training", result.training}, {"summary", result.summary}});
   std::cout << "wrote " << o.out << ": " << result.model->kind() << " model";

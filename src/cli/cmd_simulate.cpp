@@ -24,11 +24,7 @@ struct SimulateOptions {
 };
 
 void run_simulate(const SimulateOptions& o) {
-  SensorSpec sensor = load_sensor_file(o.sensor);
-  if (o.noise_free) sensor = without_noise(std::move(sensor));
-  TrajectorySpec trajectory = load_trajectory_file(o.trajectory);
-  if (o.samples > 0) trajectory.sampling = Sampling{o.samples, 0.0};
-  const Simulation sim = simulate(sensor, trajectory, o.seed);
+  const Simulation sim = simulate_files(o.sensor, o.trajectory, o.seed, o.samples > 0 ? std::optional(o.samples) : std::nullopt, o.noise_free);
   write_recording(sim.recording, o.out);
   std::cout << "wrote " << o.out << ": " << describe(sim) << "\n";
   if (!o.plots.empty()) {

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/format.h"
+#include "sensor/error_surface.h"
 #include "sensor/sensor_config.h"
 
 namespace gyrosid {

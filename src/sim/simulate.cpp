@@ -26,8 +26,9 @@ SensorSpec without_noise(SensorSpec sensor) {
 }
 
 Simulation simulate_files(const std::string& sensor_path, const std::string& trajectory_path, std::uint64_t seed,
-                          std::optional<std::size_t> samples_override) {
-  const SensorSpec sensor = load_sensor_file(sensor_path);
+                          std::optional<std::size_t> samples_override, bool noise_free) {
+  SensorSpec sensor = load_sensor_file(sensor_path);
+  if (noise_free) sensor = without_noise(std::move(sensor));
   TrajectorySpec trajectory = load_trajectory_file(trajectory_path);
   if (samples_override) {
     if (*samples_override < 2) fail("--samples ", *samples_override, ": need at least 2");

@@ -26,8 +26,10 @@ Simulation simulate(const SensorSpec& sensor, const TrajectorySpec& trajectory, 
 
 // The sensor without its random drift and quantization: deterministic errors only (noise-free studies).
 SensorSpec without_noise(SensorSpec sensor);
+// `gyrosid simulate`: the files' sensor (without its noise when asked) along their trajectory, with another
+// number of samples over the same duration when given.
 Simulation simulate_files(const std::string& sensor_path, const std::string& trajectory_path, std::uint64_t seed,
-                          std::optional<std::size_t> samples_override = std::nullopt);
+                          std::optional<std::size_t> samples_override = std::nullopt, bool noise_free = false);
 
 // One line for humans: "11110 samples over 62 min (dual_scan 'dual scan'), sensor 'open-loop FOG'".
 std::string describe(const Simulation& simulation);
