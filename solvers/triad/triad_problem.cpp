@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/triad_axes.h"
+#include "model/gaussian_node.h"
 
 namespace gyrosid {
 namespace {
@@ -42,7 +43,7 @@ class TriadRowsCost : public ceres::CostFunction {
     if (!term_ || term_->nodes() == 0) return true;
     const int nodes = term_->nodes(), size = term_->node_size();
     for (int j = 0; j < nodes; ++j) {
-      double* jac = jacobians ? jacobians[linear_blocks_ + j] : nullptr;
+      double* jac = jacobians ? jacobians[node_block(j)] : nullptr;
       if (jac) std::fill(jac, jac + n * size, 0.0);
     }
     std::vector<double> grad(static_cast<std::size_t>(size));
@@ -51,8 +52,8 @@ class TriadRowsCost : public ceres::CostFunction {
         const double w = weights_[static_cast<std::size_t>(e)];
         const double* x = inputs_.row(e).data();
         for (int j = 0; j < nodes; ++j) {
-          double* jac = jacobians ? jacobians[linear_blocks_ + j] : nullptr;
-          r(row) += w * term_->node_output(x, p[linear_blocks_ + j], jac ? grad.data() : nullptr);
+          double* jac = jacobians ? jacobians[node_block(j)] : nullptr;
+          r(row) += w * term_->node_output(x, p[node_block(j)], jac ? grad.data() : nullptr);
           if (jac)
             for (int c = 0; c < size; ++c) jac[row * size + c] += w * grad[static_cast<std::size_t>(c)];
         }
@@ -62,6 +63,8 @@ class TriadRowsCost : public ceres::CostFunction {
   }
 
  private:
+  int node_block(int j) const { return linear_blocks_ + j; }  // the blocks: the linear ones, then a node's each
+
   Eigen::MatrixXd a_;
   Eigen::VectorXd y_;
   int linear_blocks_;
@@ -71,23 +74,24 @@ class TriadRowsCost : public ceres::CostFunction {
   std::vector<double> weights_;
 };
 
-// The surface's weight penalty: r = P w - t, w_j the last entry of node block j; linear in w.
+// The surface's weight penalty: r = P w - t, w_j the weight of node block j (a NodeBlock); linear in w.
 class WeightPenaltyCost : public ceres::CostFunction {
  public:
-  WeightPenaltyCost(Eigen::MatrixXd p, Eigen::VectorXd t, int node_size) : p_(std::move(p)), t_(std::move(t)), node_size_(node_size) {
+  WeightPenaltyCost(Eigen::MatrixXd p, Eigen::VectorXd t, int node_size)
+      : p_(std::move(p)), t_(std::move(t)), node_size_(node_size), dim_(NodeBlock<double>::dimension_of(node_size)) {
     set_num_residuals(static_cast<int>(p_.rows()));
     for (Eigen::Index j = 0; j < p_.cols(); ++j) mutable_parameter_block_sizes()->push_back(node_size);
   }
   bool Evaluate(double const* const* blocks, double* residuals, double** jacobians) const override {
     const Eigen::Index k = p_.cols();
     Eigen::VectorXd w(k);
-    for (Eigen::Index j = 0; j < k; ++j) w(j) = blocks[j][node_size_ - 1];
+    for (Eigen::Index j = 0; j < k; ++j) w(j) = NodeBlock<const double>{blocks[j], dim_}.weight();
     Eigen::Map<Eigen::VectorXd>(residuals, p_.rows()) = p_ * w - t_;
     for (Eigen::Index j = 0; jacobians && j < k; ++j) {
       if (!jacobians[j]) continue;
       Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jac(jacobians[j], p_.rows(), node_size_);
       jac.setZero();
-      jac.col(node_size_ - 1) = p_.col(j);
+      jac.col(NodeBlock<double>::weight_index(dim_)) = p_.col(j);
     }
     return true;
   }
@@ -96,6 +100,7 @@ class WeightPenaltyCost : public ceres::CostFunction {
   Eigen::MatrixXd p_;
   Eigen::VectorXd t_;
   int node_size_;
+  Eigen::Index dim_;
 };
 
 std::vector<std::string> names(const std::string& prefix, const std::vector<std::string>& entries) {

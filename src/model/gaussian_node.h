@@ -34,9 +34,11 @@ struct NodeBlock {
   Eigen::Index d;
 
   static constexpr Eigen::Index size(Eigen::Index dimension) { return 2 * dimension + 1; }
+  static constexpr Eigen::Index dimension_of(Eigen::Index size) { return (size - 1) / 2; }
+  static constexpr Eigen::Index weight_index(Eigen::Index dimension) { return 2 * dimension; }
   T* centre() const { return data; }
   T* log_width() const { return data + d; }
-  T& weight() const { return data[2 * d]; }
+  T& weight() const { return data[weight_index(d)]; }
 };
 
 // w phi(x) of one packed node; fills gradient[0..2d] (d/dc, d/drho, d/dw) when it is not null.
