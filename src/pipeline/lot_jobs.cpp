@@ -94,7 +94,8 @@ LotLearnResult run_lot_learn(const LotLearnOptions& o) {
   if (!o.screen_recordings.empty()) {
     screen_units = calibrate_units(o.screen_recordings, greybox, "lot learn: the units' screening recordings", &checkpoint, "screen_units");
   }
-  LotLearnResult result{learn_lot(units, structure, o.lot, o.screen_recordings.empty() ? nullptr : &screen_units)};
+  LotLearnResult result;
+  result.lot = learn_lot(units, structure, o.lot, o.screen_recordings.empty() ? nullptr : &screen_units);
   LotModel& lot = result.lot;
   if (!o.recordings.empty() && !single_coordinate_terms(lot.coordinates).empty()) add_conditional_nulls(lot, o, units, checkpoint);
   result.file = lot_prior_file(lot, o.name, o.members);
