@@ -127,13 +127,17 @@ void register_calibrate(CLI::App& app, Action& action) {
   auto o = std::make_shared<CalibrateOptions>();
   CLI::App* cmd = app.add_subcommand("calibrate", str_cat("Fit a calibration model (", model_fitters().known(), ") to a recording; without options, a preset chosen from its noise"));
   cmd->add_option("--recording", o->recording, "Training recording (single gyro, with ref_rate_dps)");
-  cmd->add_option("--model", o->model, str_cat(noted(model_fitters().names(), "hybrid", "physics + Bayesian RBF"), ", or triad (three gyros: misalignment, biases, surfaces)"));
+  cmd->add_option("--model", o->model, str_cat(noted(model_fitters().names(), "hybrid", "physics + Bayesian RBF"),
+                                               ", or triad (three gyros: misalignment, biases, surfaces; its options, --set surfaces=... "
+                                               "estimation=...: --options-of triad)"));
   cmd->add_option("--solver", o->solver, str_cat("RBF solver: ", noted(rbf_solvers().names(), CalibrationRequest{}.solver, "default with --model rbf"),
                                                   "; triad: ", noted(nls_solvers().names(), TriadFitOptions{}.solver, "default")));
-  cmd->add_option("--surfaces", o->surfaces, "triad: per-gyro error surfaces none (default), classical, greybox or rbf");
-  cmd->add_flag("--joint", o->joint, "triad: estimate everything in one least-squares problem (default)");
-  cmd->add_flag("--sequential", o->sequential, "triad: misalignment and biases first, then the surfaces");
-  cmd->add_flag("--auto", o->auto_estimation, "triad: both, and the joint fit kept only where a test on M rejects the sequential fit (the surfaces couple with M)");
+  // The triad's options are --set surfaces=... and estimation=...; these four spellings of them are kept for
+  // scripts that use them, out of the help (a kind's own options are listed by --options-of).
+  cmd->add_option("--surfaces", o->surfaces, "triad: --set surfaces=...")->group("");
+  cmd->add_flag("--joint", o->joint, "triad: --set estimation=joint")->group("");
+  cmd->add_flag("--sequential", o->sequential, "triad: --set estimation=sequential")->group("");
+  cmd->add_flag("--auto", o->auto_estimation, "triad: --set estimation=auto")->group("");
   cmd->add_option("--set", o->set, "Solver or model option key=value (repeatable); see --options-of");
   cmd->add_option("--features", o->features, "Model inputs, comma-separated (default measured_rate,temperature)");
   cmd->add_option("--target", o->target, "error (default: model the rate error) or corrected_rate");
@@ -156,7 +160,7 @@ void register_calibrate(CLI::App& app, Action& action) {
       "  gyrosid calibrate --recording train.csv --model rbf --solver ols --set criterion=bic --set width=0.2 --out m.json\n"
       "  gyrosid calibrate --recording soak.csv --model classical --out classical.json\n"
       "  gyrosid calibrate --options-of ceres\n"
-      "  gyrosid calibrate --model triad --recording triad.csv --surfaces classical --solver ceres --joint --out triad.json\n"
+      "  gyrosid calibrate --model triad --recording triad.csv --set surfaces=classical --set estimation=joint --solver ceres --out triad.json\n"
       "  gyrosid calibrate --options-of triad      (triad options, nls back-ends)\n"
       "  gyrosid calibrate --recording unit_15min.csv --prior lot.json --out unit.json   (a new unit of a lot)\n"
       "Without --model, --solver, --set or --config the recording's noise is characterised and a preset chosen\n"

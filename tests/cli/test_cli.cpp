@@ -482,6 +482,13 @@ TEST_F(Cli, ATriadsSigmasDoNotFollowTheAllocatorsLayout) {
     EXPECT_EQ(misalignment[k]["sigma"], misalignment[0]["sigma"]) << k;
     EXPECT_EQ(misalignment[k]["inflation"], misalignment[0]["inflation"]) << k;
   }
+  // The triad's options (--set surfaces=..., estimation=...) are what the older flags spell; the help teaches
+  // the options only.
+  ASSERT_EQ(run("calibrate --model triad --recording " + path("six.csv") + " --set surfaces=classical --set estimation=sequential --out " + path("s.json")).status, 0);
+  EXPECT_EQ(read_json(path("s.json"))["misalignment"], misalignment[0]);
+  const std::string help = run("calibrate --help").output;
+  EXPECT_THAT(help, HasSubstr("--set surfaces=classical --set estimation=joint"));
+  EXPECT_THAT(help, Not(HasSubstr("--sequential")));
 }
 
 // A triad: simulate -> calibrate --model triad -> compensate -> cof; the planted matrix of fog_triad.yaml
