@@ -84,7 +84,7 @@ void design_and_write(const DesignCommand& c, PreparedDesign& p) {
   std::vector<std::string> inputs = split_list(c.envelope);
   inputs.insert(inputs.end(), {c.sensor, c.prior, c.equipment, c.reference});
   inputs.insert(inputs.end(), c.compare.begin(), c.compare.end());
-  Checkpoint checkpoint = run_checkpoint(c.out, "design", run_fingerprint(*c.command, inputs), c.resume);
+  Checkpoint checkpoint = checkpoint_in(c.out, "design", run_fingerprint(*c.command, inputs), c.resume);
   const DesignJobResult job = run_design_job(p, c, &checkpoint);
   const design::DesignResult& r = job.result;
   const design::DesignContext& context = *p.context;

@@ -42,7 +42,7 @@ void run_explain(ExplainCommand c) {
   mallopt(M_TRIM_THRESHOLD, 512 << 20);
 #endif
   // Every finished selection step's bootstrap is saved; --resume continues a killed run to the same result.
-  Checkpoint checkpoint = run_checkpoint(c.out, "explain", run_fingerprint(*c.command, {c.recording, c.options.model_path, c.options.baseline_path}),
+  Checkpoint checkpoint = checkpoint_in(c.out, "explain", run_fingerprint(*c.command, {c.recording, c.options.model_path, c.options.baseline_path}),
                                          c.resume);
   const explain::ExplainResult r = explain::explain_recording(rec.recording, c.options, &checkpoint, &rec.decimation);
   write_explain_outputs(r, c.out);

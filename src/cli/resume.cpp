@@ -1,9 +1,7 @@
 #include "cli/resume.h"
 
-#include <filesystem>
 #include <sstream>
 
-#include "core/atomic_file.h"
 
 namespace gyrosid::cli {
 
@@ -15,11 +13,6 @@ std::string run_fingerprint(const CLI::App& command, const std::vector<std::stri
     text += line + "\n";
   }
   return digest(text + file_digests(files));
-}
-
-Checkpoint run_checkpoint(const std::string& out, const std::string& name, const std::string& fingerprint, bool resume) {
-  if (resume) remove_stale_temporaries(out);
-  return Checkpoint(std::filesystem::path(out) / ("." + name + "_checkpoint.json"), fingerprint, resume);
 }
 
 }  // namespace gyrosid::cli

@@ -1,5 +1,5 @@
 // Kill-safe, resumable subcommands (cof --monte-carlo, design, explain): what a run's checkpoint is a
-// checkpoint of, and where it lives.
+// checkpoint of (where it lives: checkpoint_in, core/checkpoint.h).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -15,8 +15,5 @@ namespace gyrosid::cli {
 // and the contents of the files named in `files` (a name that is no readable file, such as a built-in flight,
 // counts as itself). A resume with any other input is refused.
 std::string run_fingerprint(const CLI::App& command, const std::vector<std::string>& files);
-
-// The checkpoint `<out>/.<name>_checkpoint.json`; on resume, the temporaries a killed write left are removed.
-Checkpoint run_checkpoint(const std::string& out, const std::string& name, const std::string& fingerprint, bool resume);
 
 }  // namespace gyrosid::cli

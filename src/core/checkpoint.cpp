@@ -94,6 +94,11 @@ void Checkpoint::save_record(const std::string& name, nlohmann::json value) {
   write();
 }
 
+Checkpoint checkpoint_in(const std::filesystem::path& dir, const std::string& name, const std::string& fingerprint, bool resume) {
+  if (resume) remove_stale_temporaries(dir);
+  return Checkpoint(dir / ("." + name + "_checkpoint.json"), fingerprint, resume);
+}
+
 std::vector<double> saved_numbers(const nlohmann::json& array) {
   std::vector<double> out;
   for (const auto& v : array) out.push_back(v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN());

@@ -40,6 +40,10 @@ class Checkpoint {
   std::map<std::string, nlohmann::json> records_;
 };
 
+// The checkpoint `<dir>/.<name>_checkpoint.json` of a resumable run writing into `dir`; on resume, the
+// temporaries a killed write left in `dir` are removed first.
+Checkpoint checkpoint_in(const std::filesystem::path& dir, const std::string& name, const std::string& fingerprint, bool resume);
+
 // The numbers of a saved JSON array: JSON has no infinity or NaN, so a non-finite value is saved as null and
 // read back as NaN (the summaries write both as null too).
 std::vector<double> saved_numbers(const nlohmann::json& array);

@@ -16,13 +16,6 @@
 namespace gyrosid {
 namespace {
 
-// The checkpoint `<dir>/.<name>_checkpoint.json`; on resume, the temporaries a killed write left are removed.
-Checkpoint job_checkpoint(const std::filesystem::path& dir, const std::string& name, const std::string& fingerprint, bool resume) {
-  std::filesystem::create_directories(dir);
-  if (resume) remove_stale_temporaries(dir);
-  return Checkpoint(dir / ("." + name + "_checkpoint.json"), fingerprint, resume);
-}
-
 void list_text(std::ostream& text, const char* what, const std::vector<std::string>& items) {
   text << what << " [";
   for (const auto& item : items) text << item << '\n';
@@ -84,7 +77,8 @@ LotLearnResult run_lot_learn(const LotLearnOptions& o) {
   if (auto problem = o.validate(); !problem.empty()) fail(problem);
   // The units' calibrations are saved batch by batch beside the lot file; resume continues a killed run.
   const std::filesystem::path dir = o.out.parent_path().empty() ? std::filesystem::path(".") : o.out.parent_path();
-  Checkpoint checkpoint = job_checkpoint(dir, o.out.filename().string(), o.fingerprint(), o.resume);
+  std::filesystem::create_directories(dir);
+  Checkpoint checkpoint = checkpoint_in(dir, o.out.filename().string(), o.fingerprint(), o.resume);
   OptionMap structure = o.structure;
   const GreyboxOptions greybox = greybox_options(structure);
   const std::vector<LotUnit> units = o.models.empty() ? calibrate_units(o.recordings, greybox, "lot learn: calibrating the units", &checkpoint)
@@ -127,7 +121,8 @@ LotScreenResult run_lot_screen(const LotScreenOptions& o) {
   if (auto problem = o.validate(); !problem.empty()) fail(problem);
   const LotModel lot = load_lot(o.prior);
   const std::vector<std::filesystem::path> dirs = screen_dirs(o.out, o.recordings);
-  Checkpoint checkpoint = job_checkpoint(o.out, "lot_screen", o.fingerprint(), o.resume);
+  std::filesystem::create_directories(o.out);
+  Checkpoint checkpoint = checkpoint_in(o.out, "lot_screen", o.fingerprint(), o.resume);
   const std::vector<LotUnit> units = calibrate_units(o.recordings, lot.structure, "lot screen: calibrating the units with the lot's structure", &checkpoint,
                                                      "units", lot.conditional_terms.empty() ? nullptr : &lot);
   LotScreenResult result;
