@@ -60,6 +60,15 @@ class Cli : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  // Units 1..count of a lot: the reference sensor on the dual scan, `samples` samples, seed u, as unit<u>.csv;
+  // their paths appended to `recordings`, each after a space.
+  void simulate_units(int count, int samples, std::string& recordings) const {
+    for (int u = 1; u <= count; ++u) {
+      const std::string rec = path("unit" + std::to_string(u) + ".csv");
+      ASSERT_EQ(run("simulate --samples " + std::to_string(samples) + " --seed " + std::to_string(u) + " --out " + rec).status, 0);
+      recordings += " " + rec;
+    }
+  }
   fs::path dir_;
 };
 
@@ -928,11 +937,8 @@ TEST_F(Cli, CalibrateWithoutOptionsLeavesOutWhatAHeldInputCannotDetermine) {
 // than the same recording alone, with a predictive sigma; misuse is named.
 TEST_F(Cli, LotLearnsScreensAndCalibratesWithItsPrior) {
   std::string recordings;
-  for (int u = 1; u <= 9; ++u) {
-    const std::string rec = path("unit" + std::to_string(u) + ".csv");
-    ASSERT_EQ(run("simulate --samples 3000 --seed " + std::to_string(u) + " --out " + rec).status, 0);
-    if (u <= 8) recordings += " " + rec;
-  }
+  ASSERT_NO_FATAL_FAILURE(simulate_units(8, 3000, recordings));
+  ASSERT_EQ(run("simulate --samples 3000 --seed 9 --out " + path("unit9.csv")).status, 0);
   const Result learned = run("lot learn --recordings" + recordings + " --out " + path("lot.json"));
   ASSERT_EQ(learned.status, 0) << learned.output;
   EXPECT_THAT(learned.output, HasSubstr("8 units, 76 coordinates"));
@@ -1035,18 +1041,12 @@ TEST_F(Cli, LotLearnsScreensAndCalibratesWithItsPrior) {
               HasSubstr("give exactly one of --recordings"));
 }
 
-// A lot run killed (SIGKILL) at random points and resumed writes the same lot file, byte for byte; a batch of
-// units screened at once gives each the same screen.json as its own run, and a table of them.
 // A lot as a session's prior with the grey-box model (issue 33): the designs take the lot's structure and count
 // its population, and every calibration of the session is `calibrate --prior` with the lot - the final model is
 // the one calibrate gives on the session's recording.
 TEST_F(Cli, ASessionUnderALotCalibratesWithItsPopulation) {
   std::string recordings;
-  for (int u = 1; u <= 5; ++u) {
-    const std::string rec = path("unit" + std::to_string(u) + ".csv");
-    ASSERT_EQ(run("simulate --samples 2000 --seed " + std::to_string(u) + " --out " + rec).status, 0);
-    recordings += " " + rec;
-  }
+  ASSERT_NO_FATAL_FAILURE(simulate_units(5, 2000, recordings));
   ASSERT_EQ(run("lot learn --recordings" + recordings + " --out " + path("lot.json")).status, 0);
   const std::string session = "session --prior " + path("lot.json") + " --model greybox --truth builtin:priors/open_loop_fog_drift.yaml --budget-min 12 "
                               "--pilot-min 4 --envelope short --set global_evaluations=30 --set local_evaluations=20";
@@ -1063,13 +1063,11 @@ TEST_F(Cli, ASessionUnderALotCalibratesWithItsPopulation) {
               HasSubstr("--calibration: with the lot " + path("lot.json") + " as --prior and --model greybox the calibration is the lot's"));
 }
 
+// A lot run killed (SIGKILL) at random points and resumed writes the same lot file, byte for byte; a batch of
+// units screened at once gives each the same screen.json as its own run, and a table of them.
 TEST_F(Cli, LotRunsResumeToTheSameBytesAndScreenInBatches) {
   std::string recordings;
-  for (int u = 1; u <= 16; ++u) {
-    const std::string rec = path("unit" + std::to_string(u) + ".csv");
-    ASSERT_EQ(run("simulate --samples 3000 --seed " + std::to_string(u) + " --out " + rec).status, 0);
-    recordings += " " + rec;
-  }
+  ASSERT_NO_FATAL_FAILURE(simulate_units(16, 3000, recordings));
   const std::string learn = "--quiet --threads 1 lot learn --recordings" + recordings;
   const int kills = kill_and_resume(learn, dir_ / "whole", dir_ / "killed", ".lot.json_checkpoint.json", 33, "lot.json");
   EXPECT_GE(kills, 1);
