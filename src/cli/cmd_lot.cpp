@@ -46,14 +46,13 @@ void print_screen(const std::string& recording, const ScreenResult& r, double al
 void run_screen(LotScreenCommand& c) {
   LotScreenOptions& o = c.options;
   o.out = c.out;
+  o.keep_in_family = o.recordings.size() == 1;  // one unit is printed whole; of many, those out of family
   const LotScreenResult r = run_lot_screen(o);
-  for (const ScreenedUnit& u : r.units) {
-    if (r.units.size() == 1 || u.result.out_of_family) print_screen(u.recording, u.result, o.screen.alpha);
-  }
-  if (r.units.size() == 1) {
+  for (const ScreenedUnit& u : r.units) print_screen(u.recording, u.result, o.screen.alpha);
+  if (r.screened == 1) {
     std::cout << "wrote " << (r.units.front().dir / "screen.json").string() << "\n";
   } else {
-    std::cout << r.out_of_family << " of " << r.units.size() << " units out of family at alpha " << o.screen.alpha << "; wrote " << r.units.size()
+    std::cout << r.out_of_family << " of " << r.screened << " units out of family at alpha " << o.screen.alpha << "; wrote " << r.screened
               << " screen.json and " << (o.out / "screens.csv").string() << "\n";
   }
 }

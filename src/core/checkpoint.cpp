@@ -123,10 +123,20 @@ void Checkpoint::write() const {
   });
 }
 
+std::filesystem::path Checkpoint::spool_file(const std::string& name) const {
+  if (!enabled()) return {};
+  return file_.parent_path() / (file_.stem().string() + "." + name + ".rows");
+}
+
 void Checkpoint::finish() {
   if (!enabled()) return;
   std::error_code ec;
   std::filesystem::remove(file_, ec);
+  const std::string prefix = file_.stem().string() + ".";
+  for (const auto& entry : std::filesystem::directory_iterator(file_.parent_path().empty() ? "." : file_.parent_path(), ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) == 0 && entry.path().extension() == ".rows") std::filesystem::remove(entry.path(), ec);
+  }
 }
 
 }  // namespace gyrosid

@@ -29,7 +29,10 @@ class Checkpoint {
   void save(const std::string& name, std::vector<double> values);
   const nlohmann::json& record(const std::string& name) const;  // null when never saved
   void save_record(const std::string& name, nlohmann::json value);
-  // The computation completed and its results are written: the checkpoint is removed.
+  // The file beside the checkpoint where series `name`, too large to rewrite at every save, is appended
+  // (core/row_spool.h); the checkpoint records how many of its rows are saved. Empty when disabled.
+  std::filesystem::path spool_file(const std::string& name) const;
+  // The computation completed and its results are written: the checkpoint and its spool files are removed.
   void finish();
 
  private:

@@ -1,7 +1,7 @@
 #include "lot/lot_model.h"
 
 #include <Eigen/Cholesky>
-#include <Eigen/SVD>
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -51,23 +51,27 @@ Eigen::VectorXd coordinate_scale(const Eigen::VectorXd& sd, const std::vector<Gr
   return scale;
 }
 
-// Probabilistic PCA of the units (rows of theta, N x p). With the units' estimation sd known (`noise_sd`,
-// non-empty), the coordinates are scaled by it: the estimation noise is then about white with variance 1,
-// and a mode is kept where its variance clears the largest that noise alone shows in a sample of N units,
-// the Marchenko-Pastur edge (1 + sqrt(p / (N - 1)))^2. (The rest's own mean is no noise level: a model's
-// misfit and the modes below the edge sit in it.) Without it, by the units' sd, the fewest modes holding
-// variance_kept.
-Population fit_population(const Eigen::MatrixXd& theta, const Eigen::VectorXd& noise_sd, const std::vector<GreyboxCoordinate>& coordinates,
-                          const LotOptions& o) {
-  const Eigen::Index n = theta.rows(), p = theta.cols();
+// Probabilistic PCA of the units from their moments. With the units' estimation sd known, the coordinates are
+// scaled by it: the estimation noise is then about white with variance 1, and a mode is kept where its variance
+// clears the largest that noise alone shows in a sample of N units, the Marchenko-Pastur edge
+// (1 + sqrt(p / (N - 1)))^2. (The rest's own mean is no noise level: a model's misfit and the modes below the
+// edge sit in it.) Without it, by the units' sd, the fewest modes holding variance_kept.
+// The eigenvalues of the scaled scatter S^-1 C S^-1 / (N - 1), p x p, instead of the SVD of the N x p data: the
+// memory is the model's, not the lot's. Forming C squares the data's condition number, which costs the small
+// eigenvalues relative accuracy (each is known to about eps lambda_1); none is used alone - a kept mode clears the
+// edge (>= 1, the estimation noise) or holds a share of the total, and the rest enter only through their sum,
+// the trace, which C holds exactly.
+Population fit_population(const UnitMoments& m, const std::vector<GreyboxCoordinate>& coordinates, const LotOptions& o) {
+  const auto n = static_cast<Eigen::Index>(m.count), p = m.mean.size();
   Population pop;
-  pop.mean = theta.colwise().mean().transpose();
-  const Eigen::MatrixXd centred = theta.rowwise() - pop.mean.transpose();
-  const Eigen::VectorXd sd = (centred.colwise().squaredNorm() / static_cast<double>(n - 1)).cwiseSqrt().transpose();
-  pop.scale = coordinate_scale(noise_sd.size() > 0 ? noise_sd : sd, coordinates);
-  const Eigen::MatrixXd z = centred * pop.scale.cwiseInverse().asDiagonal();
-  const Eigen::BDCSVD<Eigen::MatrixXd> svd(z, Eigen::ComputeThinV);
-  const Eigen::VectorXd lambda = svd.singularValues().array().square() / static_cast<double>(n - 1);
+  pop.mean = m.mean;
+  const Eigen::VectorXd noise_sd = m.estimation_sd();
+  pop.scale = coordinate_scale(noise_sd.size() > 0 ? noise_sd : Eigen::VectorXd((m.scatter.diagonal() / (m.count - 1.0)).cwiseSqrt()), coordinates);
+  const Eigen::VectorXd inverse = pop.scale.cwiseInverse();
+  const Eigen::MatrixXd z_covariance = inverse.asDiagonal() * m.scatter * inverse.asDiagonal() / (m.count - 1.0);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(z_covariance);
+  if (eigen.info() != Eigen::Success) fail("lot: the eigen-decomposition of the units' covariance did not converge");
+  const Eigen::VectorXd lambda = eigen.eigenvalues().reverse().cwiseMax(0.0);  // descending
   const Eigen::Index spanned = std::min(n - 1, p), cap = std::min<Eigen::Index>({static_cast<Eigen::Index>(o.max_modes), n - 2, spanned - 1});
   const double total = lambda.sum();
   // psi: the mean variance of the directions the sample spans beyond the k modes.
@@ -85,7 +89,13 @@ Population fit_population(const Eigen::MatrixXd& theta, const Eigen::VectorXd& n
   const double psi = rest(k);
   pop.residual_variance = noise_sd.size() > 0 ? std::max(psi - 1.0, 0.1 * psi) : psi;
   pop.mode_variance = lambda.head(k);
-  pop.modes = svd.matrixV().leftCols(k) * (lambda.head(k).array() - psi).cwiseMax(0.0).sqrt().matrix().asDiagonal();
+  Eigen::MatrixXd directions = eigen.eigenvectors().rightCols(k).rowwise().reverse();
+  for (Eigen::Index j = 0; j < k; ++j) {  // each direction's sign: its largest component positive
+    Eigen::Index largest = 0;
+    directions.col(j).cwiseAbs().maxCoeff(&largest);
+    if (directions(largest, j) < 0.0) directions.col(j) *= -1.0;
+  }
+  pop.modes = directions * (lambda.head(k).array() - psi).cwiseMax(0.0).sqrt().matrix().asDiagonal();
   return pop;
 }
 
@@ -113,39 +123,27 @@ double DistanceNull::p_value(double d2) const { return 1.0 - stats::chi2_cdf(d2 
 
 namespace {
 
-Eigen::MatrixXd rows_of(const std::vector<LotUnit>& units, const std::vector<std::size_t>& keep, std::size_t except = SIZE_MAX) {
-  Eigen::MatrixXd theta(static_cast<Eigen::Index>(keep.size() - (except == SIZE_MAX ? 0 : 1)), units[keep.front()].theta.size());
-  Eigen::Index r = 0;
-  for (std::size_t i : keep) {
-    if (i != except) theta.row(r++) = units[i].theta.transpose();
-  }
-  return theta;
-}
-
-// The units' mean estimation sd per coordinate (empty when some unit's covariance is unknown).
-Eigen::VectorXd estimation_sd(const std::vector<LotUnit>& units, const std::vector<std::size_t>& keep, std::size_t except = SIZE_MAX) {
-  Eigen::VectorXd var = Eigen::VectorXd::Zero(units[keep.front()].theta.size());
-  double count = 0.0;
-  for (std::size_t i : keep) {
-    if (i == except) continue;
-    if (units[i].theta_variance.size() == 0) return Eigen::VectorXd();
-    var += units[i].theta_variance;
-    count += 1.0;
-  }
-  return (var / count).cwiseSqrt();
+// The moments of units[keep], in index order.
+UnitMoments moments_of(const LotUnits& units, const std::vector<std::size_t>& keep, Eigen::Index p) {
+  UnitMoments m(p);
+  for (std::size_t i : keep) m.add(units.at(i));
+  return m;
 }
 
 // Leave-one-out distances of (at most max_loo_units, evenly spaced) units in `keep`: probes[u] against the
-// population of the other units, index -> d^2 per test.
-std::map<std::size_t, std::vector<double>> leave_one_out(const std::vector<LotUnit>& units, const std::vector<LotUnit>& probes,
-                                                         const std::vector<std::size_t>& keep, const std::vector<GreyboxCoordinate>& coordinates,
+// population of the other units (their moments: those of `keep` less unit u's), index -> d^2 per test.
+std::map<std::size_t, std::vector<double>> leave_one_out(const LotUnits& units, const LotUnits& probes, const std::vector<std::size_t>& keep,
+                                                         const UnitMoments& moments, const std::vector<GreyboxCoordinate>& coordinates,
                                                          const std::vector<std::string>& tests, const LotOptions& o) {
   std::map<std::size_t, std::vector<double>> d2;
   const std::size_t m = std::min<std::size_t>(keep.size(), static_cast<std::size_t>(o.max_loo_units));
   for (std::size_t j = 0; j < m; ++j) {
     const std::size_t u = keep[j * keep.size() / m];
-    const Population pop = fit_population(rows_of(units, keep, u), estimation_sd(units, keep, u), coordinates, o);
-    d2[u] = lot_distances(probes[u].theta - pop.mean, pop.covariance(), probes[u].theta_variance, coordinates, tests);
+    UnitMoments others = moments;
+    others.remove(units.at(u));
+    const Population pop = fit_population(others, coordinates, o);
+    const LotUnit probe = probes.at(u);
+    d2[u] = lot_distances(probe.theta - pop.mean, pop.covariance(), probe.theta_variance, coordinates, tests);
   }
   return d2;
 }
@@ -161,9 +159,10 @@ DistanceNull matched_chi2(const std::map<std::size_t, std::vector<double>>& d2, 
   return {v / (2.0 * m), 2.0 * m * m / v};
 }
 
-void check_units(const std::vector<LotUnit>& units, Eigen::Index p) {
+void check_units(const LotUnits& units, Eigen::Index p) {
   if (units.size() < 5) fail("lot: ", units.size(), " units; a lot needs at least 5");
-  for (const LotUnit& u : units) {
+  for (std::size_t i = 0; i < units.size(); ++i) {
+    const LotUnit u = units.at(i);
     if (u.theta.size() != p) fail("lot: unit '", u.name, "' has ", u.theta.size(), " coordinates where the structure has ", p);
     if (!u.theta.allFinite()) fail("lot: unit '", u.name, "' has non-finite coordinates");
     if (u.theta_variance.size() != 0 && u.theta_variance.size() != p) {
@@ -197,17 +196,42 @@ Eigen::MatrixXd LotModel::covariance() const {
 
 GreyboxPrior LotModel::prior() const { return {mean, covariance(), source}; }
 
-LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_options_map, const LotOptions& o,
-                   const std::vector<LotUnit>* screen_units) {
+UnitMoments::UnitMoments(Eigen::Index p)
+    : mean(Eigen::VectorXd::Zero(p)), variance_sum(Eigen::VectorXd::Zero(p)), scatter(Eigen::MatrixXd::Zero(p, p)) {}
+
+void UnitMoments::add(const LotUnit& unit) {
+  count += 1.0;
+  const Eigen::VectorXd d = unit.theta - mean;
+  mean += d / count;
+  scatter.noalias() += ((count - 1.0) / count) * d * d.transpose();
+  if (unit.theta_variance.size() > 0) variance_sum += unit.theta_variance, variance_count += 1.0;
+}
+
+void UnitMoments::remove(const LotUnit& unit) {
+  if (count < 2.0) fail("lot: a unit left out of fewer than 2");
+  const Eigen::VectorXd d = unit.theta - mean;
+  scatter.noalias() -= (count / (count - 1.0)) * d * d.transpose();
+  mean -= d / (count - 1.0);
+  count -= 1.0;
+  if (unit.theta_variance.size() > 0) variance_sum -= unit.theta_variance, variance_count -= 1.0;
+}
+
+Eigen::VectorXd UnitMoments::estimation_sd() const {
+  if (variance_count != count || count == 0.0) return Eigen::VectorXd();
+  return (variance_sum / count).cwiseMax(0.0).cwiseSqrt();
+}
+
+LotModel learn_lot(const LotUnits& units, const OptionMap& greybox_options_map, const LotOptions& o, const LotUnits* screen_units) {
   if (auto p = o.validate(); !p.empty()) fail("lot: ", p);
   LotModel lot;
   lot.greybox_options = greybox_options_map;
   lot.structure = gyrosid::greybox_options(greybox_options_map);
   lot.coordinates = greybox_coordinates(lot.structure);
-  check_units(units, static_cast<Eigen::Index>(lot.coordinates.size()));
+  const auto p = static_cast<Eigen::Index>(lot.coordinates.size());
+  check_units(units, p);
   if (screen_units) {
     if (screen_units->size() != units.size()) fail("lot: ", screen_units->size(), " screening recordings for ", units.size(), " units; give one per unit, in the same order");
-    check_units(*screen_units, static_cast<Eigen::Index>(lot.coordinates.size()));
+    check_units(*screen_units, p);
   }
 
   std::vector<std::size_t> keep(units.size());
@@ -216,36 +240,41 @@ LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_o
   for (const auto& c : lot.coordinates) {
     if (std::find(lot.tests.begin(), lot.tests.end(), c.group) == lot.tests.end()) lot.tests.push_back(c.group);
   }
-  std::map<std::size_t, std::vector<double>> d2 = leave_one_out(units, units, keep, lot.coordinates, lot.tests, o);
+  auto moments = std::make_shared<UnitMoments>(moments_of(units, keep, p));
+  std::map<std::size_t, std::vector<double>> d2 = leave_one_out(units, units, keep, *moments, lot.coordinates, lot.tests, o);
   if (o.trim_alpha > 0.0) {  // leave out the units the others do not hold (each against the others' null), then learn again
     std::vector<std::size_t> kept;
     for (std::size_t i : keep) {
       const auto it = d2.find(i);
-      if (it != d2.end() && matched_chi2(d2, 0, i).p_value(it->second[0]) < o.trim_alpha) lot.left_out.push_back(units[i].name);
+      if (it != d2.end() && matched_chi2(d2, 0, i).p_value(it->second[0]) < o.trim_alpha) lot.left_out.push_back(units.at(i).name);
       else kept.push_back(i);
     }
     if (kept.size() < 5) fail("lot: only ", kept.size(), " units remain after leaving out those out of family; a lot needs at least 5");
-    if (kept.size() != keep.size()) keep = kept, d2 = leave_one_out(units, units, keep, lot.coordinates, lot.tests, o);
+    if (kept.size() != keep.size()) {
+      keep = kept;
+      moments = std::make_shared<UnitMoments>(moments_of(units, keep, p));
+      d2 = leave_one_out(units, units, keep, *moments, lot.coordinates, lot.tests, o);
+    }
   }
-  const std::vector<LotUnit>& probes = screen_units ? *screen_units : units;  // what the nulls are calibrated on
-  if (screen_units) d2 = leave_one_out(units, probes, keep, lot.coordinates, lot.tests, o);
-  const Population pop = fit_population(rows_of(units, keep), estimation_sd(units, keep), lot.coordinates, o);
+  const LotUnits& probes = screen_units ? *screen_units : units;  // what the nulls are calibrated on
+  if (screen_units) d2 = leave_one_out(units, probes, keep, *moments, lot.coordinates, lot.tests, o);
+  const Population pop = fit_population(*moments, lot.coordinates, o);
   lot.mean = pop.mean, lot.scale = pop.scale, lot.modes = pop.modes, lot.mode_variance = pop.mode_variance;
   lot.residual_variance = pop.residual_variance;
-  for (std::size_t i : keep) lot.unit_names.push_back(units[i].name);
+  lot.moments = moments;
   lot.kept_units = keep;
   for (const auto& [u, d] : d2) lot.loo_distance.push_back(d[0]), lot.null_units.push_back(u);
   for (std::size_t k = 0; k < lot.tests.size(); ++k) lot.nulls.push_back(matched_chi2(d2, k));
 
-  std::vector<double> log_noise;
+  std::vector<double> log_noise, minutes;
   for (std::size_t i : keep) {
-    if (units[i].white_dph_at_1hz > 0.0) log_noise.push_back(std::log(units[i].white_dph_at_1hz));
+    const LotUnit unit = units.at(i);
+    lot.unit_names.push_back(unit.name);
+    if (unit.white_dph_at_1hz > 0.0) log_noise.push_back(std::log(unit.white_dph_at_1hz));
+    const double probe_min = screen_units ? probes.at(i).recording_min : unit.recording_min;
+    if (probe_min > 0.0) minutes.push_back(probe_min);
   }
   lot.noise_units = static_cast<int>(log_noise.size());
-  std::vector<double> minutes;
-  for (std::size_t i : keep) {
-    if (probes[i].recording_min > 0.0) minutes.push_back(probes[i].recording_min);
-  }
   if (!minutes.empty()) lot.recording_min = upper_median(std::move(minutes));
   if (log_noise.size() >= 2) {
     const nav::SampleStats st = nav::sample_stats(log_noise);
@@ -264,9 +293,11 @@ std::vector<std::string> single_coordinate_terms(const std::vector<GreyboxCoordi
   return terms;
 }
 
-LotModel lot_without(const LotModel& lot, const std::vector<LotUnit>& units, std::size_t u, const LotOptions& o) {
-  if (std::find(lot.kept_units.begin(), lot.kept_units.end(), u) == lot.kept_units.end()) fail("lot: unit ", u, " is not one the lot was learned from");
-  const Population pop = fit_population(rows_of(units, lot.kept_units, u), estimation_sd(units, lot.kept_units, u), lot.coordinates, o);
+LotModel lot_without(const LotModel& lot, const LotUnits& units, std::size_t u, const LotOptions& o) {
+  if (!std::binary_search(lot.kept_units.begin(), lot.kept_units.end(), u) || !lot.moments) fail("lot: unit ", u, " is not one the lot was learned from");
+  UnitMoments others = *lot.moments;
+  others.remove(units.at(u));
+  const Population pop = fit_population(others, lot.coordinates, o);
   LotModel out = lot;
   out.mean = pop.mean, out.scale = pop.scale, out.modes = pop.modes, out.mode_variance = pop.mode_variance;
   out.residual_variance = pop.residual_variance;

@@ -13,6 +13,8 @@
 // is then subtracted - Sigma_z = W W' + psi I has variance lambda_i - 1 along mode i and, elsewhere, the rest's
 // mean variance less 1, floored at a tenth of that mean - so Sigma is the population's own spread, not the
 // units' scatter about it (lot_model.cpp fit_population). Without it, S is the units' sd; nothing is subtracted.
+// All of it from the units' moments (UnitMoments: N, mean, p x p scatter), read one unit at a time, so a lot of
+// any size is learned in the memory of its model; a leave-one-out population is the moments less one unit's.
 // Noise: the log of each unit's white noise (noise/identify.h on the fit's residual), normal across units.
 // Screening: the leave-one-out Mahalanobis distances d_u^2 = r' (Sigma_-u + C_u)^-1 r of the training units
 // (C_u the diagonal of a unit's estimation covariance), over every coordinate and, marginally, over each
@@ -36,6 +38,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -56,11 +59,45 @@ struct LotUnit {
   std::string name;
   Eigen::VectorXd theta;             // greybox coordinates
   Eigen::VectorXd theta_variance;    // its estimate's variances; empty when unknown (a model file). The diagonal
-                                     // only: the lot's memory stays 2 p numbers a unit, and the null and the
+                                     // only: a unit's spooled row stays 2 p numbers, and the null and the
                                      // screening use the same form
   double white_dph_at_1hz = 0.0;     // 0 when unknown
   double recording_min = 0.0;        // the recording's length; 0 when unknown
   Eigen::VectorXd conditional_z;     // against the lot it is screened with (lot_unit.h); empty when not scored
+};
+
+// The units a lot is learned from, read one at a time: in memory (LotUnitsInMemory), or spooled on disk for a
+// large lot (lot_unit.h CalibratedUnits), so that learning holds the population's moments, not the units.
+class LotUnits {
+ public:
+  virtual ~LotUnits() = default;
+  virtual std::size_t size() const = 0;
+  virtual LotUnit at(std::size_t i) const = 0;
+};
+
+class LotUnitsInMemory final : public LotUnits {
+ public:
+  explicit LotUnitsInMemory(std::vector<LotUnit> units) : units_(std::move(units)) {}
+  std::size_t size() const override { return units_.size(); }
+  LotUnit at(std::size_t i) const override { return units_.at(i); }
+
+ private:
+  std::vector<LotUnit> units_;
+};
+
+// What the population of a set of units rests on: their count, mean, scatter about the mean
+// sum (theta - mean)(theta - mean)' and summed estimation variances - p^2 numbers, whatever the number of units.
+// add is Welford's update (units added in index order give the same bits on every layout); remove is its exact
+// inverse, a leave-one-out in O(p^2).
+struct UnitMoments {
+  double count = 0.0, variance_count = 0.0;
+  Eigen::VectorXd mean, variance_sum;
+  Eigen::MatrixXd scatter;
+
+  explicit UnitMoments(Eigen::Index p);
+  void add(const LotUnit& unit);
+  void remove(const LotUnit& unit);
+  Eigen::VectorXd estimation_sd() const;  // the units' mean estimation sd; empty when some unit's is unknown
 };
 
 struct LotOptions {
@@ -88,6 +125,7 @@ struct LotModel {
   std::vector<DistanceNull> nulls;                // one per test
   std::vector<double> loo_distance;               // d_u^2 over every coordinate, of the null
   std::vector<std::size_t> kept_units, null_units;  // learned from / the null rests on (indices into learn_lot's units); not saved
+  std::shared_ptr<const UnitMoments> moments;     // of the kept units (lot_without); not saved
   std::vector<std::string> conditional_terms;     // terms with a conditional test (set_conditional_nulls), and
   std::vector<DistanceNull> conditional_nulls;    // their nulls of z^2
   std::string source;                             // the file it was read from
@@ -107,14 +145,17 @@ std::vector<double> lot_distances(const Eigen::VectorXd& r, const Eigen::MatrixX
 // `screen_units` (optional, one per unit, same order): the same units on the programme a production line
 // screens with; the null is then their leave-one-out distances from the others' population (learned from
 // `units`), so the screening's false-alarm rate holds for that programme.
-LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_options, const LotOptions& options = {},
-                   const std::vector<LotUnit>* screen_units = nullptr);
+LotModel learn_lot(const LotUnits& units, const OptionMap& greybox_options, const LotOptions& options = {},
+                   const LotUnits* screen_units = nullptr);
+inline LotModel learn_lot(const std::vector<LotUnit>& units, const OptionMap& greybox_options, const LotOptions& options = {}) {
+  return learn_lot(LotUnitsInMemory(units), greybox_options, options);
+}
 
 // The terms of one coordinate a conditional test can be made for (not the lag, whose prior the lag search takes).
 std::vector<std::string> single_coordinate_terms(const std::vector<GreyboxCoordinate>& coordinates);
-// The lot learned from the same units without units[u] (u among lot.kept_units): its population refitted, the rest
-// the same.
-LotModel lot_without(const LotModel& lot, const std::vector<LotUnit>& units, std::size_t u, const LotOptions& options = {});
+// The lot learned from the same units without units[u] (u among lot.kept_units): its population refitted from the
+// lot's moments less the unit's, the rest the same.
+LotModel lot_without(const LotModel& lot, const LotUnits& units, std::size_t u, const LotOptions& options = {});
 // z[u]: the conditional scores (lot_unit.h conditional_z) of the null's units, one per single-coordinate term.
 void set_conditional_nulls(LotModel& lot, const std::vector<Eigen::VectorXd>& z);
 

@@ -43,24 +43,26 @@ LotUnit read_row(const double* row, Eigen::Index p, const std::string& name) {
   return {name, Eigen::Map<const Eigen::VectorXd>(row, p), Eigen::Map<const Eigen::VectorXd>(row + p, p), row[2 * p], row[2 * p + 1], {}};
 }
 
-// Rows of `width` numbers, one per path, in index order: in batches over core/distributed.h (threads or MPI
-// processes), each finished batch saved to the checkpoint's `series` and, on resume, taken from it. fill(k, row)
-// may throw: the row is then NaN on the process that computed it, and every process names the failure by
-// running fill again itself.
-std::vector<double> batched_rows(const std::vector<std::string>& paths, int width, const std::string& label, Checkpoint* checkpoint,
-                                 const std::string& series, const std::function<void(std::size_t, double*)>& fill) {
+// Rows of `width` numbers, one per path, in index order, appended to a spool: in batches over
+// core/distributed.h (threads or MPI processes), each finished batch appended to the checkpoint's spool of
+// `series` and counted in its record, and, on resume, the counted rows taken from it. fill(k, row) may throw:
+// the row is then NaN on the process that computed it, and every process names the failure by running fill
+// again itself.
+RowSpool batched_rows(const std::vector<std::string>& paths, int width, const std::string& label, Checkpoint* checkpoint,
+                      const std::string& series, const std::function<void(std::size_t, double*)>& fill) {
   const int count = static_cast<int>(paths.size());
-  const std::size_t total = paths.size() * static_cast<std::size_t>(width);
-  std::vector<double> rows;
-  if (checkpoint && checkpoint->enabled()) rows = checkpoint->series(series);
-  if (rows.size() % static_cast<std::size_t>(width) != 0 || rows.size() > total) {
+  const bool saved = checkpoint && checkpoint->enabled();
+  const nlohmann::json& record = saved ? checkpoint->record(series) : nlohmann::json();
+  const std::size_t resumed = record.is_object() ? record.value("rows", std::size_t{0}) : 0;
+  if (resumed > paths.size() || (record.is_object() && record.value("width", width) != width)) {
     fail("the checkpoint's ", series, " do not fit ", count, " units of ", width, " numbers: start afresh without --resume");
   }
+  RowSpool rows = saved ? RowSpool(static_cast<std::size_t>(width), checkpoint->spool_file(series), resumed) : RowSpool(static_cast<std::size_t>(width));
   Progress progress(label, paths.size());
-  std::atomic<std::size_t> done{rows.size() / static_cast<std::size_t>(width)};
-  while (rows.size() < total) {
-    // Batches grow with the units done (an eighth of them): the checkpoint's rewrites cost O(N log N).
-    const int have = static_cast<int>(rows.size()) / width;
+  std::atomic<std::size_t> done{rows.rows()};
+  while (rows.rows() < paths.size()) {
+    // Batches grow with the units done (an eighth of them): O(log N) barriers and checkpoint saves.
+    const int have = static_cast<int>(rows.rows());
     const int want = std::min(count, have + std::max({8, 2 * parallel_width(), have / 8}));
     const std::vector<double> batch = map_rows(have, want, width, [&](int i, double* row) {
       try {
@@ -81,8 +83,8 @@ std::vector<double> batched_rows(const std::vector<std::string>& paths, int widt
       }
       fail(paths[k], ": the unit failed on another process");
     }
-    rows.insert(rows.end(), batch.begin(), batch.end());
-    if (checkpoint && checkpoint->enabled()) checkpoint->save(series, rows);
+    rows.append(batch);  // then counted: a kill between the two leaves rows the resume cuts off
+    if (saved) checkpoint->save_record(series, {{"rows", rows.rows()}, {"width", width}});
   }
   progress.finish();
   return rows;
@@ -90,24 +92,28 @@ std::vector<double> batched_rows(const std::vector<std::string>& paths, int widt
 
 }  // namespace
 
-std::vector<LotUnit> calibrate_units(const std::vector<std::string>& paths, const GreyboxOptions& structure, const std::string& label,
-                                     Checkpoint* checkpoint, const std::string& series, const LotModel* scored_against) {
+CalibratedUnits::CalibratedUnits(std::vector<std::string> names, Eigen::Index p, Eigen::Index scores, RowSpool rows)
+    : names_(std::move(names)), p_(p), scores_(scores), rows_(std::move(rows)) {}
+
+LotUnit CalibratedUnits::at(std::size_t i) const {
+  std::vector<double> row(rows_.width());
+  rows_.read(i, row.data());
+  LotUnit unit = read_row(row.data(), p_, names_.at(i));
+  if (scores_ > 0) unit.conditional_z = Eigen::Map<const Eigen::VectorXd>(row.data() + 2 * p_ + 2, scores_);
+  return unit;
+}
+
+CalibratedUnits calibrate_units(const std::vector<std::string>& paths, const GreyboxOptions& structure, const std::string& label,
+                                Checkpoint* checkpoint, const std::string& series, const LotModel* scored_against) {
   const auto p = static_cast<Eigen::Index>(greybox_coordinates(structure).size());
   const auto scores = static_cast<Eigen::Index>(scored_against ? single_coordinate_terms(scored_against->coordinates).size() : 0);
-  const auto width = static_cast<std::size_t>(2 * p + 2 + scores);
-  const std::vector<double> rows = batched_rows(paths, static_cast<int>(width), label, checkpoint, series, [&](std::size_t k, double* row) {
+  const auto width = static_cast<int>(2 * p + 2 + scores);
+  RowSpool rows = batched_rows(paths, width, label, checkpoint, series, [&](std::size_t k, double* row) {
     const Recording recording = read_recording(paths[k]);  // read once for both
     write_row(calibrate_unit(recording, paths[k], structure), p, row);
     if (scores > 0) Eigen::Map<Eigen::VectorXd>(row + 2 * p + 2, scores) = conditional_z(recording, *scored_against);
   });
-  std::vector<LotUnit> units;
-  units.reserve(paths.size());
-  for (std::size_t k = 0; k < paths.size(); ++k) {
-    const double* row = rows.data() + k * width;
-    units.push_back(read_row(row, p, paths[k]));
-    if (scores > 0) units.back().conditional_z = Eigen::Map<const Eigen::VectorXd>(row + 2 * p + 2, scores);
-  }
-  return units;
+  return CalibratedUnits(paths, p, scores, std::move(rows));
 }
 
 Eigen::VectorXd conditional_z(const Recording& recording, const LotModel& lot) {
@@ -130,11 +136,11 @@ std::vector<Eigen::VectorXd> conditional_scores(const std::vector<std::string>& 
                                                 Checkpoint* checkpoint, const std::string& series, const std::function<LotModel(std::size_t)>& lot_of) {
   const int width = static_cast<int>(single_coordinate_terms(lot.coordinates).size());
   if (width == 0) return std::vector<Eigen::VectorXd>(paths.size());
-  const std::vector<double> rows = batched_rows(paths, width, label, checkpoint, series, [&](std::size_t k, double* row) {
+  const RowSpool rows = batched_rows(paths, width, label, checkpoint, series, [&](std::size_t k, double* row) {
     Eigen::Map<Eigen::VectorXd>(row, width) = conditional_z(read_recording(paths[k]), lot_of ? lot_of(k) : lot);
   });
-  std::vector<Eigen::VectorXd> z;
-  for (std::size_t k = 0; k < paths.size(); ++k) z.emplace_back(Eigen::Map<const Eigen::VectorXd>(rows.data() + k * static_cast<std::size_t>(width), width));
+  std::vector<Eigen::VectorXd> z(paths.size(), Eigen::VectorXd(width));
+  for (std::size_t k = 0; k < paths.size(); ++k) rows.read(k, z[k].data());
   return z;
 }
 

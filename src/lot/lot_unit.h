@@ -9,6 +9,7 @@
 
 #include "core/checkpoint.h"
 #include "core/recording.h"
+#include "core/row_spool.h"
 #include "core/solve_summary.h"
 #include "lot/lot_model.h"
 #include "model/greybox_model.h"
@@ -24,15 +25,30 @@ std::vector<double> surface_grid_rates_dps(const SplineSurface& surface);
 LotUnit calibrate_unit(const Recording& recording, const std::string& name, const GreyboxOptions& structure,
                        SolveSummary* summary = nullptr);
 
+// The units calibrate_units computed, on disk: a spool row per unit (theta, its variances, the white noise, the
+// recording's length, the conditional scores), read back one at a time and named by the recordings' paths. A lot
+// of any size is learned from them in the memory of its model.
+class CalibratedUnits final : public LotUnits {
+ public:
+  CalibratedUnits(std::vector<std::string> names, Eigen::Index p, Eigen::Index scores, RowSpool rows);
+  std::size_t size() const override { return names_.size(); }
+  LotUnit at(std::size_t i) const override;
+
+ private:
+  std::vector<std::string> names_;
+  Eigen::Index p_, scores_;
+  RowSpool rows_;
+};
+
 // Every recording's unit (named by its path), in index order: in batches over core/distributed.h's rows -
 // this process's threads, or `gyrosid-mpi`'s processes, each unit computed from its own recording alone, so
-// the units do not depend on how many threads or processes computed them. With an enabled checkpoint each
-// finished batch is saved under `series`, and a resumed run takes the saved units and computes the rest.
-// Error naming the recording of the first unit that fails. With `scored_against` (a lot whose structure is
-// `structure`), each unit's conditional_z against it is computed in the same pass over its recording.
-std::vector<LotUnit> calibrate_units(const std::vector<std::string>& paths, const GreyboxOptions& structure, const std::string& label,
-                                     Checkpoint* checkpoint = nullptr, const std::string& series = "units",
-                                     const LotModel* scored_against = nullptr);
+// the units do not depend on how many threads or processes computed them. Each finished batch is appended to a
+// spool: with an enabled checkpoint, its spool_file(series), and a resumed run takes the saved units and computes
+// the rest. Error naming the recording of the first unit that fails. With `scored_against` (a lot whose structure
+// is `structure`), each unit's conditional_z against it is computed in the same pass over its recording.
+CalibratedUnits calibrate_units(const std::vector<std::string>& paths, const GreyboxOptions& structure, const std::string& label,
+                                Checkpoint* checkpoint = nullptr, const std::string& series = "units",
+                                const LotModel* scored_against = nullptr);
 
 // The conditional scores of lot_model.h, one per single_coordinate_terms(lot.coordinates): the recording refitted
 // with the lot's prior freed on each such term in turn.

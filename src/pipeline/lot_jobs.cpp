@@ -2,6 +2,7 @@
 
 #include <iomanip>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -24,7 +25,7 @@ void list_text(std::ostream& text, const char* what, const std::vector<std::stri
 
 // The conditional tests' null (lot_model.h): the null's units' recordings, each refitted with the lot learned
 // without it.
-void add_conditional_nulls(LotModel& lot, const LotLearnOptions& o, const std::vector<LotUnit>& units, Checkpoint& checkpoint) {
+void add_conditional_nulls(LotModel& lot, const LotLearnOptions& o, const LotUnits& units, Checkpoint& checkpoint) {
   const std::vector<std::string>& probes = o.screen_recordings.empty() ? o.recordings : o.screen_recordings;
   std::vector<std::string> paths;
   for (std::size_t u : lot.null_units) paths.push_back(probes[u]);
@@ -81,17 +82,18 @@ LotLearnResult run_lot_learn(const LotLearnOptions& o) {
   Checkpoint checkpoint = checkpoint_in(dir, o.out.filename().string(), o.fingerprint(), o.resume);
   OptionMap structure = o.structure;
   const GreyboxOptions greybox = greybox_options(structure);
-  const std::vector<LotUnit> units = o.models.empty() ? calibrate_units(o.recordings, greybox, "lot learn: calibrating the units", &checkpoint)
-                                                      : units_of_models(o.models, structure);
-  progress_note(str_cat("lot learn: the population of ", units.size(), " units"));
-  std::vector<LotUnit> screen_units;
+  std::unique_ptr<LotUnits> units;
+  if (o.models.empty()) units = std::make_unique<CalibratedUnits>(calibrate_units(o.recordings, greybox, "lot learn: calibrating the units", &checkpoint));
+  else units = std::make_unique<LotUnitsInMemory>(units_of_models(o.models, structure));
+  progress_note(str_cat("lot learn: the population of ", units->size(), " units"));
+  std::optional<CalibratedUnits> screen_units;
   if (!o.screen_recordings.empty()) {
     screen_units = calibrate_units(o.screen_recordings, greybox, "lot learn: the units' screening recordings", &checkpoint, "screen_units");
   }
   LotLearnResult result;
-  result.lot = learn_lot(units, structure, o.lot, o.screen_recordings.empty() ? nullptr : &screen_units);
+  result.lot = learn_lot(*units, structure, o.lot, screen_units ? &*screen_units : nullptr);
   LotModel& lot = result.lot;
-  if (!o.recordings.empty() && !single_coordinate_terms(lot.coordinates).empty()) add_conditional_nulls(lot, o, units, checkpoint);
+  if (!o.recordings.empty() && !single_coordinate_terms(lot.coordinates).empty()) add_conditional_nulls(lot, o, *units, checkpoint);
   result.file = lot_prior_file(lot, o.name, o.members);
   write_file_atomic(o.out, result.file.dump(1) + "\n");
   checkpoint.finish();
@@ -123,18 +125,20 @@ LotScreenResult run_lot_screen(const LotScreenOptions& o) {
   const std::vector<std::filesystem::path> dirs = screen_dirs(o.out, o.recordings);
   std::filesystem::create_directories(o.out);
   Checkpoint checkpoint = checkpoint_in(o.out, "lot_screen", o.fingerprint(), o.resume);
-  const std::vector<LotUnit> units = calibrate_units(o.recordings, lot.structure, "lot screen: calibrating the units with the lot's structure", &checkpoint,
-                                                     "units", lot.conditional_terms.empty() ? nullptr : &lot);
+  const CalibratedUnits units = calibrate_units(o.recordings, lot.structure, "lot screen: calibrating the units with the lot's structure", &checkpoint,
+                                                "units", lot.conditional_terms.empty() ? nullptr : &lot);
   LotScreenResult result;
   std::string table = kScreensCsvHeader;
   for (std::size_t k = 0; k < units.size(); ++k) {
-    ScreenedUnit s{o.recordings[k], dirs[k], screen_unit(lot, units[k], o.screen), units[k].white_dph_at_1hz, {}};
+    const LotUnit unit = units.at(k);
+    ScreenedUnit s{o.recordings[k], dirs[k], screen_unit(lot, unit, o.screen), unit.white_dph_at_1hz, {}};
     s.file = screen_json(s.result, s.recording, o.prior, o.screen.alpha, s.white_dph_at_1hz);
     std::filesystem::create_directories(s.dir);
     write_file_atomic(s.dir / "screen.json", s.file.dump(2) + "\n");
     table += screens_csv_row(s.result, s.recording, s.white_dph_at_1hz);
     result.out_of_family += s.result.out_of_family;
-    result.units.push_back(std::move(s));
+    ++result.screened;
+    if (o.keep_in_family || s.result.out_of_family) result.units.push_back(std::move(s));
   }
   if (units.size() > 1) write_file_atomic(o.out / "screens.csv", table);
   checkpoint.finish();

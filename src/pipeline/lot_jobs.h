@@ -50,6 +50,8 @@ struct LotScreenOptions {
   ScreenOptions screen;
   std::filesystem::path out;            // directory
   bool resume = false;
+  bool keep_in_family = true;           // false: the result keeps only the units out of family (each is in its screen.json),
+                                        // so a lot of any size is screened in bounded memory
   std::string validate() const;
   std::string fingerprint() const;
 };
@@ -63,7 +65,8 @@ struct ScreenedUnit {
 };
 
 struct LotScreenResult {
-  std::vector<ScreenedUnit> units;
+  std::vector<ScreenedUnit> units;  // in order; every unit, or, without keep_in_family, those out of family
+  std::size_t screened = 0;
   int out_of_family = 0;
 };
 

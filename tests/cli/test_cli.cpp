@@ -363,6 +363,7 @@ int kill_and_resume(const std::string& args, const fs::path& whole, const fs::pa
   EXPECT_FALSE(fs::exists(killed / checkpoint));
   for (const auto& entry : fs::directory_iterator(killed)) {
     EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "stale temporary " << entry.path();
+    EXPECT_NE(entry.path().extension(), ".rows") << "a checkpoint's spool left behind: " << entry.path();
   }
   return kills;
 }

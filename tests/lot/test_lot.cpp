@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/SVD>
+
 #include <cmath>
 
 #include "core/error.h"
@@ -180,6 +182,49 @@ TEST(LotModel, RecoversThePlantedModesAndTheNoise) {
   ASSERT_EQ(back.nulls.size(), lot.nulls.size());
   EXPECT_EQ(back.tests, lot.tests);
   EXPECT_EQ(back.nulls.back().dof, lot.nulls.back().dof);
+}
+
+// The population from the units' moments (p x p) against an independent route: the SVD of the N x p matrix of the
+// standardised units. The same variances along the same directions, and the same mean.
+TEST(LotModel, ItsModesAreTheSvdOfTheStandardisedUnits) {
+  const SyntheticLot g;
+  const std::vector<LotUnit> units = g.units(80, 1);
+  const LotModel lot = learn_lot(units, {});
+  ASSERT_TRUE(lot.left_out.empty());
+  Eigen::MatrixXd z(80, g.p);
+  for (Eigen::Index i = 0; i < 80; ++i) z.row(i) = units[static_cast<std::size_t>(i)].theta.transpose();
+  const Eigen::VectorXd mean = z.colwise().mean().transpose();
+  for (Eigen::Index j = 0; j < g.p; ++j) EXPECT_NEAR(lot.mean(j), mean(j), 1e-12 * (1.0 + std::abs(mean(j)))) << j;
+  z = (z.rowwise() - mean.transpose()) * lot.scale.cwiseInverse().asDiagonal();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(z, Eigen::ComputeThinV);
+  const Eigen::Index k = lot.modes.cols();
+  ASSERT_EQ(k, 2);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    const double lambda = svd.singularValues()(i) * svd.singularValues()(i) / 79.0;
+    EXPECT_NEAR(lot.mode_variance(i), lambda, 1e-10 * lambda) << i;
+    EXPECT_NEAR(std::abs(lot.modes.col(i).normalized().dot(svd.matrixV().col(i))), 1.0, 1e-10) << i;
+  }
+}
+
+// The leave-one-out lot, downdated from the lot's moments, is the lot learned from the other units afresh.
+TEST(LotModel, TheLeaveOneOutDowndateIsTheLotLearnedWithoutTheUnit) {
+  const SyntheticLot g;
+  std::vector<LotUnit> units = g.units(40, 1);
+  LotOptions untrimmed;
+  untrimmed.trim_alpha = 0.0;
+  const LotModel lot = learn_lot(units, {}, untrimmed);
+  const LotModel without = lot_without(lot, LotUnitsInMemory(units), 7, untrimmed);
+  units.erase(units.begin() + 7);
+  const LotModel afresh = learn_lot(units, {}, untrimmed);
+  EXPECT_LT((without.mean - afresh.mean).norm(), 1e-12 * afresh.mean.norm());
+  EXPECT_LT((without.covariance() - afresh.covariance()).norm(), 1e-10 * afresh.covariance().norm());
+  EXPECT_NE(without.mean, lot.mean);
+  try {
+    lot_without(lot, LotUnitsInMemory(units), 40);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("not one the lot was learned from"));
+  }
 }
 
 // Fresh units of the lot are flagged at about the nominal rate; planted defects are flagged and named.
