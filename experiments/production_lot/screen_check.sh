@@ -1,29 +1,29 @@
 #!/bin/bash
-# Screening as a production line would run it (issue 33), on lot 100 of run.py's screening part (200 units per
-# family, 2 % planted defects, cached under the work dir): the lot learned from the 50 training units' dual
+# Screening as a production line would run it (issue 33), on lot 100 of run.py's screening part (N units per
+# family, default 200, 2 % planted defects, cached under the work dir): the lot learned from the 50 training units' dual
 # scans with the same units' 15-min recordings as the null's (`lot learn --screen-recordings`), then every
 # other unit's 15-min recording screened at the default alpha. Prints false alarms and each defect's verdict.
 # Every clean unit's z of the conditional Shupe test (lot_model.h) is printed too (mean and sd over the clean units).
-#   experiments/production_lot/screen_check.sh GYROSID [WORK [OUT]]   (after run.py --parts screen)
+#   experiments/production_lot/screen_check.sh GYROSID [WORK [OUT [N]]]   (after run.py --parts screen [--screen-units N])
 set -euo pipefail
 g=$(realpath "$1"); work=${2:-/tmp/gyrosid-production-lot}
-out=${3:-$work/screen_check}; mkdir -p "$out"
+out=${3:-$work/screen_check}; n=${4:-200}; mkdir -p "$out"
 for fam in A B; do
-  lot="$work/$fam/lot100_n200"; train=(); short=()
+  lot="$work/$fam/lot100_n$n"; train=(); short=()
   for u in $(seq 0 49); do f=$(printf %05d "$u"); train+=("$lot/u$f/dual.csv"); short+=("$lot/u$f/short.csv"); done
   "$g" --quiet lot learn --recordings "${train[@]}" --screen-recordings "${short[@]}" --set shupe=true --out "$out/lot_$fam.json"
   screened=()
-  for u in $(seq 50 199); do f=$(printf %05d "$u"); screened+=("$lot/u$f/short.csv"); done
+  for u in $(seq 50 $((n - 1))); do f=$(printf %05d "$u"); screened+=("$lot/u$f/short.csv"); done
   [ -f "$out/$fam/screens.csv" ] || "$g" --quiet lot screen --prior "$out/lot_$fam.json" --recording "${screened[@]}" --out "$out/$fam" > /dev/null
 done
-/usr/bin/python3 - "$work" "$out" <<'PY'
+/usr/bin/python3 - "$work" "$out" "$n" <<'PY'
 import json, os, sys
-work, out = sys.argv[1:]
+work, out, n = sys.argv[1], sys.argv[2], int(sys.argv[3])
 for fam in "AB":
-    defects = {int(k): v for k, v in json.load(open(os.path.join(work, fam, "lot100_n200", "defects.json"))).items()}
+    defects = {int(k): v for k, v in json.load(open(os.path.join(work, fam, "lot100_n%d" % n, "defects.json"))).items()}
     alarms = clean = 0
     z = []
-    for u in range(50, 200):
+    for u in range(50, n):
         j = json.load(open(os.path.join(out, fam, "u%05d" % u, "short", "screen.json")))
         cond = j["tests"].get("shupe given the rest", {})
         if u in defects:

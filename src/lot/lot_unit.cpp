@@ -52,7 +52,7 @@ RowSpool batched_rows(const std::vector<std::string>& paths, int width, const st
                       const std::string& series, const std::function<void(std::size_t, double*)>& fill) {
   const int count = static_cast<int>(paths.size());
   const bool saved = checkpoint && checkpoint->enabled();
-  const nlohmann::json& record = saved ? checkpoint->record(series) : nlohmann::json();
+  const nlohmann::json record = saved ? checkpoint->record(series) : nlohmann::json();
   const std::size_t resumed = record.is_object() ? record.value("rows", std::size_t{0}) : 0;
   if (resumed > paths.size() || (record.is_object() && record.value("width", width) != width)) {
     fail("the checkpoint's ", series, " do not fit ", count, " units of ", width, " numbers: start afresh without --resume");

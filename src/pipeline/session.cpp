@@ -186,7 +186,10 @@ class SessionRun {
     }
     contexts_.resize(sensors_.size());
     boundaries_ = o_.boundaries_min();
-    checkpoint_ = Checkpoint(o_.out / ".session_checkpoint.json", fingerprint_, o_.resume);
+    checkpoint_ = checkpoint_in(o_.out, "session", fingerprint_, o_.resume);
+    if (o_.resume) {  // a killed write's temporaries in the segments' folders too
+      for (std::size_t k = 0; k < boundaries_.size(); ++k) remove_stale_temporaries(o_.out / segment_dir(k));
+    }
     json_ = {{"format", "gyrosid-session/1"},
              {"prior", {{"file", o_.prior}, {"name", s_.prior.name}, {"members", members_json(weights_)}}},
              {"truth", o_.truth}, {"budget_min", o_.budget_min}, {"seed", o_.seed}, {"model", o_.model},
@@ -294,7 +297,7 @@ class SessionRun {
       request.seed = o_.seed;
       request.recorded = recorded_;
       std::filesystem::create_directories(dir);
-      Checkpoint stages(dir / ".design_checkpoint.json", str_cat(fingerprint_, "/", key), o_.resume);
+      Checkpoint stages = checkpoint_in(dir, "design", str_cat(fingerprint_, "/", key), o_.resume);
       request.checkpoint = &stages;
       design::DesignResult r = design::design_trajectory(contexts, request);
       r.trajectory.profile.name = str_cat("session segment ", k + 1);

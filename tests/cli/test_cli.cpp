@@ -434,6 +434,7 @@ TEST_F(Cli, KilledSessionResumesToTheSameResult) {
   for (const std::string& f : files) EXPECT_EQ(comparable_text(killed / f, killed, whole), comparable_text(whole / f, whole, whole)) << f;
   for (const auto& entry : fs::recursive_directory_iterator(killed)) {
     EXPECT_EQ(entry.path().filename().string().find("checkpoint"), std::string::npos) << "left behind: " << entry.path();
+    EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "stale temporary: " << entry.path();
   }
   // The checkpoint is read on resume: one a killed session left is refused for another seed, naming it.
   run_and_kill(args + " --out " + path("other"), 1.0);
