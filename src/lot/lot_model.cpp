@@ -265,6 +265,7 @@ LotModel learn_lot(const LotUnits& units, const OptionMap& greybox_options_map, 
   lot.kept_units = keep;
   for (const auto& [u, d] : d2) lot.loo_distance.push_back(d[0]), lot.null_units.push_back(u);
   for (std::size_t k = 0; k < lot.tests.size(); ++k) lot.nulls.push_back(matched_chi2(d2, k));
+  lot.misfit = learn_misfit(probes, keep, lot.null_units, misfit_rate_edges_dps(lot.structure));
 
   std::vector<double> log_noise, minutes;
   for (std::size_t i : keep) {
@@ -330,22 +331,24 @@ nlohmann::json LotModel::to_json() const {
   for (Eigen::Index k = 0; k < modes.cols(); ++k) mode_rows.push_back(std::vector<double>(modes.col(k).data(), modes.col(k).data() + modes.rows()));
   const Eigen::VectorXd sd = covariance().diagonal().cwiseSqrt();
   auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
-  return {{"model", "greybox"},
-          {"greybox_options", greybox_options},
-          {"units", unit_names.size()},
-          {"recording_min", recording_min},
-          {"unit_names", unit_names},
-          {"left_out", left_out},
-          {"coordinates", coords},
-          {"mean", vec(mean)},
-          {"sd", vec(sd)},
-          {"scale", vec(scale)},
-          {"modes", mode_rows},
-          {"mode_variance", vec(mode_variance)},
-          {"residual_variance", residual_variance},
-          {"noise", {{"white_dph_at_1hz", {{"log_mean", log_noise_mean}, {"log_sd", log_noise_sd}, {"units", noise_units}}}}},
-          {"screening", {{"null", "scaled chi-square matched to the leave-one-out distances, per test"}, {"tests", tests_json()},
-                         {"leave_one_out_d2", loo_distance}}}};
+  nlohmann::json out = {{"model", "greybox"},
+           {"greybox_options", greybox_options},
+           {"units", unit_names.size()},
+           {"recording_min", recording_min},
+           {"unit_names", unit_names},
+           {"left_out", left_out},
+           {"coordinates", coords},
+           {"mean", vec(mean)},
+           {"sd", vec(sd)},
+           {"scale", vec(scale)},
+           {"modes", mode_rows},
+           {"mode_variance", vec(mode_variance)},
+           {"residual_variance", residual_variance},
+           {"noise", {{"white_dph_at_1hz", {{"log_mean", log_noise_mean}, {"log_sd", log_noise_sd}, {"units", noise_units}}}}},
+           {"screening", {{"null", "scaled chi-square matched to the leave-one-out distances, per test"}, {"tests", tests_json()},
+                          {"leave_one_out_d2", loo_distance}}}};
+  if (misfit.learned()) out["screening"]["misfit"] = misfit.to_json();
+  return out;
 }
 
 LotModel LotModel::from_json(const nlohmann::json& j, const std::string& source) {
@@ -393,6 +396,7 @@ LotModel LotModel::from_json(const nlohmann::json& j, const std::string& source)
     }
     if (lot.tests.empty() || lot.tests.front() != "all") fail(source, ": population.screening.tests must start with 'all'");
     lot.loo_distance = s.at("leave_one_out_d2").get<std::vector<double>>();
+    if (s.contains("misfit")) lot.misfit = misfit_from_json(s["misfit"], source);  // lots learned before 2026-11-29 have none
   } catch (const nlohmann::json::exception& e) {
     fail(source, ": population: ", e.what());
   }

@@ -64,7 +64,38 @@ struct LotUnit {
   double white_dph_at_1hz = 0.0;     // 0 when unknown
   double recording_min = 0.0;        // the recording's length; 0 when unknown
   Eigen::VectorXd conditional_z;     // against the lot it is screened with (lot_unit.h); empty when not scored
+  Eigen::VectorXd misfit;            // its fit's mean residual by rate (MisfitPopulation); empty when unknown
 };
+
+// What the units' calibrations leave unexplained, by rate: each unit's mean residual in bins of the rate (the
+// surface grid's intervals cut in four), in standard errors of its own residual (m_b = mean_b / (s / sqrt(n_b)),
+// s the residual's sd: a noisier unit is not out of family by its misfit), so that a shape the grey-box
+// structure cannot hold - a ripple between the grid's nodes, a dead band - is seen where the coordinates are
+// blind to it. The lot keeps each bin's mean and sd across its units (a misfit the whole type shares is in the
+// mean); a unit's misfit distance is
+//   d^2 = sum_b ((m_b - mean_b) / sd_b)^2   over the bins both have,
+// referred to a scaled chi-square matched to the lot's units' leave-one-out distances (lot/misfit.cpp).
+struct MisfitPopulation {
+  std::vector<double> rate_edges_dps;  // bin b is [edges[b], edges[b + 1]); empty: no test
+  Eigen::VectorXd mean, sd;            // of m_b per bin; NaN where fewer than 3 units had the bin
+  DistanceNull null;
+  bool learned() const { return mean.size() > 0; }
+  // d^2 of a unit's misfit, and the bin of largest contribution (-1: no bin in common).
+  double distance2(const Eigen::VectorXd& misfit, Eigen::Index* largest = nullptr) const;
+  nlohmann::json to_json() const;
+};
+
+// The misfit bins of a structure: its surface rate grid's intervals, each cut in four (none without the surface).
+std::vector<double> misfit_rate_edges_dps(const GreyboxOptions& structure);
+// A fit's mean residual in each bin of the rate (deg/s), in standard errors (above); NaN where a bin has fewer than
+// 10 samples.
+Eigen::VectorXd misfit_by_rate(const Eigen::VectorXd& residual_dph, const Eigen::VectorXd& rate_dps, const std::vector<double>& edges_dps);
+class LotUnits;
+// The misfit population of units[keep], its null from the leave-one-out distances of units[loo] (each against
+// the others of keep); not learned (learned() false) when some unit has no misfit or fewer than 5 units do.
+MisfitPopulation learn_misfit(const LotUnits& units, const std::vector<std::size_t>& keep, const std::vector<std::size_t>& loo,
+                              std::vector<double> edges_dps);
+MisfitPopulation misfit_from_json(const nlohmann::json& j, const std::string& source);
 
 // The units a lot is learned from, read one at a time: in memory (LotUnitsInMemory), or spooled on disk for a
 // large lot (lot_unit.h CalibratedUnits), so that learning holds the population's moments, not the units.
@@ -128,6 +159,7 @@ struct LotModel {
   std::shared_ptr<const UnitMoments> moments;     // of the kept units (lot_without); not saved
   std::vector<std::string> conditional_terms;     // terms with a conditional test (set_conditional_nulls), and
   std::vector<DistanceNull> conditional_nulls;    // their nulls of z^2
+  MisfitPopulation misfit;                        // of the null's recordings; not learned from model files
   std::string source;                             // the file it was read from
 
   Eigen::MatrixXd covariance() const;             // Sigma = S (W W' + psi I) S

@@ -20,8 +20,7 @@
 namespace gyrosid {
 namespace {
 
-double white_noise_dph_at_1hz(const Dataset& data, const GreyboxEstimate& fit) {
-  const Eigen::VectorXd residual_dph = (data.target - fit.model->predict(data)) * units::radps_to_dph(1.0);
+double white_noise_dph_at_1hz(const Dataset& data, const GreyboxEstimate& fit, const Eigen::VectorXd& residual_dph) {
   const double dt = median_sample_interval(data.t_s);
   const NoiseIdentification id = identify_noise(std::span<const double>(residual_dph.data(), static_cast<std::size_t>(residual_dph.size())), dt);
   for (const NoiseParameter& p : id.parameters) {
@@ -30,17 +29,19 @@ double white_noise_dph_at_1hz(const Dataset& data, const GreyboxEstimate& fit) {
   return units::radps_to_dph(fit.residual_sd_radps) * std::sqrt(dt);
 }
 
-// A unit as a row of doubles for the distributed batches: theta (p), its variances (p), the white noise and
-// the recording's length; a failed unit is a row of NaN.
-void write_row(const LotUnit& u, Eigen::Index p, double* row) {
+// A unit as a row of doubles for the distributed batches: theta (p), its variances (p), the white noise, the
+// recording's length and its misfit by rate (`bins`); a failed unit is a row of NaN.
+void write_row(const LotUnit& u, Eigen::Index p, Eigen::Index bins, double* row) {
   Eigen::Map<Eigen::VectorXd>(row, p) = u.theta;
   Eigen::Map<Eigen::VectorXd>(row + p, p) = u.theta_variance;
   row[2 * p] = u.white_dph_at_1hz;
   row[2 * p + 1] = u.recording_min;
+  Eigen::Map<Eigen::VectorXd>(row + 2 * p + 2, bins) = u.misfit;
 }
 
-LotUnit read_row(const double* row, Eigen::Index p, const std::string& name) {
-  return {name, Eigen::Map<const Eigen::VectorXd>(row, p), Eigen::Map<const Eigen::VectorXd>(row + p, p), row[2 * p], row[2 * p + 1], {}};
+LotUnit read_row(const double* row, Eigen::Index p, Eigen::Index bins, const std::string& name) {
+  return {name, Eigen::Map<const Eigen::VectorXd>(row, p), Eigen::Map<const Eigen::VectorXd>(row + p, p), row[2 * p], row[2 * p + 1], {},
+          Eigen::Map<const Eigen::VectorXd>(row + 2 * p + 2, bins)};
 }
 
 // Rows of `width` numbers, one per path, in index order, appended to a spool: in batches over
@@ -92,28 +93,29 @@ RowSpool batched_rows(const std::vector<std::string>& paths, int width, const st
 
 }  // namespace
 
-CalibratedUnits::CalibratedUnits(std::vector<std::string> names, Eigen::Index p, Eigen::Index scores, RowSpool rows)
-    : names_(std::move(names)), p_(p), scores_(scores), rows_(std::move(rows)) {}
+CalibratedUnits::CalibratedUnits(std::vector<std::string> names, Eigen::Index p, Eigen::Index bins, Eigen::Index scores, RowSpool rows)
+    : names_(std::move(names)), p_(p), bins_(bins), scores_(scores), rows_(std::move(rows)) {}
 
 LotUnit CalibratedUnits::at(std::size_t i) const {
   std::vector<double> row(rows_.width());
   rows_.read(i, row.data());
-  LotUnit unit = read_row(row.data(), p_, names_.at(i));
-  if (scores_ > 0) unit.conditional_z = Eigen::Map<const Eigen::VectorXd>(row.data() + 2 * p_ + 2, scores_);
+  LotUnit unit = read_row(row.data(), p_, bins_, names_.at(i));
+  if (scores_ > 0) unit.conditional_z = Eigen::Map<const Eigen::VectorXd>(row.data() + 2 * p_ + 2 + bins_, scores_);
   return unit;
 }
 
 CalibratedUnits calibrate_units(const std::vector<std::string>& paths, const GreyboxOptions& structure, const std::string& label,
                                 Checkpoint* checkpoint, const std::string& series, const LotModel* scored_against) {
   const auto p = static_cast<Eigen::Index>(greybox_coordinates(structure).size());
+  const auto bins = static_cast<Eigen::Index>(std::max<std::size_t>(misfit_rate_edges_dps(structure).size(), 1) - 1);
   const auto scores = static_cast<Eigen::Index>(scored_against ? single_coordinate_terms(scored_against->coordinates).size() : 0);
-  const auto width = static_cast<int>(2 * p + 2 + scores);
+  const auto width = static_cast<int>(2 * p + 2 + bins + scores);
   RowSpool rows = batched_rows(paths, width, label, checkpoint, series, [&](std::size_t k, double* row) {
     const Recording recording = read_recording(paths[k]);  // read once for both
-    write_row(calibrate_unit(recording, paths[k], structure), p, row);
-    if (scores > 0) Eigen::Map<Eigen::VectorXd>(row + 2 * p + 2, scores) = conditional_z(recording, *scored_against);
+    write_row(calibrate_unit(recording, paths[k], structure), p, bins, row);
+    if (scores > 0) Eigen::Map<Eigen::VectorXd>(row + 2 * p + 2 + bins, scores) = conditional_z(recording, *scored_against);
   });
-  return CalibratedUnits(paths, p, scores, std::move(rows));
+  return CalibratedUnits(paths, p, bins, scores, std::move(rows));
 }
 
 Eigen::VectorXd conditional_z(const Recording& recording, const LotModel& lot) {
@@ -153,8 +155,11 @@ std::vector<double> surface_grid_rates_dps(const SplineSurface& surface) {
 LotUnit calibrate_unit(const Recording& recording, const std::string& name, const GreyboxOptions& structure, SolveSummary* summary) {
   const Dataset data = make_dataset(recording, greybox_features(structure), ModelTarget::error);
   GreyboxEstimate fit = estimate_greybox(data, structure, nullptr, summary);
-  LotUnit unit{name, std::move(fit.theta), fit.theta_covariance.diagonal(), 0.0, 0.0, {}};
-  unit.white_dph_at_1hz = white_noise_dph_at_1hz(data, fit);
+  LotUnit unit{name, std::move(fit.theta), fit.theta_covariance.diagonal(), 0.0, 0.0, {}, {}};
+  const Eigen::VectorXd residual_dph = (data.target - fit.model->predict(data)) * units::radps_to_dph(1.0);
+  unit.white_dph_at_1hz = white_noise_dph_at_1hz(data, fit, residual_dph);
+  const Eigen::VectorXd rate_dps = (data.reference.allFinite() ? data.reference : data.measured) * units::radps_to_dps(1.0);
+  unit.misfit = misfit_by_rate(residual_dph, rate_dps, misfit_rate_edges_dps(structure));
   if (data.size() > 1) unit.recording_min = (data.t_s.back() - data.t_s.front()) / 60.0;
   return unit;
 }
@@ -165,7 +170,7 @@ LotUnit unit_of_model(const GreyboxModel& model, const std::string& name, const 
     fail(name, ": a lot's units need the scale-factor surface on the lot's grid (temperatures ", format_numbers(structure.surface_temperatures_c),
          " C; rates ", format_numbers(structure.surface_rates_dps), " dps)");
   }
-  return {name, greybox_theta(model.errors(), model.lag_tau_s(), structure), Eigen::VectorXd(), 0.0, 0.0, {}};
+  return {name, greybox_theta(model.errors(), model.lag_tau_s(), structure), Eigen::VectorXd(), 0.0, 0.0, {}, {}};
 }
 
 std::vector<LotUnit> units_of_models(const std::vector<std::string>& paths, OptionMap& structure) {

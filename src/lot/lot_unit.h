@@ -26,17 +26,17 @@ LotUnit calibrate_unit(const Recording& recording, const std::string& name, cons
                        SolveSummary* summary = nullptr);
 
 // The units calibrate_units computed, on disk: a spool row per unit (theta, its variances, the white noise, the
-// recording's length, the conditional scores), read back one at a time and named by the recordings' paths. A lot
+// recording's length, the misfit by rate, the conditional scores), read back one at a time and named by the recordings' paths. A lot
 // of any size is learned from them in the memory of its model.
 class CalibratedUnits final : public LotUnits {
  public:
-  CalibratedUnits(std::vector<std::string> names, Eigen::Index p, Eigen::Index scores, RowSpool rows);
+  CalibratedUnits(std::vector<std::string> names, Eigen::Index p, Eigen::Index bins, Eigen::Index scores, RowSpool rows);
   std::size_t size() const override { return names_.size(); }
   LotUnit at(std::size_t i) const override;
 
  private:
   std::vector<std::string> names_;
-  Eigen::Index p_, scores_;
+  Eigen::Index p_, bins_, scores_;
   RowSpool rows_;
 };
 

@@ -47,11 +47,21 @@ std::map<std::string, double> region_shares(const LotModel& lot, const Eigen::Ve
   return share;
 }
 
-// The p-values of a unit's tests: the lot's (`lot_tests`, the omnibus first), then its conditional ones.
+// The p-values of a unit's tests: the lot's (`lot_tests`, the omnibus first), then its conditional ones, then
+// the misfit's when `misfit_bin` >= 0 (its bin of largest contribution).
 struct TestPValues {
   const std::vector<double>& p;
   std::size_t lot_tests = 0, conditional_tests = 0;
+  Eigen::Index misfit_bin = -1;
 };
+
+std::string misfit_reason(const MisfitPopulation& m, const LotUnit& unit, Eigen::Index b, double p) {
+  const auto i = static_cast<std::size_t>(b);
+  return str_cat("misfit at rates ", format_number(m.rate_edges_dps[i]), "..", format_number(m.rate_edges_dps[i + 1]),
+                 " deg/s: its own test p = ", format_significant(p, 3), " (the fit's mean residual there ", format_significant(unit.misfit(b), 3),
+                 " standard errors against the lot's ", format_significant(m.mean(b), 3), " +- ", format_significant(m.sd(b), 3),
+                 ": a shape the lot's structure does not hold)");
+}
 
 // Why a unit is out of family in its physics: a term's own test first (for the surface: its region of
 // largest share), then a conditional test, else the regions holding a fifth of the distance (at least the
@@ -80,6 +90,7 @@ void physics_reasons(const LotModel& lot, const LotUnit& unit, const Eigen::Vect
     out.reasons.push_back(str_cat(lot.conditional_terms[k], " given the rest of the lot: p = ", format_significant(p_k, 3), " (z = ",
                                   format_significant(unit.conditional_z(static_cast<Eigen::Index>(k)), 3), " of the lot's spread and the recording's)"));
   }
+  if (t.misfit_bin >= 0 && 2.0 * tests * t.p.back() < alpha) out.reasons.push_back(misfit_reason(lot.misfit, unit, t.misfit_bin, t.p.back()));
   if (!out.reasons.empty()) return;
   for (const auto& [minus, region] : ranked) {
     if (-minus < 0.2 && !out.reasons.empty()) break;
@@ -124,6 +135,14 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
     p_test.push_back(lot.conditional_nulls[k].p_value(z * z));
     out.tests[lot.conditional_terms[k] + " given the rest"] = {{"z", z}, {"p_value", p_test.back()}};
   }
+  Eigen::Index misfit_bin = -1;
+  if (lot.misfit.learned() && unit.misfit.size() == lot.misfit.mean.size()) {
+    const double d2_misfit = lot.misfit.distance2(unit.misfit, &misfit_bin);
+    if (misfit_bin >= 0) {
+      p_test.push_back(lot.misfit.null.p_value(d2_misfit));
+      out.tests["misfit"] = {{"distance2", d2_misfit}, {"p_value", p_test.back()}};
+    }
+  }
   const double tests = static_cast<double>(p_test.size());
   out.p_physics = std::min(1.0, tests * *std::min_element(p_test.begin(), p_test.end()));
 
@@ -145,7 +164,7 @@ ScreenResult screen_unit(const LotModel& lot, const LotUnit& unit, const ScreenO
   const std::map<std::string, double> share = region_shares(lot, r, w, group_of);
   out.contributions = share;
   if (out.out_of_family && 2.0 * out.p_physics < o.alpha) {
-    physics_reasons(lot, unit, r, total.diagonal().cwiseSqrt(), {p_test, d2.size(), conditional_tests}, o.alpha, share, group_of, out);
+    physics_reasons(lot, unit, r, total.diagonal().cwiseSqrt(), {p_test, d2.size(), conditional_tests, misfit_bin}, o.alpha, share, group_of, out);
   }
   if (out.out_of_family && 2.0 * out.p_noise < o.alpha) {
     out.reasons.push_back(str_cat("noise: white ", format_significant(unit.white_dph_at_1hz, 3), " dph at 1 Hz, ",

@@ -5,8 +5,9 @@
 // referred to the lot's calibrated null a chi^2_nu (the training units' leave-one-out distances, matched by
 // moments), and the same over each coordinate group alone (its marginal): p_physics is the Bonferroni
 // min(1, K min_k p_k) over the K tests, so a defect in one term is not diluted by the other 76 coordinates;
-// the conditional tests of a one-coordinate term given the rest (lot_model.h), when given, are among the K. Noise: z = (ln N - m) / (s sqrt(1 + 1/n)) of the unit's white
-// noise against the lot's log-normal, two-sided p_noise from Student's t with n - 1 degrees of freedom (n units). The unit's p-value is the Bonferroni
+// the conditional tests of a one-coordinate term given the rest, and the misfit by rate (lot_model.h
+// MisfitPopulation: a shape the structure cannot hold, named by its rate bin), when given, are among the K.
+// Noise: z = (ln N - m) / (s sqrt(1 + 1/n)) of the unit's white noise against the lot's log-normal, two-sided p_noise from Student's t with n - 1 degrees of freedom (n units). The unit's p-value is the Bonferroni
 // min(1, 2 min(p_physics, p_noise)), so the false-alarm rate is at most alpha.
 // The null is calibrated on the lot's own recordings: a unit recorded on a programme of another length (more
 // than 20 % apart) is screened with a warning - its estimate's errors, and so its distances, are of another kind.

@@ -284,6 +284,74 @@ TEST(LotScreen, TheNoiseTestHoldsItsRateOnALotOfSixUnits) {
 
 // A Shupe coefficient 4.5 of the lot's sd off (2 -> 2.9 deg/h per C/min) moves one coordinate of 77: the
 // omnibus distance hardly notices, the term's own test does, and names it.
+// The misfit bins: the default grid's 11 intervals cut in four; a bin's misfit is the mean of its samples' residual
+// in standard errors of the residual (its sd over sqrt(count)), and a bin of fewer than 10 samples has none.
+TEST(LotMisfit, ABinsMisfitIsItsSamplesMeanResidual) {
+  const std::vector<double> edges = misfit_rate_edges_dps(GreyboxOptions{});
+  ASSERT_EQ(edges.size(), 45u);
+  EXPECT_EQ(edges.front(), -100.0);
+  EXPECT_EQ(edges[1], -95.0);
+  EXPECT_EQ(edges[21], -5.0);  // [-10, 10] in four
+  EXPECT_EQ(edges.back(), 100.0);
+  std::vector<double> rates;
+  for (int i = 0; i < 400; ++i) {
+    const double w = -99.75 + 0.5 * i;
+    if (w < -10.0 || w >= -6.5) rates.push_back(w);  // [-10, -5) keeps 4 samples
+  }
+  const Eigen::VectorXd rate = Eigen::Map<const Eigen::VectorXd>(rates.data(), static_cast<Eigen::Index>(rates.size()));
+  const Eigen::VectorXd residual = (3.0 * rate.array() + 1.0).matrix();
+  const Eigen::VectorXd m = misfit_by_rate(residual, rate, edges);
+  ASSERT_EQ(m.size(), 44);
+  const double mean = residual.mean(), sd = std::sqrt((residual.array() - mean).square().sum() / static_cast<double>(residual.size() - 1));
+  EXPECT_NEAR(m(0), (3.0 * -97.5 + 1.0) / (sd / std::sqrt(10.0)), 1e-12);  // rates -99.75 .. -95.25: mean -97.5, 10 samples
+  EXPECT_NEAR(m(43), (3.0 * 97.5 + 1.0) / (sd / std::sqrt(10.0)), 1e-12);
+  EXPECT_NEAR(m(21), (3.0 * -2.5 + 1.0) / (sd / std::sqrt(10.0)), 1e-12);
+  EXPECT_TRUE(std::isnan(m(20)));
+  EXPECT_NEAR(misfit_by_rate(7.0 * residual, rate, edges)(5), m(5), 1e-12);  // the unit's own noise level divides out
+}
+
+// A ripple between the grid's nodes - zero at every node, so the coordinates barely see it - is what the misfit test
+// finds and names by its rate; fresh units of the lot pass it at about the nominal rate.
+TEST(LotMisfit, ARippleBetweenTheNodesIsFoundAndNamedByItsRate) {
+  const SyntheticLot g;
+  const auto bins = static_cast<Eigen::Index>(misfit_rate_edges_dps(g.structure).size()) - 1;
+  auto with_misfit = [&](LotUnit u, std::uint64_t seed) {
+    RandomStream r(seed, "misfit");
+    u.misfit.resize(bins);
+    for (Eigen::Index b = 0; b < bins; ++b) u.misfit(b) = 0.5 + 2.0 * r.normal();  // a misfit the type shares, and the noise
+    return u;
+  };
+  std::vector<LotUnit> units;
+  for (int i = 0; i < 60; ++i) units.push_back(with_misfit(g.unit("unit " + std::to_string(i), 1 + static_cast<std::uint64_t>(i)), 500 + static_cast<std::uint64_t>(i)));
+  const LotModel lot = learn_lot(units, {});
+  ASSERT_TRUE(lot.misfit.learned());
+  EXPECT_NEAR(lot.misfit.null.dof, static_cast<double>(bins), 0.5 * static_cast<double>(bins));  // about chi^2 of the bins
+  const LotModel back = LotModel::from_json(lot.to_json(), "back");
+  EXPECT_EQ(back.misfit.mean, lot.misfit.mean);
+  EXPECT_EQ(back.misfit.null.dof, lot.misfit.null.dof);
+
+  int alarms = 0;
+  const int fresh = 400;
+  for (int i = 0; i < fresh; ++i) {
+    const LotUnit u = with_misfit(g.unit("fresh", 10000 + static_cast<std::uint64_t>(i)), 20000 + static_cast<std::uint64_t>(i));
+    alarms += screen_unit(lot, u).tests["misfit"]["p_value"].get<double>() < 0.05;
+  }
+  EXPECT_GE(alarms, static_cast<int>(0.02 * fresh));
+  EXPECT_LE(alarms, static_cast<int>(0.09 * fresh));
+
+  LotUnit ripple = with_misfit(g.unit("ripple", 777), 30000);
+  for (Eigen::Index b = 0; b < bins; ++b) {  // 6 dph sin(pi omega / 20 deg/s) at the bin's centre
+    const double w = 0.5 * (lot.misfit.rate_edges_dps[static_cast<std::size_t>(b)] + lot.misfit.rate_edges_dps[static_cast<std::size_t>(b) + 1]);
+    ripple.misfit(b) += 6.0 * std::sin(M_PI * w / 20.0);
+  }
+  const ScreenResult r = screen_unit(lot, ripple);
+  EXPECT_TRUE(r.out_of_family);
+  EXPECT_LT(r.tests["misfit"]["p_value"].get<double>(), 1e-6);
+  EXPECT_GT(r.tests["all"]["p_value"].get<double>(), 1e-3);  // its coordinates are the lot's
+  ASSERT_FALSE(r.reasons.empty());
+  EXPECT_THAT(r.reasons.front(), HasSubstr("misfit at rates"));
+}
+
 TEST(LotScreen, ATermsOwnTestFindsWhatTheOmnibusDilutes) {
   const SyntheticLot g(true);
   ASSERT_EQ(g.coordinates.back().group, "shupe");
