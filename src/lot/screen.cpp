@@ -64,8 +64,8 @@ std::string misfit_reason(const MisfitPopulation& m, const LotUnit& unit, Eigen:
 }
 
 // Why a unit is out of family in its physics: a term's own test first (for the surface: its region of
-// largest share), then a conditional test, else the regions holding a fifth of the distance (at least the
-// largest). Each test is Bonferroni-corrected over all of them and the noise (2 tests).
+// largest share), then a conditional test, then the misfit's (its rate band), else the regions holding a fifth of
+// the distance (at least the largest). Each test is Bonferroni-corrected over all of them and the noise (2 tests).
 void physics_reasons(const LotModel& lot, const LotUnit& unit, const Eigen::VectorXd& r, const Eigen::VectorXd& sd, const TestPValues& t,
                      double alpha, const std::map<std::string, double>& share,
                      const std::map<std::string, std::string>& group_of, ScreenResult& out) {
