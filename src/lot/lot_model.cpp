@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "core/config.h"
 #include "core/error.h"
@@ -159,6 +160,37 @@ DistanceNull matched_chi2(const std::map<std::size_t, std::vector<double>>& d2, 
   return {v / (2.0 * m), 2.0 * m * m / v};
 }
 
+// Whether a unit beyond the null's sample (a lot of more than max_loo_units) is out of family, for the trimming:
+// first its distance from the population of all the units - holding the unit pulls that population toward it, so
+// this distance is about the smaller, and a unit it clears at 1 % (a hundred times trim_alpha's default) stays -
+// then, for the few it does not clear, its leave-one-out distance, both against the sample's null.
+class TrimScreen {
+ public:
+  TrimScreen(const UnitMoments& moments, const std::map<std::size_t, std::vector<double>>& d2, const std::vector<GreyboxCoordinate>& coordinates,
+             const LotOptions& o)
+      : moments_(moments), null_(matched_chi2(d2, 0)), coordinates_(coordinates), o_(o), everyone_(fit_population(moments, coordinates, o)),
+        everyone_sigma_(everyone_.covariance()) {}
+
+  bool outside(const LotUnit& unit) const {
+    if (p_value(unit, everyone_.mean, everyone_sigma_) >= 0.01) return false;
+    UnitMoments others = moments_;
+    others.remove(unit);
+    const Population pop = fit_population(others, coordinates_, o_);
+    return p_value(unit, pop.mean, pop.covariance()) < o_.trim_alpha;
+  }
+
+ private:
+  double p_value(const LotUnit& unit, const Eigen::VectorXd& mean, const Eigen::MatrixXd& sigma) const {
+    return null_.p_value(lot_distances(unit.theta - mean, sigma, unit.theta_variance, coordinates_, {"all"})[0]);
+  }
+  const UnitMoments& moments_;
+  DistanceNull null_;
+  const std::vector<GreyboxCoordinate>& coordinates_;
+  const LotOptions& o_;
+  Population everyone_;
+  Eigen::MatrixXd everyone_sigma_;
+};
+
 void check_units(const LotUnits& units, Eigen::Index p) {
   if (units.size() < 5) fail("lot: ", units.size(), " units; a lot needs at least 5");
   for (std::size_t i = 0; i < units.size(); ++i) {
@@ -244,9 +276,11 @@ LotModel learn_lot(const LotUnits& units, const OptionMap& greybox_options_map, 
   std::map<std::size_t, std::vector<double>> d2 = leave_one_out(units, units, keep, *moments, lot.coordinates, lot.tests, o);
   if (o.trim_alpha > 0.0) {  // leave out the units the others do not hold (each against the others' null), then learn again
     std::vector<std::size_t> kept;
+    const std::optional<TrimScreen> rest = d2.size() < keep.size() ? std::optional<TrimScreen>(TrimScreen(*moments, d2, lot.coordinates, o)) : std::nullopt;
     for (std::size_t i : keep) {
       const auto it = d2.find(i);
-      if (it != d2.end() && matched_chi2(d2, 0, i).p_value(it->second[0]) < o.trim_alpha) lot.left_out.push_back(units.at(i).name);
+      const bool out = it != d2.end() ? matched_chi2(d2, 0, i).p_value(it->second[0]) < o.trim_alpha : rest->outside(units.at(i));
+      if (out) lot.left_out.push_back(units.at(i).name);
       else kept.push_back(i);
     }
     if (kept.size() < 5) fail("lot: only ", kept.size(), " units remain after leaving out those out of family; a lot needs at least 5");

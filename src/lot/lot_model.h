@@ -31,7 +31,8 @@
 // the z^2 of one outside (family A of experiments/production_lot, 50 units), and a heavy-tailed term (a
 // log-normal Shupe coefficient) gets a heavier-tailed null than chi^2_1.
 // Robustness: units whose leave-one-out p-value is below trim_alpha are left out and the lot learned again
-// (once): a defective unit in the training sample must not widen the family.
+// (once): a defective unit in the training sample must not widen the family. In a lot of more than max_loo_units,
+// the units beyond the null's sample are tested too (lot_model.cpp TrimScreen).
 #pragma once
 
 #include <Eigen/Core>

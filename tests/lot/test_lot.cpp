@@ -383,6 +383,17 @@ TEST(LotModel, AUnitTheOthersDoNotHoldIsLeftOut) {
   }
 }
 
+// In a lot larger than the null's sample (max_loo_units, 200), the units outside the sample are tested too: before,
+// only the sampled ones (indices floor(1.5 j) here, so 3k and 3k + 1) could be left out.
+TEST(LotModel, AUnitBeyondTheNullsSampleIsLeftOutToo) {
+  const SyntheticLot g;
+  std::vector<LotUnit> units = g.units(300, 1);
+  for (std::size_t i : {2u, 5u, 7u, 101u}) units[i].theta(30) += 40.0 * g.s(30);  // 7 sampled, the others not
+  const LotModel lot = learn_lot(units, {});
+  EXPECT_EQ(lot.left_out, (std::vector<std::string>{"unit 2", "unit 5", "unit 7", "unit 101"}));
+  EXPECT_EQ(lot.unit_names.size(), 296u);
+}
+
 // The lot's members (lot_members.h) read back as sensor configs to the coordinates they were written from,
 // and their weighted mean and covariance are the population's mean and its covariance within the modes.
 TEST(LotMembers, TheUnscentedPointsReadBackToThePopulationsModes) {
