@@ -122,6 +122,12 @@ std::vector<double> lot_distances(const Eigen::VectorXd& r, const Eigen::MatrixX
 
 double DistanceNull::p_value(double d2) const { return 1.0 - stats::chi2_cdf(d2 / scale, dof); }
 
+DistanceNull DistanceNull::matched_to(const std::vector<double>& d2) {
+  const nav::SampleStats st = nav::sample_stats(d2);
+  const double m = st.mean, v = std::max(st.sigma * st.sigma, 1e-12 * m * m);
+  return {v / (2.0 * m), 2.0 * m * m / v};
+}
+
 namespace {
 
 // The moments of units[keep], in index order.
@@ -155,9 +161,7 @@ DistanceNull matched_chi2(const std::map<std::size_t, std::vector<double>>& d2, 
   for (const auto& [u, v] : d2) {
     if (u != except) d.push_back(v[k]);
   }
-  const nav::SampleStats st = nav::sample_stats(d);
-  const double m = st.mean, v = std::max(st.sigma * st.sigma, 1e-12 * m * m);
-  return {v / (2.0 * m), 2.0 * m * m / v};
+  return DistanceNull::matched_to(d);
 }
 
 // Whether a unit beyond the null's sample (a lot of more than max_loo_units) is out of family, for the trimming:
@@ -276,7 +280,8 @@ LotModel learn_lot(const LotUnits& units, const OptionMap& greybox_options_map, 
   std::map<std::size_t, std::vector<double>> d2 = leave_one_out(units, units, keep, *moments, lot.coordinates, lot.tests, o);
   if (o.trim_alpha > 0.0) {  // leave out the units the others do not hold (each against the others' null), then learn again
     std::vector<std::size_t> kept;
-    const std::optional<TrimScreen> rest = d2.size() < keep.size() ? std::optional<TrimScreen>(TrimScreen(*moments, d2, lot.coordinates, o)) : std::nullopt;
+    std::optional<TrimScreen> rest;  // the units beyond the null's sample
+    if (d2.size() < keep.size()) rest.emplace(*moments, d2, lot.coordinates, o);
     for (std::size_t i : keep) {
       const auto it = d2.find(i);
       const bool out = it != d2.end() ? matched_chi2(d2, 0, i).p_value(it->second[0]) < o.trim_alpha : rest->outside(units.at(i));

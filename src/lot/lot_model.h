@@ -53,6 +53,8 @@ namespace gyrosid {
 struct DistanceNull {
   double scale = 1.0, dof = 1.0;
   double p_value(double d2) const;
+  // The scaled chi-square with the mean and variance of the distances d2 (mean > 0).
+  static DistanceNull matched_to(const std::vector<double>& d2);
 };
 
 // One calibrated unit, as the lot sees it.

@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 
 #include "core/checkpoint.h"
 #include "core/error.h"
@@ -18,20 +17,22 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 struct BinMoments {
   Eigen::VectorXd count, mean, m2;
   explicit BinMoments(Eigen::Index bins) : count(Eigen::VectorXd::Zero(bins)), mean(Eigen::VectorXd::Zero(bins)), m2(Eigen::VectorXd::Zero(bins)) {}
-  void add(const Eigen::VectorXd& x, double sign) {  // sign -1: remove (the exact inverse)
+  void add(const Eigen::VectorXd& x) {
     for (Eigen::Index b = 0; b < x.size(); ++b) {
       if (!std::isfinite(x(b))) continue;
-      if (sign > 0.0) {
-        count(b) += 1.0;
-        const double d = x(b) - mean(b);
-        mean(b) += d / count(b);
-        m2(b) += d * (x(b) - mean(b));
-      } else {
-        const double d = x(b) - mean(b);
-        mean(b) = count(b) > 1.0 ? mean(b) - d / (count(b) - 1.0) : 0.0;
-        m2(b) = count(b) > 1.0 ? std::max(m2(b) - d * (x(b) - mean(b)), 0.0) : 0.0;
-        count(b) -= 1.0;
-      }
+      count(b) += 1.0;
+      const double d = x(b) - mean(b);
+      mean(b) += d / count(b);
+      m2(b) += d * (x(b) - mean(b));
+    }
+  }
+  void remove(const Eigen::VectorXd& x) {  // the exact inverse of add
+    for (Eigen::Index b = 0; b < x.size(); ++b) {
+      if (!std::isfinite(x(b))) continue;
+      const double d = x(b) - mean(b);
+      mean(b) = count(b) > 1.0 ? mean(b) - d / (count(b) - 1.0) : 0.0;
+      m2(b) = count(b) > 1.0 ? std::max(m2(b) - d * (x(b) - mean(b)), 0.0) : 0.0;
+      count(b) -= 1.0;
     }
   }
   // Bins of at least 3 units: their mean and sd (NaN elsewhere).
@@ -106,26 +107,23 @@ MisfitPopulation learn_misfit(const LotUnits& units, const std::vector<std::size
   for (std::size_t i : keep) {
     const LotUnit unit = units.at(i);
     if (unit.misfit.size() != bins) return out;  // a unit without (a model file): no test
-    moments.add(unit.misfit, 1.0);
+    moments.add(unit.misfit);
   }
-  std::map<std::size_t, std::vector<double>> d2;  // the null: each unit against the others' bins
-  std::vector<double> distances;
+  std::vector<double> distances;  // the null: each unit against the others' bins
   for (std::size_t u : loo) {
     const LotUnit unit = units.at(u);
     BinMoments others = moments;
-    others.add(unit.misfit, -1.0);
+    others.remove(unit.misfit);
     MisfitPopulation without;
     others.population(without);
     distances.push_back(without.distance2(unit.misfit));
   }
   moments.population(out);
-  const nav::SampleStats st = nav::sample_stats(distances);
-  if (distances.size() < 5 || !(st.mean > 0.0)) {
+  if (distances.size() < 5 || !(nav::sample_stats(distances).mean > 0.0)) {
     out.mean.resize(0);
     return out;
   }
-  const double v = std::max(st.sigma * st.sigma, 1e-12 * st.mean * st.mean);
-  out.null = {v / (2.0 * st.mean), 2.0 * st.mean * st.mean / v};
+  out.null = DistanceNull::matched_to(distances);
   return out;
 }
 
