@@ -2,7 +2,6 @@
 
 #include <sstream>
 
-
 namespace gyrosid::cli {
 
 std::string run_fingerprint(const CLI::App& command, const std::vector<std::string>& files) {

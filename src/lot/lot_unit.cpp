@@ -30,18 +30,22 @@ double white_noise_dph_at_1hz(const Dataset& data, const GreyboxEstimate& fit, c
 }
 
 // A unit as a row of doubles for the distributed batches: theta (p), its variances (p), the white noise, the
-// recording's length and its misfit by rate (`bins`); a failed unit is a row of NaN.
-void write_row(const LotUnit& u, Eigen::Index p, Eigen::Index bins, double* row) {
+// recording's length, its misfit by rate (`bins`) and its conditional scores (`scores`); a failed unit is a row
+// of NaN.
+void write_row(const LotUnit& u, Eigen::Index p, Eigen::Index bins, Eigen::Index scores, double* row) {
   Eigen::Map<Eigen::VectorXd>(row, p) = u.theta;
   Eigen::Map<Eigen::VectorXd>(row + p, p) = u.theta_variance;
   row[2 * p] = u.white_dph_at_1hz;
   row[2 * p + 1] = u.recording_min;
   Eigen::Map<Eigen::VectorXd>(row + 2 * p + 2, bins) = u.misfit;
+  if (scores > 0) Eigen::Map<Eigen::VectorXd>(row + 2 * p + 2 + bins, scores) = u.conditional_z;
 }
 
-LotUnit read_row(const double* row, Eigen::Index p, Eigen::Index bins, const std::string& name) {
-  return {name, Eigen::Map<const Eigen::VectorXd>(row, p), Eigen::Map<const Eigen::VectorXd>(row + p, p), row[2 * p], row[2 * p + 1], {},
-          Eigen::Map<const Eigen::VectorXd>(row + 2 * p + 2, bins)};
+LotUnit read_row(const double* row, Eigen::Index p, Eigen::Index bins, Eigen::Index scores, const std::string& name) {
+  LotUnit u{name, Eigen::Map<const Eigen::VectorXd>(row, p), Eigen::Map<const Eigen::VectorXd>(row + p, p), row[2 * p], row[2 * p + 1], {},
+            Eigen::Map<const Eigen::VectorXd>(row + 2 * p + 2, bins)};
+  if (scores > 0) u.conditional_z = Eigen::Map<const Eigen::VectorXd>(row + 2 * p + 2 + bins, scores);
+  return u;
 }
 
 // Rows of `width` numbers, one per path, in index order, appended to a spool: in batches over
@@ -99,9 +103,7 @@ CalibratedUnits::CalibratedUnits(std::vector<std::string> names, Eigen::Index p,
 LotUnit CalibratedUnits::at(std::size_t i) const {
   std::vector<double> row(rows_.width());
   rows_.read(i, row.data());
-  LotUnit unit = read_row(row.data(), p_, bins_, names_.at(i));
-  if (scores_ > 0) unit.conditional_z = Eigen::Map<const Eigen::VectorXd>(row.data() + 2 * p_ + 2 + bins_, scores_);
-  return unit;
+  return read_row(row.data(), p_, bins_, scores_, names_.at(i));
 }
 
 CalibratedUnits calibrate_units(const std::vector<std::string>& paths, const GreyboxOptions& structure, const std::string& label,
@@ -112,8 +114,9 @@ CalibratedUnits calibrate_units(const std::vector<std::string>& paths, const Gre
   const auto width = static_cast<int>(2 * p + 2 + bins + scores);
   RowSpool rows = batched_rows(paths, width, label, checkpoint, series, [&](std::size_t k, double* row) {
     const Recording recording = read_recording(paths[k]);  // read once for both
-    write_row(calibrate_unit(recording, paths[k], structure), p, bins, row);
-    if (scores > 0) Eigen::Map<Eigen::VectorXd>(row + 2 * p + 2 + bins, scores) = conditional_z(recording, *scored_against);
+    LotUnit unit = calibrate_unit(recording, paths[k], structure);
+    if (scores > 0) unit.conditional_z = conditional_z(recording, *scored_against);
+    write_row(unit, p, bins, scores, row);
   });
   return CalibratedUnits(paths, p, bins, scores, std::move(rows));
 }

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "core/checkpoint.h"
 #include "core/error.h"
@@ -63,10 +64,12 @@ Eigen::VectorXd misfit_by_rate(const Eigen::VectorXd& residual_dph, const Eigen:
   if (edges_dps.size() < 2) return {};
   const auto bins = static_cast<Eigen::Index>(edges_dps.size() - 1);
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(bins), count = Eigen::VectorXd::Zero(bins);
+  std::vector<Eigen::Index> bin_of(static_cast<std::size_t>(rate_dps.size()), -1);  // -1: outside the bins, or not finite
   for (Eigen::Index i = 0; i < rate_dps.size(); ++i) {
     const double w = rate_dps(i);
     if (!std::isfinite(w) || !std::isfinite(residual_dph(i)) || w < edges_dps.front() || w >= edges_dps.back()) continue;
     const auto b = static_cast<Eigen::Index>(std::upper_bound(edges_dps.begin(), edges_dps.end(), w) - edges_dps.begin()) - 1;
+    bin_of[static_cast<std::size_t>(i)] = b;
     sum(b) += residual_dph(i), count(b) += 1.0;
   }
   // In standard errors of the unit's own residual, so a noisier unit is not out of family by its misfit.
@@ -75,8 +78,7 @@ Eigen::VectorXd misfit_by_rate(const Eigen::VectorXd& residual_dph, const Eigen:
   if (used > 1.0) {
     const double mean = sum.sum() / used;
     for (Eigen::Index i = 0; i < rate_dps.size(); ++i) {
-      const double w = rate_dps(i);
-      if (std::isfinite(w) && std::isfinite(residual_dph(i)) && w >= edges_dps.front() && w < edges_dps.back()) sd += std::pow(residual_dph(i) - mean, 2);
+      if (bin_of[static_cast<std::size_t>(i)] >= 0) sd += std::pow(residual_dph(i) - mean, 2);
     }
     sd = std::sqrt(sd / (used - 1.0));
   }
