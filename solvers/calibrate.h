@@ -61,7 +61,7 @@ ModelFitterRegistry& extend_model_fitters();
 // themselves: loading a model file is below the solvers (nav, explain and design load models), fitting above.
 struct ModelKindPlugin {
   std::string name, summary;
-  std::function<std::unique_ptr<CalibrationModel>(const ModelFile&)> load;   // the model file's "parameters" -> model
+  std::function<std::unique_ptr<SensorModel>(const ModelFile&)> load;        // the model file -> model (a CalibrationModel)
   std::function<std::string()> help;                                          // its options, for --options-of
   std::function<std::unique_ptr<ModelFitter>(const CalibrationRequest&)> fit;  // options validated here
   std::function<std::unique_ptr<CalibrationModel>()> sample;                   // for the property suites

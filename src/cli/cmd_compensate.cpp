@@ -1,11 +1,11 @@
-// gyrosid compensate: apply a calibration model to a recording (model/compensate_recording.h).
+// gyrosid compensate: apply a model file of any kind to a recording (model/sensor_model.h, compensate_recording.h).
 #include <iostream>
 #include <memory>
 
 #include "cli/app.h"
 #include "core/error.h"
 #include "core/format.h"
-#include "model/compensate_recording.h"
+#include "model/sensor_model.h"
 
 namespace gyrosid::cli {
 
@@ -21,19 +21,10 @@ void register_compensate(CLI::App& app, Action& action) {
   cmd->add_option("--axis", o->axis, "Triad recordings: the gyro a single-gyro model compensates (x, y or z); adds compensated_<axis>_dps");
   cmd->callback([o, &action] {
     action = [o] {
-      const bool triad = is_triad_model_file(o->model);
-      if (triad && !o->axis.empty()) fail("--axis applies to a single-gyro model; a triad model compensates all three gyros");
-      CompensatedRecording r;
-      if (triad) {
-        r = compensate_triad_recording(load_triad_model(o->model), read_recording(o->recording));
-        write_recording(r.recording, o->out);
-      } else {
-        r = compensate_file(*load_model(o->model), o->recording, o->out, o->axis);
-      }
-      const std::string added = triad ? "compensated_{x,y,z}_dps" : o->axis.empty() ? "compensated_dps" : "compensated_" + o->axis + "_dps";
-      std::cout << "wrote " << o->out << ": " << r.samples << " samples with " << added;
+      const CompensatedRecording r = load_sensor_model(o->model)->compensate_file(o->recording, o->out, o->axis);
+      std::cout << "wrote " << o->out << ": " << r.samples << " samples with " << r.added;
       if (r.rms_before_dph) {
-        std::cout << "; rms error against " << (triad ? "ref_rate_{x,y,z}_dps " : "ref_rate_dps ") << format_significant(*r.rms_before_dph, 4) << " -> "
+        std::cout << "; rms error against " << r.reference << " " << format_significant(*r.rms_before_dph, 4) << " -> "
                   << format_significant(*r.rms_after_dph, 4) << " deg/h";
         if (r.coverage_95) std::cout << "; the 95 % predictive band (compensated_sigma_dps) covers " << format_significant(100 * *r.coverage_95, 3) << " %";
       }

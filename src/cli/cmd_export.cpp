@@ -6,7 +6,7 @@
 #include "cli/app.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "model/calibration_model.h"
+#include "model/sensor_model.h"
 #include "model/triad_export.h"
 
 namespace gyrosid::cli {
@@ -32,17 +32,17 @@ KalibrExportInfo kalibr_info(const std::string& path) {
 }
 
 void run_export(const ExportOptions& o) {
-  const bool triad = is_triad_model_file(o.model);
+  const std::unique_ptr<SensorModel> model = load_sensor_model(o.model);
   if (o.format == "kalibr") {
-    if (!triad) fail("--format kalibr needs a triad model (calibrate --model triad); ", o.model, " is a single-gyro model");
+    const auto* triad = dynamic_cast<const TriadModel*>(model.get());
+    if (!triad) fail("--format kalibr needs a triad model (calibrate --model triad); ", o.model, " is a ", model->kind(), " model of one gyro");
     const std::filesystem::path file = std::filesystem::path(o.out) / (o.prefix + "_imu.yaml");
-    write_file_atomic(file, kalibr_imu_yaml(load_triad_model(o.model), kalibr_info(o.model)));
+    write_file_atomic(file, kalibr_imu_yaml(*triad, kalibr_info(o.model)));
     std::cout << "wrote " << file.string() << "\n";
     return;
   }
   if (o.format != "c") fail("--format '", o.format, "': expected c or kalibr");
-  if (triad) export_triad_c(load_triad_model(o.model), o.out, o.prefix);
-  else load_model(o.model)->export_c(o.out, o.prefix);
+  model->export_c(o.out, o.prefix);
   std::cout << "wrote " << o.out << "/" << o.prefix << ".h and " << o.prefix << ".c\n";
 }
 

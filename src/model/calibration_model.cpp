@@ -99,14 +99,12 @@ void save_model(const std::filesystem::path& path, const CalibrationModel& model
   write_file_atomic(path, j.dump(1) + "\n");
 }
 
-std::unique_ptr<CalibrationModel> model_from_json(const nlohmann::json& j, const std::string& source) {
+std::unique_ptr<SensorModel> sensor_model_from_json(const nlohmann::json& j, const std::string& source) {
   try {
     if (j.value("format", "") != kModelFormat) {
       fail(source, ": not a gyrosid model (expected \"format\": \"", kModelFormat, "\")");
     }
-    const ModelFile file{j.at("parameters"), j.at("features").get<std::vector<std::string>>(),
-                         parse_enum<ModelTarget>(j.at("target").get<std::string>(), source), source};
-    return model_kinds().make(j.at("kind").get<std::string>(), file);
+    return model_kinds().make(j.at("kind").get<std::string>(), ModelFile{j, source});
   } catch (const nlohmann::json::exception& e) {
     fail(source, ": malformed model: ", e.what());
   } catch (const Error& e) {
@@ -114,6 +112,15 @@ std::unique_ptr<CalibrationModel> model_from_json(const nlohmann::json& j, const
     if (what.rfind(source, 0) == 0) throw;
     fail(source, ": ", what);
   }
+}
+
+std::unique_ptr<CalibrationModel> model_from_json(const nlohmann::json& j, const std::string& source) {
+  std::unique_ptr<SensorModel> model = sensor_model_from_json(j, source);
+  if (auto* gyro = dynamic_cast<CalibrationModel*>(model.get())) {
+    model.release();
+    return std::unique_ptr<CalibrationModel>(gyro);
+  }
+  fail(source, ": a ", model->kind(), " model of ", model->gyros(), " gyros; a single gyro's model is needed here");
 }
 
 nlohmann::json load_model_json(const std::filesystem::path& path) {
@@ -129,5 +136,6 @@ nlohmann::json load_model_json(const std::filesystem::path& path) {
 }
 
 std::unique_ptr<CalibrationModel> load_model(const std::filesystem::path& path) { return model_from_json(load_model_json(path), path.string()); }
+std::unique_ptr<SensorModel> load_sensor_model(const std::filesystem::path& path) { return sensor_model_from_json(load_model_json(path), path.string()); }
 
 }  // namespace gyrosid

@@ -1,4 +1,4 @@
-// A calibration model: maps the gyro's measured inputs (features, see dataset.h) to its rate error - which
+// A calibration model of one gyro (a SensorModel, sensor_model.h): maps the gyro's measured inputs (features, see dataset.h) to its rate error - which
 // compensation subtracts (thesis figs 4.17/4.19) - or directly to the corrected rate (fig 4.18).
 //
 // Every model saves to JSON (format "gyrosid-model/1", loading back to the same numbers) and exports to
@@ -16,11 +16,10 @@
 #include <vector>
 
 #include "model/dataset.h"
+#include "model/sensor_model.h"
 #include "model/weight_posterior.h"
 
 namespace gyrosid {
-
-inline constexpr std::string_view kModelFormat = "gyrosid-model/1";
 
 // C99 export under construction: a header with the declarations and a source with the data and code.
 struct CExport {
@@ -38,11 +37,9 @@ struct PredictionWithSigma {
   Eigen::VectorXd value, sigma;
 };
 
-class CalibrationModel {
+class CalibrationModel : public SensorModel {
  public:
-  virtual ~CalibrationModel() = default;
-
-  virtual std::string_view kind() const = 0;
+  int gyros() const final { return 1; }
   const std::vector<std::string>& features() const { return features_; }
   ModelTarget target() const { return target_; }
 
@@ -71,11 +68,14 @@ class CalibrationModel {
   // Body of `double <prefix>_predict(const double* x)` plus any data it needs, into out.source.
   virtual void export_c_body(CExport& out) const = 0;
 
-  nlohmann::json to_json() const;
+  nlohmann::json to_json() const final;
   // Writes <prefix>.h and <prefix>.c into `dir` (atomically). The header declares
   //   double <prefix>_predict(const double* x);          model output, rad/s
   //   double <prefix>_compensate(const double* x, double measured_radps);
-  void export_c(const std::filesystem::path& dir, const std::string& prefix) const;
+  void export_c(const std::filesystem::path& dir, const std::string& prefix) const final;
+  // compensate_file(*this, ...) of compensate_recording.h, whole chunks at a time.
+  CompensatedRecording compensate_file(const std::filesystem::path& input, const std::filesystem::path& output,
+                                       const std::string& axis) const final;
 
  protected:
   CalibrationModel(std::vector<std::string> features, ModelTarget target)
@@ -89,6 +89,7 @@ Eigen::VectorXd compensate(const CalibrationModel& model, const Dataset& data);
 
 // Saving and loading. `extra` (training provenance, solver summary) is stored beside the model.
 void save_model(const std::filesystem::path& path, const CalibrationModel& model, const nlohmann::json& extra);
+// A single-gyro model file; a triad's is refused, naming the file (sensor_model.h loads either).
 std::unique_ptr<CalibrationModel> model_from_json(const nlohmann::json& j, const std::string& source);
 std::unique_ptr<CalibrationModel> load_model(const std::filesystem::path& path);
 // A model file's JSON as it is (its training and summary included); Error naming the file it cannot read.

@@ -25,7 +25,7 @@ CompensatedRecording compensate_recording(const CalibrationModel& model, Recordi
     for (Eigen::Index i = 0; i < sigma.size(); ++i) s[static_cast<std::size_t>(i)] = units::radps_to_dps(sigma(i));
     recording.set_column("compensated_sigma_dps", s);
   }
-  CompensatedRecording out{std::move(recording), std::nullopt, std::nullopt, std::nullopt, static_cast<std::size_t>(data.size())};
+  CompensatedRecording out{std::move(recording), std::nullopt, std::nullopt, std::nullopt, static_cast<std::size_t>(data.size()), "compensated_dps", "ref_rate_dps"};
   if (data.reference.allFinite()) {
     const double n = static_cast<double>(data.size());
     out.rms_before_dph = units::radps_to_dph(std::sqrt((data.measured - data.reference).squaredNorm() / n));
@@ -43,7 +43,8 @@ CompensatedRecording compensate_triad_recording(const TriadModel& model, Recordi
     for (Eigen::Index k = 0; k < comp.rows(); ++k) dps[static_cast<std::size_t>(k)] = units::radps_to_dps(comp(k, a));
     recording.set_column(std::string("compensated_") + "xyz"[a] + "_dps", std::move(dps));
   }
-  CompensatedRecording out{std::move(recording), std::nullopt, std::nullopt, std::nullopt, static_cast<std::size_t>(data.size())};
+  CompensatedRecording out{std::move(recording), std::nullopt, std::nullopt, std::nullopt, static_cast<std::size_t>(data.size()),
+                           "compensated_{x,y,z}_dps", "ref_rate_{x,y,z}_dps"};
   if (data.has_reference()) {
     const double n = 3.0 * static_cast<double>(data.size());
     out.rms_before_dph = units::radps_to_dph(std::sqrt((data.gyro - data.reference).squaredNorm() / n));
@@ -181,11 +182,25 @@ CompensatedRecording compensate_file(const CalibrationModel& model, const std::f
     }
   });
   progress.finish();
-  CompensatedRecording result{std::move(header), std::nullopt, std::nullopt, std::nullopt, reader.rows()};
+  CompensatedRecording result{std::move(header), std::nullopt, std::nullopt, std::nullopt, reader.rows(),
+                              g.axis.empty() ? "compensated_dps" : "compensated_" + g.axis + "_dps", "ref_rate_dps"};
   result.rms_before_dph = units::radps_to_dph(std::sqrt(sums.before / sums.n));
   result.rms_after_dph = units::radps_to_dph(std::sqrt(sums.after / sums.n));
   if (model.posterior()) result.coverage_95 = sums.covered / sums.n;
   return result;
+}
+
+CompensatedRecording CalibrationModel::compensate_file(const std::filesystem::path& input, const std::filesystem::path& output,
+                                                     const std::string& axis) const {
+  return gyrosid::compensate_file(*this, input, output, axis);
+}
+
+CompensatedRecording TriadModel::compensate_file(const std::filesystem::path& input, const std::filesystem::path& output,
+                                                 const std::string& axis) const {
+  if (!axis.empty()) fail("--axis applies to a single-gyro model; a triad model compensates all three gyros");
+  CompensatedRecording r = compensate_triad_recording(*this, read_recording(input));
+  write_recording(r.recording, output);
+  return r;
 }
 
 }  // namespace gyrosid

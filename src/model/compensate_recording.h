@@ -5,22 +5,14 @@
 #pragma once
 
 #include <filesystem>
-#include <optional>
 #include <string>
 
 #include "core/recording.h"
 #include "model/calibration_model.h"
+#include "model/sensor_model.h"
 #include "model/triad_model.h"
 
 namespace gyrosid {
-
-struct CompensatedRecording {
-  Recording recording;                  // the input plus compensated_dps
-  std::optional<double> rms_before_dph;  // gyro - ref, when ref_rate_dps is recorded everywhere
-  std::optional<double> rms_after_dph;   // compensated - ref
-  std::optional<double> coverage_95;     // |compensated - ref| <= 1.96 sigma, models with a posterior
-  std::size_t samples = 0;               // rows compensated
-};
 
 CompensatedRecording compensate_recording(const CalibrationModel& model, Recording recording);
 

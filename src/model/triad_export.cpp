@@ -44,6 +44,8 @@ std::string yaml_matrix(const std::string& indent, const Eigen::Matrix3d& m) {
 
 }  // namespace
 
+void TriadModel::export_c(const std::filesystem::path& dir, const std::string& prefix) const { export_triad_c(*this, dir, prefix); }
+
 void export_triad_c(const TriadModel& model, const std::filesystem::path& dir, const std::string& prefix) {
   check_identifier(prefix);
   std::ostringstream h, c;

@@ -3,7 +3,6 @@
 #include <Eigen/LU>
 
 #include <cmath>
-#include <fstream>
 #include <limits>
 
 #include "core/error.h"
@@ -190,25 +189,6 @@ TriadModel triad_model_from_json(const nlohmann::json& j, const std::string& sou
   }
 }
 
-namespace {
-nlohmann::json read_json(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) fail(path.string(), ": cannot open model");
-  try {
-    nlohmann::json j;
-    in >> j;
-    return j;
-  } catch (const nlohmann::json::exception& e) {
-    fail(path.string(), ": not valid JSON: ", e.what());
-  }
-}
-}  // namespace
-
-bool is_triad_model_file(const std::filesystem::path& path) {
-  const nlohmann::json j = read_json(path);
-  return j.is_object() && j.value("kind", "") == kTriadModelKind;
-}
-
-TriadModel load_triad_model(const std::filesystem::path& path) { return triad_model_from_json(read_json(path), path.string()); }
+nlohmann::json TriadModel::to_json() const { return triad_model_json(*this); }
 
 }  // namespace gyrosid

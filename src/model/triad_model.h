@@ -34,6 +34,7 @@
 
 #include "core/recording.h"
 #include "model/calibration_model.h"
+#include "model/sensor_model.h"
 
 namespace gyrosid {
 
@@ -69,7 +70,9 @@ struct TriadBias {
   double normalised(double temp_c) const { return (temp_c - reference_c) / scale_c; }
 };
 
-class TriadModel {
+inline constexpr std::string_view kTriadModelKind = "triad";
+
+class TriadModel : public SensorModel {
  public:
   Eigen::Matrix3d misalignment = Eigen::Matrix3d::Zero();           // M
   TriadBias bias;                                                   // b(T)
@@ -84,17 +87,22 @@ class TriadModel {
   Eigen::MatrixX3d compensate(const TriadData& data) const;
   // The modelled outputs for the recorded reference rates: (I + M) omega + offsets. N x 3 rad/s.
   Eigen::MatrixX3d predict_outputs(const TriadData& data) const;
-};
 
-inline constexpr std::string_view kTriadModelKind = "triad";
+  std::string_view kind() const final { return kTriadModelKind; }
+  int gyros() const final { return 3; }
+  nlohmann::json to_json() const final;  // triad_model_json(*this)
+  // <prefix>_compensate of three gyros (triad_export.h export_triad_c).
+  void export_c(const std::filesystem::path& dir, const std::string& prefix) const final;
+  // The recording with compensated_{x,y,z}_dps (compensate_recording.h compensate_triad_recording); refuses an axis.
+  CompensatedRecording compensate_file(const std::filesystem::path& input, const std::filesystem::path& output,
+                                       const std::string& axis) const final;
+};
 
 // The model's values in a model file (format gyrosid-model/1, kind "triad"): misalignment.matrix (null
 // entries: not determined, held at 0), bias (polynomial, deg/h), g_sensitivity_dph_per_mps2, surfaces.
 // Fit results (sigmas, observability, summary) are added beside them by the writer of the fit.
 nlohmann::json triad_model_json(const TriadModel& model, const std::array<std::array<bool, 3>, 3>* known = nullptr);
+// The triad entry of model_kinds() reads it (load_sensor_model, sensor_model.h); Errors name the source.
 TriadModel triad_model_from_json(const nlohmann::json& j, const std::string& source);
-// Whether a model file holds a triad model; load_triad_model() reads one (Errors name the file).
-bool is_triad_model_file(const std::filesystem::path& path);
-TriadModel load_triad_model(const std::filesystem::path& path);
 
 }  // namespace gyrosid

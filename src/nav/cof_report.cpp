@@ -23,12 +23,11 @@ FlightTrajectory load_flight(const std::string& name, double rate_hz) {
 }
 
 CofReport evaluate_criterion_of_fit(const CofRequest& r) {
-  std::unique_ptr<CalibrationModel> model;
+  std::unique_ptr<SensorModel> model;
   CompensationMode mode = CompensationMode::model;
   if (r.model == "none") mode = CompensationMode::none;
   else if (r.model == "truth") mode = CompensationMode::truth;
-  else if (is_triad_model_file(r.model)) return score_flight(load_flight(r.trajectory, r.rate_hz), as_triad(load_sensor_file(r.sensor)), load_triad_model(r.model), r);
-  else model = load_model(r.model);
+  else model = load_sensor_model(r.model);
   return score_flight(load_flight(r.trajectory, r.rate_hz), as_triad(load_sensor_file(r.sensor)), model.get(), mode, r);
 }
 
@@ -110,22 +109,13 @@ void score(CofReport& report, const CofEvaluator& cof, const TriadSensor& sensor
 
 }  // namespace
 
-CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const CalibrationModel* model,
-                       CompensationMode mode, const CofRequest& r) {
+CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const SensorModel* model, CompensationMode mode,
+                       const CofRequest& r) {
   CofReport report;
   report.request = r;
   report.flight = std::move(flight);
   const CofEvaluator cof(report.flight, sensor, model, r.options);
   score(report, cof, sensor, model ? model->to_json().dump() : std::string("none"), mode, r);
-  return report;
-}
-
-CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const TriadModel& triad, const CofRequest& r) {
-  CofReport report;
-  report.request = r;
-  report.flight = std::move(flight);
-  const CofEvaluator cof(report.flight, sensor, triad, r.options);
-  score(report, cof, sensor, triad_model_json(triad).dump(), CompensationMode::model, r);
   return report;
 }
 

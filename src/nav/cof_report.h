@@ -67,9 +67,8 @@ FlightTrajectory load_flight(const std::string& name_or_file, double rate_hz);
 CofReport evaluate_criterion_of_fit(const CofRequest& request);
 // The same with the flight, the sensor and the model already in memory (request.model, .sensor and
 // .trajectory are then only labels in the summary).
-CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const CalibrationModel* model,
-                       CompensationMode mode, const CofRequest& request);
-// The same compensating the three gyros together by a triad model.
-CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const TriadModel& triad, const CofRequest& request);
+// `model`: any kind (a single gyro's or a triad's, sensor_model.h); null with mode none or truth.
+CofReport score_flight(FlightTrajectory flight, const TriadSensor& sensor, const SensorModel* model, CompensationMode mode,
+                       const CofRequest& request);
 
 }  // namespace gyrosid::nav

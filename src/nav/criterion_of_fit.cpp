@@ -19,10 +19,10 @@ std::string CofOptions::validate() const {
   return "";
 }
 
-CofEvaluator::CofEvaluator(const FlightTrajectory& flight, const TriadSensor& sensor, const CalibrationModel* model,
-                           const CofOptions& options)
-    : flight_(flight), sensor_(sensor), model_(model), options_(options) {
+CofEvaluator::CofEvaluator(const FlightTrajectory& flight, const TriadSensor& sensor, const SensorModel* model, const CofOptions& options)
+    : flight_(flight), sensor_(sensor), model_(dynamic_cast<const CalibrationModel*>(model)), triad_(dynamic_cast<const TriadModel*>(model)), options_(options) {
   if (auto p = options.validate(); !p.empty()) fail("criterion of fit: ", p);
+  if (model && !model_ && !triad_) fail("criterion of fit: a ", model->kind(), " model of ", model->gyros(), " gyros cannot compensate a triad's flight");
   const std::size_t n = flight.steps();
   if (n < 2) fail("criterion of fit: flight '", flight.name, "' has fewer than two steps");
   const double dt = flight.dt_s;
@@ -92,11 +92,6 @@ CofEvaluator::CofEvaluator(const FlightTrajectory& flight, const TriadSensor& se
   for (auto& g : quiet.gyros) g.noise = NoiseOptions{};
   const TriadOutput out = simulate_triad(quiet, ex, 0);
   for (int i = 0; i < 3; ++i) deterministic_[static_cast<std::size_t>(i)] = out.gyro[static_cast<std::size_t>(i)].rate_radps;
-}
-
-CofEvaluator::CofEvaluator(const FlightTrajectory& flight, const TriadSensor& sensor, const TriadModel& triad, const CofOptions& options)
-    : CofEvaluator(flight, sensor, nullptr, options) {
-  triad_ = &triad;
 }
 
 std::array<std::vector<double>, 3> CofEvaluator::compensate(const std::array<std::vector<double>, 3>& measured) const {

@@ -68,10 +68,9 @@ struct CofRun {
 
 class CofEvaluator {
  public:
-  CofEvaluator(const FlightTrajectory& flight, const TriadSensor& sensor, const CalibrationModel* model,
-               const CofOptions& options);
-  // The same compensating the three gyros together by a triad model (misalignment, biases, surfaces).
-  CofEvaluator(const FlightTrajectory& flight, const TriadSensor& sensor, const TriadModel& triad, const CofOptions& options);
+  // `model` (any kind, sensor_model.h; null: none): a single gyro's model compensates each gyro on its own, a
+  // triad model the three together (misalignment, biases, surfaces).
+  CofEvaluator(const FlightTrajectory& flight, const TriadSensor& sensor, const SensorModel* model, const CofOptions& options);
 
   // One INS run; noise on or off (off: the sensor's deterministic errors only). Deterministic per seed.
   CofRun run(CompensationMode mode, bool noise, std::uint64_t seed, bool record_growth = false) const;

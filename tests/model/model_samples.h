@@ -1,6 +1,6 @@
-// A small instance of every calibration model kind, built directly from planted parameters (no fitting),
-// for the property suites that run over every registered kind. A new kind adds its maker here; the suite
-// fails for a registered kind without one.
+// A small instance of every model kind, built directly from planted parameters (no fitting), for the
+// property suites that run over every registered kind. A new kind adds its maker here; the suite fails for a
+// registered kind without one.
 #pragma once
 
 #include <functional>
@@ -16,6 +16,7 @@
 #include "model/hybrid_model.h"
 #include "model/terms/term_kinds.h"
 #include "model/rbf_network.h"
+#include "model/triad_model.h"
 #include "solvers/calibrate.h"
 
 namespace gyrosid::testing_support {
@@ -150,6 +151,32 @@ inline std::map<std::string, ModelSample> model_samples() {
       {"greybox_posterior", sample_greybox_posterior}};
   samples.insert(registered_model_samples().begin(), registered_model_samples().end());
   return samples;
+}
+
+// A triad: misalignment, a bias cubic per gyro, g-sensitivity, and a classical surface on gyro z only.
+inline TriadModel sample_triad() {
+  TriadModel m;
+  m.misalignment << -3e-4, -1e-3, 3e-3, 8e-4, 5e-4, 1.4e-3, 4e-4, -1e-3, 1e-4;
+  m.bias.reference_c = 20.0;
+  m.bias.scale_c = 30.0;
+  for (int a = 0; a < 3; ++a) m.bias.coefficients[static_cast<std::size_t>(a)] = Eigen::Vector3d(units::dph_to_radps(-15 + a), units::dph_to_radps(2.0), units::dph_to_radps(-0.5));
+  m.g_sensitivity = Eigen::Matrix3d::Identity() * units::dph_to_radps(0.3);
+  (*m.g_sensitivity)(0, 2) = units::dph_to_radps(-0.2);
+  auto surface = std::make_shared<ClassicalModel>(default_features(), ModelTarget::error);
+  surface->bias = Eigen::VectorXd::Zero(1);
+  surface->sf_temperature = Eigen::Vector2d(0.0, 1e-5);
+  surface->sf_rate = Eigen::Vector3d(0.0, 0.0, -2e-4);
+  m.surfaces[2] = surface;
+  return m;
+}
+
+// Every kind's sample as what a model file holds (sensor_model.h): the single-gyro kinds' and the triad's.
+using SensorModelSample = std::function<std::unique_ptr<SensorModel>()>;
+inline std::map<std::string, SensorModelSample> sensor_model_samples() {
+  std::map<std::string, SensorModelSample> out;
+  for (auto& [name, make] : model_samples()) out[name] = [make] { return std::unique_ptr<SensorModel>(make()); };
+  out["triad"] = [] { return std::make_unique<TriadModel>(sample_triad()); };
+  return out;
 }
 
 }  // namespace gyrosid::testing_support

@@ -10,29 +10,15 @@
 #include <fstream>
 
 #include "core/units.h"
-#include "model/classical_model.h"
 #include "model/triad_export.h"
+#include "model_samples.h"
 
 namespace gyrosid {
 namespace {
 
 namespace fs = std::filesystem;
 
-TriadModel sample_triad() {
-  TriadModel m;
-  m.misalignment << -3e-4, -1e-3, 3e-3, 8e-4, 5e-4, 1.4e-3, 4e-4, -1e-3, 1e-4;
-  m.bias.reference_c = 20.0;
-  m.bias.scale_c = 30.0;
-  for (int a = 0; a < 3; ++a) m.bias.coefficients[static_cast<std::size_t>(a)] = Eigen::Vector3d(units::dph_to_radps(-15 + a), units::dph_to_radps(2.0), units::dph_to_radps(-0.5));
-  m.g_sensitivity = Eigen::Matrix3d::Identity() * units::dph_to_radps(0.3);
-  (*m.g_sensitivity)(0, 2) = units::dph_to_radps(-0.2);
-  auto surface = std::make_shared<ClassicalModel>(default_features(), ModelTarget::error);
-  surface->bias = Eigen::VectorXd::Zero(1);
-  surface->sf_temperature = Eigen::Vector2d(0.0, 1e-5);
-  surface->sf_rate = Eigen::Vector3d(0.0, 0.0, -2e-4);
-  m.surfaces[2] = surface;
-  return m;
-}
+using testing_support::sample_triad;
 
 TEST(TriadExport, KalibrFactorsAreLowerTriangularTimesARotation) {
   const TriadModel m = sample_triad();

@@ -59,7 +59,7 @@ class Poly2dModel : public CalibrationModel {
                << std::defaultfloat;
   }
   static std::unique_ptr<CalibrationModel> from_json(const ModelFile& f) {
-    const nlohmann::json& p = f.parameters;
+    const nlohmann::json& p = f.parameters();
     const auto c = p.at("coefficients").get<std::vector<double>>();
     return std::make_unique<Poly2dModel>(p.at("degree").get<int>(), p.at("rate_scale_radps").get<double>(), p.at("t_ref_c").get<double>(),
                                          p.at("t_scale_c").get<double>(), Eigen::Map<const Eigen::VectorXd>(c.data(), static_cast<Eigen::Index>(c.size())));
