@@ -71,9 +71,16 @@ OptionMap option_map(const py::dict& options) {
 }
 
 // A calibration model with what its file holds beside it (training provenance, solver summary).
+// A model file of any kind (model/sensor_model.h): one gyro's calibration model or a triad's.
 struct Model {
-  std::shared_ptr<CalibrationModel> model;
+  std::shared_ptr<SensorModel> model;
   nlohmann::json extra = nlohmann::json::object();
+
+  // features and predict are a single gyro's.
+  const CalibrationModel& gyro() const {
+    if (const auto* m = dynamic_cast<const CalibrationModel*>(model.get())) return *m;
+    throw Error(str_cat("a ", model->kind(), " model of ", model->gyros(), " gyros has no single-gyro features or predict; compensate a recording with it"));
+  }
 };
 
 Recording recording_of_columns(const py::dict& columns, const py::dict& metadata, const std::string& source) {
@@ -112,10 +119,11 @@ Model calibrate_py(const Recording& rec, const std::string& model, const std::st
 }
 
 py::array_t<double> predict_py(const Model& m, const py::array_t<double, py::array::c_style | py::array::forcecast>& x) {
-  const auto d = static_cast<py::ssize_t>(m.model->features().size());
+  const CalibrationModel& gyro = m.gyro();
+  const auto d = static_cast<py::ssize_t>(gyro.features().size());
   if (x.ndim() != 2 || x.shape(1) != d) throw Error("predict: x must be an N x " + std::to_string(d) + " array (the model's features)");
   py::array_t<double> out(x.shape(0));
-  for (py::ssize_t i = 0; i < x.shape(0); ++i) out.mutable_at(i) = m.model->predict(x.data(i, 0));
+  for (py::ssize_t i = 0; i < x.shape(0); ++i) out.mutable_at(i) = gyro.predict(x.data(i, 0));
   return out;
 }
 
@@ -154,7 +162,7 @@ py::object cof_py(const py::object& model, const std::string& trajectory, const 
   r.trajectory = trajectory, r.sensor = sensor, r.seed = seed, r.options.start_temp_c = start_temp_c;
   r.monte_carlo = monte_carlo != 0;
   r.mc.runs = monte_carlo > 0 ? monte_carlo : 0;  // -1: automatic stop
-  const CalibrationModel* m = nullptr;
+  const SensorModel* m = nullptr;
   nav::CompensationMode mode = nav::CompensationMode::model;
   if (model.is_none()) {
     r.model = "none", mode = nav::CompensationMode::none;
@@ -316,9 +324,10 @@ void bind_recording(py::module_& m) {
 }
 
 void bind_model(py::module_& m) {
-  py::class_<Model>(m, "Model", "A calibration model; saves to and loads from the same JSON as `gyrosid calibrate`.")
-      .def_property_readonly("kind", [](const Model& x) { return std::string(x.model->kind()); }, "The model kind (classical, rbf, ...).")
-      .def_property_readonly("features", [](const Model& x) { return x.model->features(); }, "Its inputs, in the order predict() takes them.")
+  py::class_<Model>(m, "Model", "A calibration model of one gyro or of a triad; saves to and loads from the same JSON as `gyrosid calibrate`.")
+      .def_property_readonly("kind", [](const Model& x) { return std::string(x.model->kind()); }, "The model kind (classical, rbf, ..., triad).")
+      .def_property_readonly("gyros", [](const Model& x) { return x.model->gyros(); }, "How many gyros it calibrates: 1, or 3 for a triad.")
+      .def_property_readonly("features", [](const Model& x) { return x.gyro().features(); }, "Its inputs, in the order predict() takes them (one gyro's model).")
       .def_property_readonly("summary", [](const Model& x) { return to_python(x.extra.value("summary", nlohmann::json::object())); },
                              "The solve summary (solver, termination, iterations, time_s, details).")
       .def_property_readonly("training", [](const Model& x) { return to_python(x.extra.value("training", nlohmann::json::object())); },
@@ -340,8 +349,8 @@ void bind_model(py::module_& m) {
     for (const char* k : {"training", "summary"}) {
       if (j.is_object() && j.contains(k)) extra[k] = j[k];
     }
-    return Model{std::shared_ptr<CalibrationModel>(load_model(p)), extra};
-  }, py::arg("path"), "Read a model file written by `gyrosid calibrate` or Model.save.");
+    return Model{std::shared_ptr<SensorModel>(load_sensor_model(p)), extra};
+  }, py::arg("path"), "Read a model file of any kind written by `gyrosid calibrate` or Model.save.");
 }
 
 }  // namespace
@@ -368,8 +377,8 @@ PYBIND11_MODULE(_gyrosid, m) {
         "lot's population as `calibrate --prior`; decimate: none, auto or N samples per block (default: auto for 'auto', else none).");
   m.def("calibrate_triad", &calibrate_triad_py, py::arg("recording"), py::arg("options") = py::dict(),
         "Estimate a triad's misalignment, biases and surfaces; returns the model file's JSON as a dict.");
-  m.def("compensate", [](const Model& model, const Recording& rec) { return compensate_recording(*model.model, rec).recording; },
-        py::arg("model"), py::arg("recording"), "The recording with compensated_dps added.");
+  m.def("compensate", [](const Model& model, const Recording& rec) { return model.model->compensate_recording(rec).recording; },
+        py::arg("model"), py::arg("recording"), "The recording with compensated_dps added (a triad model: compensated_{x,y,z}_dps).");
   m.def("allan", &allan_py, py::arg("rate_dph"), py::arg("dt_s"), "Overlapping Allan deviation and the IEEE Std 952 noise fit.");
   m.def("cof", &cof_py, py::arg("model"), py::arg("trajectory") = "short", py::arg("sensor") = kDefaultSensor,
         py::arg("monte_carlo") = 0, py::arg("seed") = 1, py::arg("start_temp_c") = 10.0,

@@ -76,6 +76,37 @@ class Bindings(unittest.TestCase):
         back = gyrosid.load_model(self.path("m.json"))
         self.assertEqual(json.loads(back.to_json())["parameters"], json.loads(model.to_json())["parameters"])
 
+    def test_a_triad_model_is_a_model_like_any_other(self):
+        # The triad's fit, saved as its file, loads as a Model that compensates, scores and exports as the
+        # commands do with the same file.
+        run_gyrosid("simulate", "--sensor", "builtin:sensors/fog_triad.yaml", "--trajectory",
+                    "builtin:trajectories/triad_six_position.yaml", "--seed", "2", "--out", self.path("six.csv"))
+        rec = gyrosid.Recording.load(self.path("six.csv"))
+        with open(self.path("triad.json"), "w") as f:
+            json.dump(gyrosid.calibrate_triad(rec, {"surfaces": "classical"}), f)
+        model = gyrosid.load_model(self.path("triad.json"))
+        self.assertEqual((model.kind, model.gyros), ("triad", 3))
+        with self.assertRaisesRegex(gyrosid.Error, "triad model of 3 gyros"):
+            model.features
+        run_gyrosid("compensate", "--model", self.path("triad.json"), "--recording", self.path("six.csv"),
+                    "--out", self.path("c.csv"))
+        cli = gyrosid.Recording.load(self.path("c.csv"))
+        mine = gyrosid.compensate(model, rec)
+        for axis in "xyz":
+            np.testing.assert_array_equal(mine["compensated_%s_dps" % axis], cli["compensated_%s_dps" % axis])
+        raw = np.concatenate([rec["gyro_%s_dps" % a] - rec["ref_rate_%s_dps" % a] for a in "xyz"])
+        left = np.concatenate([mine["compensated_%s_dps" % a] - rec["ref_rate_%s_dps" % a] for a in "xyz"])
+        self.assertLess(np.sqrt(np.mean(left ** 2)), 0.5 * np.sqrt(np.mean(raw ** 2)))  # misalignment and biases removed
+        run_gyrosid("cof", "--model", self.path("triad.json"), "--sensor", "builtin:sensors/fog_triad.yaml",
+                    "--trajectory", "short", "--out", self.path("cof"))
+        with open(os.path.join(self.path("cof"), "cof.json")) as f:
+            cli_cof = json.load(f)
+        self.assertEqual(gyrosid.cof(model, trajectory="short", sensor="builtin:sensors/fog_triad.yaml")["end_error_m"],
+                         cli_cof["end_error_m"])
+        model.export_c(self.dir.name, "imu")
+        with open(self.path("imu.h")) as f:
+            self.assertIn("imu_compensate(", f.read())
+
     def test_allan_finds_the_white_noise(self):
         # White noise of 10 deg/h at 1 Hz: N = 10/60 deg/sqrt(h).
         rng = np.random.default_rng(4)

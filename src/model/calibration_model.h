@@ -1,5 +1,6 @@
-// A calibration model of one gyro (a SensorModel, sensor_model.h): maps the gyro's measured inputs (features, see dataset.h) to its rate error - which
-// compensation subtracts (thesis figs 4.17/4.19) - or directly to the corrected rate (fig 4.18).
+// A calibration model of one gyro (a SensorModel, sensor_model.h): maps the gyro's measured inputs (features,
+// see dataset.h) to its rate error - which compensation subtracts (thesis figs 4.17/4.19) - or directly to the
+// corrected rate (fig 4.18).
 //
 // Every model saves to JSON (format "gyrosid-model/1", loading back to the same numbers) and exports to
 // dependency-free C99 for an embedded navigation processor.
@@ -73,7 +74,8 @@ class CalibrationModel : public SensorModel {
   //   double <prefix>_predict(const double* x);          model output, rad/s
   //   double <prefix>_compensate(const double* x, double measured_radps);
   void export_c(const std::filesystem::path& dir, const std::string& prefix) const final;
-  // compensate_file(*this, ...) of compensate_recording.h, whole chunks at a time.
+  // compensate_recording(*this, ...) and compensate_file(*this, ...) of compensate_recording.h.
+  CompensatedRecording compensate_recording(Recording recording) const final;
   CompensatedRecording compensate_file(const std::filesystem::path& input, const std::filesystem::path& output,
                                        const std::string& axis) const final;
 
@@ -87,12 +89,8 @@ class CalibrationModel : public SensorModel {
 // The compensated rate of every sample: measured - predicted error, or the predicted corrected rate.
 Eigen::VectorXd compensate(const CalibrationModel& model, const Dataset& data);
 
-// Saving and loading. `extra` (training provenance, solver summary) is stored beside the model.
-void save_model(const std::filesystem::path& path, const CalibrationModel& model, const nlohmann::json& extra);
-// A single-gyro model file; a triad's is refused, naming the file (sensor_model.h loads either).
+// A single-gyro model file; a triad's is refused, naming the file (sensor_model.h loads and saves any kind).
 std::unique_ptr<CalibrationModel> model_from_json(const nlohmann::json& j, const std::string& source);
 std::unique_ptr<CalibrationModel> load_model(const std::filesystem::path& path);
-// A model file's JSON as it is (its training and summary included); Error naming the file it cannot read.
-nlohmann::json load_model_json(const std::filesystem::path& path);
 
 }  // namespace gyrosid

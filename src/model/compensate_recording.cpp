@@ -190,15 +190,21 @@ CompensatedRecording compensate_file(const CalibrationModel& model, const std::f
   return result;
 }
 
+CompensatedRecording CalibrationModel::compensate_recording(Recording recording) const {
+  return gyrosid::compensate_recording(*this, std::move(recording));
+}
+
 CompensatedRecording CalibrationModel::compensate_file(const std::filesystem::path& input, const std::filesystem::path& output,
                                                      const std::string& axis) const {
   return gyrosid::compensate_file(*this, input, output, axis);
 }
 
+CompensatedRecording TriadModel::compensate_recording(Recording recording) const { return compensate_triad_recording(*this, std::move(recording)); }
+
 CompensatedRecording TriadModel::compensate_file(const std::filesystem::path& input, const std::filesystem::path& output,
                                                  const std::string& axis) const {
   if (!axis.empty()) fail("--axis applies to a single-gyro model; a triad model compensates all three gyros");
-  CompensatedRecording r = compensate_triad_recording(*this, read_recording(input));
+  CompensatedRecording r = compensate_recording(read_recording(input));
   write_recording(r.recording, output);
   return r;
 }

@@ -40,6 +40,8 @@ class SensorModel {
   virtual nlohmann::json to_json() const = 0;
   // Dependency-free C99 <prefix>.h and <prefix>.c in `dir`, written atomically.
   virtual void export_c(const std::filesystem::path& dir, const std::string& prefix) const = 0;
+  // The recording with the compensated columns added (compensate_recording.h).
+  virtual CompensatedRecording compensate_recording(Recording recording) const = 0;
   // The recording at `input` compensated into `output`, streamed where the kind can (compensate_recording.h).
   // `axis` (x, y or z) picks the gyro of a triad recording a single-gyro model applies to; a triad model
   // compensates all three and refuses it.
@@ -47,8 +49,12 @@ class SensorModel {
                                                const std::string& axis) const = 0;
 };
 
-// A model file of any kind, by its "kind" (model_kinds.h); Errors name the file.
+// Saving and loading a model file of any kind, by its "kind" (model_kinds.h); Errors name the file. `extra`
+// (training provenance, the solve's summary, a fit's sigmas) is stored beside the model's values.
+void save_model(const std::filesystem::path& path, const SensorModel& model, const nlohmann::json& extra);
 std::unique_ptr<SensorModel> sensor_model_from_json(const nlohmann::json& j, const std::string& source);
 std::unique_ptr<SensorModel> load_sensor_model(const std::filesystem::path& path);
+// A model file's JSON as it is (its training and summary included); Error naming the file it cannot read.
+nlohmann::json load_model_json(const std::filesystem::path& path);
 
 }  // namespace gyrosid
