@@ -35,9 +35,9 @@ CompensatedRecording compensate_recording(const CalibrationModel& model, Recordi
   return out;
 }
 
-CompensatedRecording compensate_triad_recording(const TriadModel& model, Recording recording) {
+CompensatedRecording TriadModel::compensate_recording(Recording recording) const {
   const TriadData data = make_triad_data(recording);
-  const Eigen::MatrixX3d comp = model.compensate(data);
+  const Eigen::MatrixX3d comp = compensate(data);
   for (int a = 0; a < 3; ++a) {
     std::vector<double> dps(static_cast<std::size_t>(comp.rows()));
     for (Eigen::Index k = 0; k < comp.rows(); ++k) dps[static_cast<std::size_t>(k)] = units::radps_to_dps(comp(k, a));
@@ -198,8 +198,6 @@ CompensatedRecording CalibrationModel::compensate_file(const std::filesystem::pa
                                                      const std::string& axis) const {
   return gyrosid::compensate_file(*this, input, output, axis);
 }
-
-CompensatedRecording TriadModel::compensate_recording(Recording recording) const { return compensate_triad_recording(*this, std::move(recording)); }
 
 CompensatedRecording TriadModel::compensate_file(const std::filesystem::path& input, const std::filesystem::path& output,
                                                  const std::string& axis) const {

@@ -25,8 +25,8 @@ CompensatedRecording compensate_recording(const CalibrationModel& model, Recordi
 CompensatedRecording compensate_file(const CalibrationModel& model, const std::filesystem::path& input, const std::filesystem::path& output,
                                      const std::string& axis = "", std::size_t chunk_rows = 65536);
 
-// A triad recording compensated by a triad model: compensated_{x,y,z}_dps added (body rates), and the rms
-// error over the three axes against ref_rate_{x,y,z}_dps before and after.
-CompensatedRecording compensate_triad_recording(const TriadModel& model, Recording recording);
+// A triad model's compensation (TriadModel::compensate_recording and compensate_file, defined in
+// compensate_recording.cpp) adds compensated_{x,y,z}_dps, the body rates, and the rms error over the three
+// axes against ref_rate_{x,y,z}_dps before and after.
 
 }  // namespace gyrosid

@@ -93,8 +93,8 @@ class TriadModel : public SensorModel {
   nlohmann::json to_json() const final;  // triad_model_json(*this)
   // <prefix>_compensate of three gyros (triad_export.h export_triad_c).
   void export_c(const std::filesystem::path& dir, const std::string& prefix) const final;
-  // The recording with compensated_{x,y,z}_dps (compensate_recording.h compensate_triad_recording); the file's
-  // version refuses an axis.
+  // The recording with compensated_{x,y,z}_dps, the body rates (compensate_recording.cpp); the file's version
+  // refuses an axis.
   CompensatedRecording compensate_recording(Recording recording) const final;
   CompensatedRecording compensate_file(const std::filesystem::path& input, const std::filesystem::path& output,
                                        const std::string& axis) const final;
