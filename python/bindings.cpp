@@ -70,8 +70,8 @@ OptionMap option_map(const py::dict& options) {
   return out;
 }
 
-// A calibration model with what its file holds beside it (training provenance, solver summary).
-// A model file of any kind (model/sensor_model.h): one gyro's calibration model or a triad's.
+// A model of any kind (model/sensor_model.h: one gyro's calibration model or a triad's) with what its file holds
+// beside it (training provenance, solver summary).
 struct Model {
   std::shared_ptr<SensorModel> model;
   nlohmann::json extra = nlohmann::json::object();
@@ -343,13 +343,12 @@ void bind_model(py::module_& m) {
       .def("export_c", [](const Model& x, const std::filesystem::path& dir, const std::string& prefix) { x.model->export_c(dir, prefix); },
            py::arg("dir"), py::arg("prefix") = "gyro", "Write <prefix>.h and <prefix>.c, dependency-free C99, into dir.");
   m.def("load_model", [](const std::filesystem::path& p) {
-    std::ifstream in(p);
-    const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    const nlohmann::json j = load_model_json(p);
     nlohmann::json extra = nlohmann::json::object();
     for (const char* k : {"training", "summary"}) {
       if (j.is_object() && j.contains(k)) extra[k] = j[k];
     }
-    return Model{std::shared_ptr<SensorModel>(load_sensor_model(p)), extra};
+    return Model{std::shared_ptr<SensorModel>(sensor_model_from_json(j, p.string())), extra};
   }, py::arg("path"), "Read a model file of any kind written by `gyrosid calibrate` or Model.save.");
 }
 

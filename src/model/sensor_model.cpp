@@ -29,7 +29,6 @@ std::unique_ptr<SensorModel> sensor_model_from_json(const nlohmann::json& j, con
   }
 }
 
-
 std::unique_ptr<SensorModel> load_sensor_model(const std::filesystem::path& path) { return sensor_model_from_json(load_model_json(path), path.string()); }
 
 nlohmann::json load_model_json(const std::filesystem::path& path) {
