@@ -29,12 +29,12 @@
 #include "pipeline/main_job.h"
 #include "pipeline/session.h"
 #include "pipeline/surface_job.h"
+#include "pipeline/triad_job.h"
 #include "report/allan_report.h"
 #include "report/cof_json.h"
 #include "report/design_report.h"
 #include "report/explain_json.h"
 #include "report/surface_report.h"
-#include "report/triad_json.h"
 #include "noise/allan.h"
 #include "noise/identify.h"
 #include "sensor/sensor_config.h"
@@ -183,14 +183,7 @@ py::tuple explain_py(const Recording& rec, const std::string& model_path, const 
   return py::make_tuple(to_python(to_json(r.summary)), Model{std::shared_ptr<CalibrationModel>(std::move(r.model)), nlohmann::json::object()});
 }
 
-py::object calibrate_triad_py(const Recording& rec, const py::dict& options) {
-  TriadFitOptions o;
-  const OptionMap map = option_map(options);
-  o.table().apply(map);
-  if (const std::string p = o.validate(); !p.empty()) throw Error("triad: " + p);
-  const TriadFit fit = fit_triad(make_triad_data(rec), o, rec.meta("reference").value_or(""));
-  return to_python(triad_fit_json(fit, {{"recording", rec.source()}, {"samples", rec.rows()}, {"options", map}}));
-}
+py::object calibrate_triad_py(const Recording& rec, const py::dict& options) { return to_python(calibrate_triad(rec, option_map(options)).file); }
 
 py::object run_main_job_py(const std::filesystem::path& out, const std::vector<std::string>& flights, bool noisy,
                            const std::string& rbf_config, std::uint64_t seed) {

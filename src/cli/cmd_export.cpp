@@ -1,5 +1,4 @@
 // gyrosid export: a model as dependency-free C99, or a triad model as a Kalibr IMU YAML.
-#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -16,9 +15,8 @@ struct ExportOptions {
   std::string model, prefix = "gyro", out, format = "c";
 };
 
-KalibrExportInfo kalibr_info(const std::string& path) {
-  std::ifstream in(path);
-  const nlohmann::json j = nlohmann::json::parse(in);
+// What Kalibr's YAML takes beside the model from a triad model file `j` (read from `path`).
+KalibrExportInfo kalibr_info(const nlohmann::json& j, const std::string& path) {
   KalibrExportInfo info;
   info.source = path;
   if (j.contains("noise_density_radps_rt_hz")) {
@@ -32,13 +30,14 @@ KalibrExportInfo kalibr_info(const std::string& path) {
 }
 
 void run_export(const ExportOptions& o) {
-  const std::unique_ptr<SensorModel> model = load_sensor_model(o.model);
+  const nlohmann::json file = load_model_json(o.model);
+  const std::unique_ptr<SensorModel> model = sensor_model_from_json(file, o.model);
   if (o.format == "kalibr") {
     const auto* triad = dynamic_cast<const TriadModel*>(model.get());
     if (!triad) fail("--format kalibr needs a triad model (calibrate --model triad); ", o.model, " is a ", model->kind(), " model of one gyro");
-    const std::filesystem::path file = std::filesystem::path(o.out) / (o.prefix + "_imu.yaml");
-    write_file_atomic(file, kalibr_imu_yaml(*triad, kalibr_info(o.model)));
-    std::cout << "wrote " << file.string() << "\n";
+    const std::filesystem::path yaml = std::filesystem::path(o.out) / (o.prefix + "_imu.yaml");
+    write_file_atomic(yaml, kalibr_imu_yaml(*triad, kalibr_info(file, o.model)));
+    std::cout << "wrote " << yaml.string() << "\n";
     return;
   }
   if (o.format != "c") fail("--format '", o.format, "': expected c or kalibr");

@@ -1,5 +1,4 @@
-// gyrosid calibrate --model triad: a triad model (model/triad_model.h) from a triad recording
-// (solvers/triad/triad_fit.h), written with its sigmas and observability (report/triad_json.h).
+// gyrosid calibrate --model triad: the job of pipeline/triad_job.h, its model file written and its estimates printed.
 #include "cli/triad_commands.h"
 
 #include <iostream>
@@ -10,8 +9,8 @@
 #include "core/recording.h"
 #include "core/triad_axes.h"
 #include "core/units.h"
+#include "pipeline/triad_job.h"
 #include "solvers/nls/nls_solver.h"
-#include "report/triad_json.h"
 
 namespace gyrosid::cli {
 
@@ -24,17 +23,15 @@ std::string triad_help() {
 }
 
 void calibrate_triad(const TriadCalibrateRequest& r) {
-  TriadFitOptions o;
   OptionMap map = parse_options(r.set);
   if (!r.solver.empty()) map["solver"] = r.solver;
   if (!r.surfaces.empty()) map["surfaces"] = r.surfaces;
   if (!r.estimation.empty()) map["estimation"] = r.estimation;
-  o.table().apply(map);
-  const Recording rec = read_recording(r.recording);
-  const TriadFit fit = fit_triad(make_triad_data(rec), o, rec.meta("reference").value_or(""));
-  const nlohmann::json training = {{"recording", rec.source()}, {"samples", rec.rows()}, {"options", map}};
-  write_file_atomic(r.out, triad_fit_json(fit, training).dump(1) + "\n");
+  const TriadCalibration c = gyrosid::calibrate_triad(read_recording(r.recording), map);
+  write_file_atomic(r.out, c.file.dump(1) + "\n");
 
+  const TriadFitOptions& o = c.options;
+  const TriadFit& fit = c.fit;
   const std::string estimation = o.estimation == "auto" ? "auto (" + fit.estimation_chosen + " returned)" : o.estimation;
   std::cout << "wrote " << r.out << ": triad model, " << estimation << ", surfaces " << o.surfaces << ", " << o.solver << " "
             << to_string(fit.summary.termination) << ", " << format_significant(fit.summary.time_s, 3) << " s\n";
