@@ -29,7 +29,6 @@
 #include "pipeline/main_job.h"
 #include "pipeline/session.h"
 #include "pipeline/surface_job.h"
-#include "pipeline/triad_job.h"
 #include "report/allan_report.h"
 #include "report/cof_json.h"
 #include "report/design_report.h"
@@ -114,8 +113,8 @@ Model calibrate_py(const Recording& rec, const std::string& model, const std::st
     }
     in.request = r;
   }
-  CalibrationResult c = run_calibrate_job(rec, in).result;
-  return {std::shared_ptr<CalibrationModel>(std::move(c.model)), {{"training", c.training}, {"summary", c.summary}}};
+  ModelFit fit = run_calibrate_job(rec, in).fit;
+  return {std::shared_ptr<SensorModel>(std::move(fit.model)), std::move(fit.extra)};
 }
 
 py::array_t<double> predict_py(const Model& m, const py::array_t<double, py::array::c_style | py::array::forcecast>& x) {
@@ -183,7 +182,13 @@ py::tuple explain_py(const Recording& rec, const std::string& model_path, const 
   return py::make_tuple(to_python(to_json(r.summary)), Model{std::shared_ptr<CalibrationModel>(std::move(r.model)), nlohmann::json::object()});
 }
 
-py::object calibrate_triad_py(const Recording& rec, const py::dict& options) { return to_python(calibrate_triad(rec, option_map(options)).file); }
+// calibrate(model="triad") as the model file's JSON (the form this function has always returned).
+py::object calibrate_triad_py(const Recording& rec, const py::dict& options) {
+  CalibrationRequest r;
+  r.model = "triad", r.options = option_map(options);
+  const ModelFit fit = fit_model(rec, r);
+  return to_python(model_file_json(*fit.model, fit.extra));
+}
 
 py::object run_main_job_py(const std::filesystem::path& out, const std::vector<std::string>& flights, bool noisy,
                            const std::string& rbf_config, std::uint64_t seed) {
@@ -326,22 +331,16 @@ void bind_model(py::module_& m) {
       .def_property_readonly("training", [](const Model& x) { return to_python(x.extra.value("training", nlohmann::json::object())); },
                              "Where it was trained: recording, options, samples.")
       .def("predict", &predict_py, py::arg("x"), "Model output (rate error, rad/s) for N x d inputs in SI units, the order of features.")
-      .def("to_json", [](const Model& x) {
-        nlohmann::json j = x.model->to_json();
-        for (auto it = x.extra.begin(); it != x.extra.end(); ++it) j[it.key()] = it.value();
-        return j.dump(1);
-      }, "The model file's JSON text.")
+      .def("to_json", [](const Model& x) { return model_file_json(*x.model, x.extra).dump(1); }, "The model file's JSON text.")
       .def("save", [](const Model& x, const std::filesystem::path& p) { save_model(p, *x.model, x.extra); }, py::arg("path"),
            "Write the model file `gyrosid` reads (compensate, cof, export).")
       .def("export_c", [](const Model& x, const std::filesystem::path& dir, const std::string& prefix) { x.model->export_c(dir, prefix); },
            py::arg("dir"), py::arg("prefix") = "gyro", "Write <prefix>.h and <prefix>.c, dependency-free C99, into dir.");
   m.def("load_model", [](const std::filesystem::path& p) {
     const nlohmann::json j = load_model_json(p);
-    nlohmann::json extra = nlohmann::json::object();
-    for (const char* k : {"training", "summary"}) {
-      if (j.is_object() && j.contains(k)) extra[k] = j[k];
-    }
-    return Model{std::shared_ptr<SensorModel>(sensor_model_from_json(j, p.string())), extra};
+    std::shared_ptr<SensorModel> model = sensor_model_from_json(j, p.string());
+    nlohmann::json extra = fields_beside(j, *model);  // saved again, the same file
+    return Model{std::move(model), std::move(extra)};
   }, py::arg("path"), "Read a model file of any kind written by `gyrosid calibrate` or Model.save.");
 }
 
@@ -364,11 +363,11 @@ PYBIND11_MODULE(_gyrosid, m) {
   m.def("calibrate", &calibrate_py, py::arg("recording"), py::arg("model") = "rbf", py::arg("solver") = "ols",
         py::arg("options") = py::dict(), py::arg("features") = std::vector<std::string>{}, py::arg("target") = "error",
         py::arg("normalization") = "range", py::arg("prior") = "", py::arg("decimate") = "",
-        "Fit a model kind (rbf with a named solver, classical, greybox, ...) to a recording, `gyrosid calibrate`'s job; model 'auto': the "
+        "Fit a model kind (rbf with a named solver, classical, greybox, hybrid, triad, ...) to a recording, `gyrosid calibrate`'s job; model 'auto': the "
         "preset chosen from the recording's noise (the command without --model); prior: a lot file (greybox only), the unit fitted under the "
         "lot's population as `calibrate --prior`; decimate: none, auto or N samples per block (default: auto for 'auto', else none).");
   m.def("calibrate_triad", &calibrate_triad_py, py::arg("recording"), py::arg("options") = py::dict(),
-        "Estimate a triad's misalignment, biases and surfaces; returns the model file's JSON as a dict.");
+        "calibrate(recording, model='triad', options=...) as the model file's JSON, a dict: a triad's misalignment, biases and surfaces.");
   m.def("compensate", [](const Model& model, const Recording& rec) { return model.model->compensate_recording(rec).recording; },
         py::arg("model"), py::arg("recording"), "The recording with compensated_dps added (a triad model: compensated_{x,y,z}_dps).");
   m.def("allan", &allan_py, py::arg("rate_dph"), py::arg("dt_s"), "Overlapping Allan deviation and the IEEE Std 952 noise fit.");

@@ -14,6 +14,7 @@
 #include "solvers/bayes/hybrid_fit.h"
 #include "solvers/common/candidates.h"
 #include "solvers/solver.h"
+#include "solvers/triad/triad_kind.h"
 
 namespace gyrosid {
 namespace {
@@ -53,8 +54,16 @@ nlohmann::json request_json(const CalibrationRequest& r, const std::vector<std::
           {"features", features}, {"target", to_string(r.target)}, {"normalization", to_string(r.normalization)}};
 }
 
+// Only the RBF network is trained by a named solver (and the triad by a least-squares back-end); the other
+// kinds have their own fit. A solver named for them would be dropped without a word, so it is refused.
+void refuse_solver(const CalibrationRequest& r) {
+  if (r.solver != CalibrationRequest{}.solver) {
+    fail("solver '", r.solver, "' applies to --model rbf and triad; --model ", r.model, " has its own fit (its options: --options-of ", r.model, ")");
+  }
+}
+
 // A single-gyro model kind fitted to a Dataset of its features.
-class DatasetFitter : public ModelFitter {
+class DatasetFitter : public GyroModelFitter {
  public:
   using Fit = std::function<std::unique_ptr<CalibrationModel>(const Dataset&, SolveSummary&)>;
   DatasetFitter(std::vector<std::string> features, ModelTarget target, Fit fit)
@@ -71,6 +80,7 @@ class DatasetFitter : public ModelFitter {
 };
 
 std::unique_ptr<ModelFitter> classical_fitter(const CalibrationRequest& r) {
+  refuse_solver(r);
   ClassicalOptions o;
   classical_table(o).apply(r.options);
   if (const std::string p = o.validate(); !p.empty()) fail("classical: ", p);
@@ -80,6 +90,7 @@ std::unique_ptr<ModelFitter> classical_fitter(const CalibrationRequest& r) {
 }
 
 std::unique_ptr<ModelFitter> greybox_fitter(const CalibrationRequest& r) {
+  refuse_solver(r);
   const GreyboxOptions o = greybox_options(r.options);
   return std::make_unique<DatasetFitter>(greybox_features(o), ModelTarget::error, [o, prior = r.greybox_prior](const Dataset& d, SolveSummary& s) {
     if (prior) return std::unique_ptr<CalibrationModel>(estimate_greybox(d, o, prior.get(), &s).model);
@@ -116,7 +127,7 @@ std::unique_ptr<ModelFitter> rbf_fitter(const CalibrationRequest& r) {
   });
 }
 
-class HybridFitter : public ModelFitter {
+class HybridFitter : public GyroModelFitter {
  public:
   explicit HybridFitter(HybridOptions o) : o_(std::move(o)) {}
   std::vector<std::string> default_features() const override { return gyrosid::default_features(); }
@@ -130,6 +141,7 @@ class HybridFitter : public ModelFitter {
 };
 
 std::unique_ptr<ModelFitter> hybrid_fitter(const CalibrationRequest& r) {
+  refuse_solver(r);
   HybridOptions o;
   o.table().apply(r.options);
   if (const std::string p = o.validate(); !p.empty()) fail("hybrid: ", p);
@@ -175,7 +187,9 @@ ModelFitterRegistry& extend_model_fitters() {
                 HybridOptions o;
                 return "hybrid - grey-box physics plus a Bayesian RBF on what it leaves (evidence; posterior covariance):\n" + o.table().help();
               },
-              hybrid_fitter});
+              hybrid_fitter})
+        .add({"triad", "three gyros: misalignment/scale-factor matrix M, bias b(T), optional G and per-gyro surfaces (thesis eq 3.72)",
+              triad_help, triad_fitter});
     return r;
   }();
   return registry;
@@ -192,7 +206,10 @@ void register_model_kind(ModelKindPlugin kind) {
   if (!kind.load || !kind.help || !kind.fit || !kind.sample) fail("model kind '", kind.name, "': a plugin needs its loader, help, fitter and sample");
   if (model_kinds().find(kind.name) || model_fitters().find(kind.name)) fail("model kind '", kind.name, "' registered twice");
   extend_model_kinds().add({kind.name, kind.summary, [] { return std::string(); }, std::move(kind.load)});
-  extend_model_fitters().add({kind.name, kind.summary, std::move(kind.help), std::move(kind.fit)});
+  extend_model_fitters().add({kind.name, kind.summary, std::move(kind.help), [fit = std::move(kind.fit)](const CalibrationRequest& r) {
+                                refuse_solver(r);
+                                return fit(r);
+                              }});
   plugin_samples()[kind.name] = std::move(kind.sample);
 }
 
@@ -200,17 +217,16 @@ const std::map<std::string, ModelSample>& registered_model_samples() { return pl
 
 std::string model_help(const std::string& model) { return model_fitters().at(model).help(); }
 
-CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& r) {
-  // Only the RBF network is trained by a named solver; the other kinds have their own fit. A solver named for
-  // them would be dropped without a word, so it is refused.
-  if (r.model != "rbf" && r.solver != CalibrationRequest{}.solver) {
-    fail("solver '", r.solver, "' applies to --model rbf only; --model ", r.model, " has its own fit (its options: --options-of ", r.model, ")");
-  }
+namespace {
+
+void refuse_a_prior(const CalibrationRequest& r) {
   if (r.greybox_prior && r.model != "greybox") fail("a lot prior (--prior) calibrates the greybox model; --model ", r.model, " takes none");
+}
+
+CalibrationResult fit_gyro(GyroModelFitter& fitter, const Recording& recording, const CalibrationRequest& r) {
   CalibrationResult result;
-  const std::unique_ptr<ModelFitter> fitter = model_fitters().make(r.model, r);
-  const std::vector<std::string> features = r.features.empty() ? fitter->default_features() : r.features;
-  result.model = fitter->fit(recording, features, result.summary);
+  const std::vector<std::string> features = r.features.empty() ? fitter.default_features() : r.features;
+  result.model = fitter.fit(recording, features, result.summary);
   result.training = request_json(r, features);
   if (r.greybox_prior) result.training["prior"] = r.greybox_prior->source;
   // The domain the model was trained on, per input (surface comparisons default to it).
@@ -223,6 +239,37 @@ CalibrationResult calibrate(const Recording& recording, const CalibrationRequest
   result.training["recording"] = recording.source();
   result.training["samples"] = recording.rows();
   return result;
+}
+
+}  // namespace
+
+ModelFit GyroModelFitter::fit_model(const Recording& recording, const CalibrationRequest& request) {
+  return model_fit_of(fit_gyro(*this, recording, request));
+}
+
+ModelFit model_fit_of(CalibrationResult result) {
+  ModelFit fit;
+  fit.extra = {{"training", std::move(result.training)}, {"summary", result.summary}};
+  fit.summary = std::move(result.summary);
+  fit.model = std::move(result.model);
+  return fit;
+}
+
+CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& r) {
+  refuse_a_prior(r);
+  const std::unique_ptr<ModelFitter> fitter = model_fitters().make(r.model, r);
+  auto* gyro = dynamic_cast<GyroModelFitter*>(fitter.get());
+  if (!gyro) fail("--model ", r.model, " calibrates several gyros together; a single gyro's model is needed here");
+  return fit_gyro(*gyro, recording, r);
+}
+
+ModelFit fit_model(const Recording& recording, const CalibrationRequest& r) {
+  refuse_a_prior(r);
+  return model_fitters().make(r.model, r)->fit_model(recording, r);
+}
+
+bool fits_one_gyro(const CalibrationRequest& r) {
+  return dynamic_cast<const GyroModelFitter*>(model_fitters().make(r.model, r).get()) != nullptr;
 }
 
 std::string state_decimation(CalibrationResult& result, const Recording& recording, const Decimation& decimation) {

@@ -24,9 +24,9 @@
 namespace gyrosid {
 
 struct CalibrationRequest {
-  std::string model = "rbf";  // rbf | classical | greybox
-  std::string solver = "ols"; // rbf only
-  OptionMap options;          // solver options (rbf) or model options (classical, greybox)
+  std::string model = "rbf";  // a kind of model_fitters(): rbf | classical | greybox | hybrid | triad | ...
+  std::string solver = "ols"; // rbf: its RBF solver; triad: its least-squares back-end (a change of this default)
+  OptionMap options;          // solver options (rbf) or the kind's own (classical, greybox, hybrid, triad)
   std::vector<std::string> features;  // empty: the model's defaults
   ModelTarget target = ModelTarget::error;
   NormalizationKind normalization = NormalizationKind::range;
@@ -39,16 +39,37 @@ struct CalibrationResult {
   nlohmann::json training;  // provenance: recording, samples, request
 };
 
-// Fits one model kind to a recording. Made by the registry from a request, after its options are validated.
+// What fitting any model kind returns (fit_model): the model, the solve, and what its file keeps beside the
+// model's values - provenance ("training"), the summary, a fit's own results such as the triad's sigmas and
+// observability. save_model(path, *fit.model, fit.extra) writes the file.
+struct ModelFit {
+  std::unique_ptr<SensorModel> model;
+  SolveSummary summary;
+  nlohmann::json extra = nlohmann::json::object();
+  std::vector<std::string> statement;  // what the fit says beyond its summary, a line each (a triad's estimates)
+  std::vector<std::string> warnings;   // what the recording did not do as the fit assumes (a triad hold not still)
+};
+
+// Fits one model kind to a recording. Made by the registry from a request, after its options are validated; the
+// kind's own options are refused by name when they do not apply to it.
 class ModelFitter {
  public:
   virtual ~ModelFitter() = default;
+  // `request` is the one the fitter was made from.
+  virtual ModelFit fit_model(const Recording& recording, const CalibrationRequest& request) = 0;
+};
+
+// A single gyro's kind (rbf, classical, greybox, hybrid, a kind registered from outside): its model is a
+// CalibrationModel of the recording's features, the result calibrate() returns.
+class GyroModelFitter : public ModelFitter {
+ public:
   virtual std::vector<std::string> default_features() const = 0;
   virtual std::unique_ptr<CalibrationModel> fit(const Recording& recording, const std::vector<std::string>& features,
                                                 SolveSummary& summary) = 0;
+  ModelFit fit_model(const Recording& recording, const CalibrationRequest& request) final;
 };
 
-// Every model kind `calibrate` can fit (rbf, classical, greybox, ...); help() lists a kind's options.
+// Every model kind `calibrate` can fit (rbf, classical, greybox, hybrid, triad, ...); help() lists a kind's options.
 using ModelFitterRegistry = Registry<ModelFitter, const CalibrationRequest&>;
 const ModelFitterRegistry& model_fitters();
 // The same registry, open for a program to add the fitter of its own kind (model/model_kinds.h) before it
@@ -71,7 +92,14 @@ void register_model_kind(ModelKindPlugin kind);
 using ModelSample = std::function<std::unique_ptr<CalibrationModel>()>;
 const std::map<std::string, ModelSample>& registered_model_samples();
 
+// A single gyro's model fitted to a recording; a kind of several gyros (the triad) is refused by name.
 CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& request);
+// Any kind fitted to a recording: a single gyro's as calibrate() fits it, its file's extra the training and summary.
+ModelFit fit_model(const Recording& recording, const CalibrationRequest& request);
+// A single gyro's fit as any kind's: its file's extra the training and summary.
+ModelFit model_fit_of(CalibrationResult result);
+// Whether `request`'s kind calibrates one gyro (its options validated on the way; Error naming a bad one).
+bool fits_one_gyro(const CalibrationRequest& request);
 
 // The grey-box options of `--set` keys (calibrate --options-of greybox); Error naming a bad key or value.
 GreyboxOptions greybox_options(const OptionMap& options);

@@ -76,6 +76,16 @@ class Bindings(unittest.TestCase):
         back = gyrosid.load_model(self.path("m.json"))
         self.assertEqual(json.loads(back.to_json())["parameters"], json.loads(model.to_json())["parameters"])
 
+    @staticmethod
+    def untimed(path):
+        """A model file's JSON without its recording path and the solves' times and memory."""
+        def strip(x):
+            if isinstance(x, dict):
+                return {k: strip(v) for k, v in x.items() if k not in ("time_s", "peak_rss_mb", "recording")}
+            return [strip(v) for v in x] if isinstance(x, list) else x
+        with open(path) as f:
+            return strip(json.load(f))
+
     def test_a_triad_model_is_a_model_like_any_other(self):
         # The triad's fit, saved as its file, loads as a Model that compensates, scores and exports as the
         # commands do with the same file.
@@ -88,6 +98,20 @@ class Bindings(unittest.TestCase):
         self.assertEqual((model.kind, model.gyros), ("triad", 3))
         with self.assertRaisesRegex(gyrosid.Error, "triad model of 3 gyros"):
             model.features
+        # calibrate(model="triad") is the same fit as the command's and calibrate_triad's; its Model saves the
+        # file the command writes (the fit's sigmas beside the values), and a loaded Model saves it again.
+        fitted = gyrosid.calibrate(rec, model="triad", options={"surfaces": "classical"})
+        self.assertEqual((fitted.kind, fitted.gyros), ("triad", 3))
+        run_gyrosid("calibrate", "--model", "triad", "--recording", self.path("six.csv"), "--set", "surfaces=classical",
+                    "--out", self.path("cli_triad.json"))
+        fitted.save(self.path("py_triad.json"))
+        untimed = [self.untimed(self.path(p)) for p in ("py_triad.json", "cli_triad.json", "triad.json")]
+        self.assertEqual(untimed[0], untimed[1])
+        self.assertEqual(untimed[0], untimed[2])
+        self.assertIn("sigma", untimed[0]["misalignment"])
+        model.save(self.path("resaved.json"))
+        with open(self.path("triad.json")) as a, open(self.path("resaved.json")) as b:
+            self.assertEqual(json.load(a), json.load(b))
         run_gyrosid("compensate", "--model", self.path("triad.json"), "--recording", self.path("six.csv"),
                     "--out", self.path("c.csv"))
         cli = gyrosid.Recording.load(self.path("c.csv"))

@@ -1,10 +1,10 @@
 // gyrosid calibrate: fit a calibration model to a recording (solvers/calibrate.h).
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
 
 #include "cli/app.h"
-#include "cli/triad_commands.h"
 #include "core/config.h"
 #include "core/error.h"
 #include "core/format.h"
@@ -27,14 +27,6 @@ struct CalibrateOptions {
   std::vector<std::string> set;
 };
 
-void run_calibrate_triad(const CalibrateOptions& o) {
-  if (int(o.joint) + int(o.sequential) + int(o.auto_estimation) > 1) fail("--joint, --sequential and --auto exclude each other");
-  if (o.recording.empty() || o.out.empty()) fail("--recording and --out are required");
-  if (!o.prior.empty()) fail("--prior (a lot file) calibrates a single gyro's greybox model, not --model triad");
-  if (!o.axis.empty() || !o.decimate.empty()) fail("--axis and --decimate apply to single-gyro models (a triad model calibrates all three gyros at the recorded rate)");
-  calibrate_triad({o.recording, o.out, o.solver, o.surfaces, o.joint ? "joint" : o.sequential ? "sequential" : o.auto_estimation ? "auto" : "", o.set});
-}
-
 // The calibration asked for: a YAML config's defaults (its recording and out too, unless given), the
 // command line's values over them, or a lot's prior (its grey-box structure, the MAP under its population).
 CalibrationRequest request_of(CalibrateOptions& o) {
@@ -53,6 +45,10 @@ CalibrationRequest request_of(CalibrateOptions& o) {
   if (!o.target.empty()) request.target = parse_enum<ModelTarget>(o.target, "--target");
   if (!o.normalization.empty()) request.normalization = parse_enum<NormalizationKind>(o.normalization, "--normalization");
   for (auto& [key, value] : parse_options(o.set)) request.options[key] = std::move(value);
+  // The triad's --set surfaces=... and estimation=... by their older spellings.
+  if (int(o.joint) + int(o.sequential) + int(o.auto_estimation) > 1) fail("--joint, --sequential and --auto exclude each other");
+  if (!o.surfaces.empty()) request.options["surfaces"] = o.surfaces;
+  if (o.joint || o.sequential || o.auto_estimation) request.options["estimation"] = o.joint ? "joint" : o.sequential ? "sequential" : "auto";
   if (!o.prior.empty()) {
     if (!o.model.empty() && o.model != "greybox") fail("--prior (a lot file) calibrates the greybox model, not --model ", o.model);
     if (!o.set.empty() || !o.config.empty()) fail("--prior fixes the model's structure to the lot's: --set and --config do not apply");
@@ -61,10 +57,10 @@ CalibrationRequest request_of(CalibrateOptions& o) {
   return request;
 }
 
-// "a, b (note), c": a registry's names for help text, `marked` annotated.
-std::string noted(std::vector<std::string> names, std::string_view marked, std::string_view note) {
+// "a, b (note), c": a registry's names for help text, each name in `notes` annotated.
+std::string noted(std::vector<std::string> names, const std::map<std::string, std::string>& notes) {
   for (std::string& name : names) {
-    if (name == marked) name += str_cat(" (", note, ")");
+    if (const auto it = notes.find(name); it != notes.end()) name += str_cat(" (", it->second, ")");
   }
   return join(names);
 }
@@ -89,21 +85,19 @@ void print_fit_notes(const FitNotes& n) {
 
 void run_calibrate(CalibrateOptions o) {
   if (!o.help_for.empty()) {
-    std::cout << (o.help_for == "triad" ? triad_help() : model_fitters().find(o.help_for) ? model_help(o.help_for) : solver_help(o.help_for));
+    std::cout << (model_fitters().find(o.help_for) ? model_help(o.help_for) : solver_help(o.help_for));
     return;
   }
-  if (o.model == "triad") return run_calibrate_triad(o);
-  if (!o.surfaces.empty() || o.joint || o.sequential || o.auto_estimation) fail("--surfaces, --joint, --sequential and --auto apply to --model triad");
   CalibrationRequest request = request_of(o);
   // Nothing chosen: the job characterises the noise and picks the preset for it, saying why.
-  const bool choose = o.config.empty() && o.model.empty() && o.solver.empty() && o.set.empty() && o.features.empty() &&
+  const bool choose = o.config.empty() && o.model.empty() && o.solver.empty() && request.options.empty() && o.features.empty() &&
                       o.target.empty() && o.normalization.empty() && o.prior.empty();
   CalibrateJobInput input;
   if (!choose) input.request = request;
   input.decimate = o.decimate;
   input.on_step = [](const std::string& what) { progress_note(what); };
   const CalibrateJobResult job = run_calibrate_job(o.recording, o.axis, input);
-  const CalibrationResult& result = job.result;
+  const ModelFit& fit = job.fit;
   if (job.decimation.applied()) std::cout << job.decimation.statement() << "\n";
   if (job.choice) {
     for (const auto& line : job.choice->reasons) std::cout << line << "\n";
@@ -111,14 +105,16 @@ void run_calibrate(CalibrateOptions o) {
   if (!job.averaging_statement.empty()) std::cout << job.averaging_statement << "\n";
   const FitNotes& notes = job.notes;
   print_fit_notes(notes);
-  save_model(o.out, *result.model, {{"training", result.training}, {"summary", result.summary}});
-  std::cout << "wrote " << o.out << ": " << result.model->kind() << " model";
-  const SolveSummary& s = result.summary;
+  save_model(o.out, *fit.model, fit.extra);
+  std::cout << "wrote " << o.out << ": " << fit.model->kind() << " model";
+  const SolveSummary& s = fit.summary;
   if (notes.nodes) std::cout << ", " << notes.size();
   std::cout << ", " << to_string(s.termination);
   if (!s.message.empty()) std::cout << " (" << s.message << ")";
   std::cout << ", " << format_significant(s.time_s, 3) << " s, peak " << format_significant(s.peak_rss_mb, 3) << " MB";
   std::cout << "\n";
+  for (const std::string& line : fit.statement) std::cout << line << "\n";
+  for (const std::string& w : fit.warnings) std::cerr << "warning: " << w << "\n";
 }
 
 }  // namespace
@@ -126,12 +122,12 @@ void run_calibrate(CalibrateOptions o) {
 void register_calibrate(CLI::App& app, Action& action) {
   auto o = std::make_shared<CalibrateOptions>();
   CLI::App* cmd = app.add_subcommand("calibrate", str_cat("Fit a calibration model (", model_fitters().known(), ") to a recording; without options, a preset chosen from its noise"));
-  cmd->add_option("--recording", o->recording, "Training recording (single gyro, with ref_rate_dps)");
-  cmd->add_option("--model", o->model, str_cat(noted(model_fitters().names(), "hybrid", "physics + Bayesian RBF"),
-                                               ", or triad (three gyros: misalignment, biases, surfaces; its options, --set surfaces=... "
-                                               "estimation=...: --options-of triad)"));
-  cmd->add_option("--solver", o->solver, str_cat("RBF solver: ", noted(rbf_solvers().names(), CalibrationRequest{}.solver, "default with --model rbf"),
-                                                  "; triad: ", noted(nls_solvers().names(), TriadFitOptions{}.solver, "default")));
+  cmd->add_option("--recording", o->recording, "Training recording: a single gyro with ref_rate_dps, a triad recording with --axis, or for --model triad the triad's");
+  cmd->add_option("--model", o->model, str_cat(noted(model_fitters().names(), {{"hybrid", "physics + Bayesian RBF"},
+                                                                                     {"triad", "three gyros: misalignment, biases, surfaces"}}),
+                                               "; a kind's options: --options-of <model>"));
+  cmd->add_option("--solver", o->solver, str_cat("RBF solver: ", noted(rbf_solvers().names(), {{CalibrationRequest{}.solver, "default with --model rbf"}}),
+                                                  "; triad: ", noted(nls_solvers().names(), {{TriadFitOptions{}.solver, "default"}})));
   // The triad's options are --set surfaces=... and estimation=...; these four spellings of them are kept for
   // scripts that use them, out of the help (a kind's own options are listed by --options-of).
   cmd->add_option("--surfaces", o->surfaces, "triad: --set surfaces=...")->group("");

@@ -9,9 +9,22 @@
 namespace gyrosid {
 
 void save_model(const std::filesystem::path& path, const SensorModel& model, const nlohmann::json& extra) {
+  write_file_atomic(path, model_file_json(model, extra).dump(1) + "\n");
+}
+
+nlohmann::json model_file_json(const SensorModel& model, const nlohmann::json& extra) {
   nlohmann::json j = model.to_json();
   for (auto it = extra.begin(); it != extra.end(); ++it) j[it.key()] = it.value();
-  write_file_atomic(path, j.dump(1) + "\n");
+  return j;
+}
+
+nlohmann::json fields_beside(const nlohmann::json& file, const SensorModel& model) {
+  const nlohmann::json values = model.to_json();
+  nlohmann::json extra = nlohmann::json::object();
+  for (auto it = file.begin(); it != file.end(); ++it) {
+    if (!values.contains(it.key()) || values.at(it.key()) != it.value()) extra[it.key()] = it.value();
+  }
+  return extra;
 }
 
 std::unique_ptr<SensorModel> sensor_model_from_json(const nlohmann::json& j, const std::string& source) {

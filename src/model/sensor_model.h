@@ -52,6 +52,11 @@ class SensorModel {
 // Saving and loading a model file of any kind, by its "kind" (model_kinds.h); Errors name the file. `extra`
 // (training provenance, the solve's summary, a fit's sigmas) is stored beside the model's values.
 void save_model(const std::filesystem::path& path, const SensorModel& model, const nlohmann::json& extra);
+// The file save_model writes: the model's values, each top-level field of `extra` beside or over them.
+nlohmann::json model_file_json(const SensorModel& model, const nlohmann::json& extra);
+// The reverse: the top-level fields of a model file that are not the model's own values as it writes them
+// (training, summary, a fit's sigmas), so that model_file_json(model, them) is the file again.
+nlohmann::json fields_beside(const nlohmann::json& file, const SensorModel& model);
 std::unique_ptr<SensorModel> sensor_model_from_json(const nlohmann::json& j, const std::string& source);
 std::unique_ptr<SensorModel> load_sensor_model(const std::filesystem::path& path);
 // A model file's JSON as it is (its training and summary included); Error naming the file it cannot read.

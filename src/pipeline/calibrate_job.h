@@ -1,7 +1,7 @@
-// `gyrosid calibrate` of a single gyro as a library job (issue 31): the CLI and Python call it. With a request
-// it fits that; without one it characterises the recording's noise and chooses the preset for it
-// (solvers/preset_choice.h), reading the recording as block means when that pays (core/decimation.h, auto).
-// Writing the model file is the caller's (save_model).
+// `gyrosid calibrate` as a library job (issue 31): the CLI and Python call it. With a request it fits that kind,
+// a single gyro's or the triad's; without one it characterises the recording's noise and chooses the preset for
+// it (solvers/preset_choice.h), reading the recording as block means when that pays (core/decimation.h, auto).
+// Writing the model file is the caller's (save_model(path, *fit.model, fit.extra)).
 #pragma once
 
 #include <functional>
@@ -23,7 +23,7 @@ struct CalibrateJobInput {
 };
 
 struct CalibrateJobResult {
-  CalibrationResult result;        // its training holds the preset chosen, its summary the decimation
+  ModelFit fit;                    // its extra's training holds the preset chosen, its summary the decimation
   std::optional<PresetChoice> choice;
   Decimation decimation;           // what was read (factor 1: the recording as it is)
   std::string averaging_statement; // the decimated fit's averaging bias (state_decimation); empty when not decimated
@@ -31,9 +31,10 @@ struct CalibrateJobResult {
 };
 
 // From a recording file: the single gyro, or with `axis` (x, y, z) one gyro of a triad recording under the
-// single-gyro names; only the columns the fit needs are read. Error naming the file, column or option.
+// single-gyro names, only the columns the fit needs read; a kind of several gyros (the triad) reads the whole
+// recording and takes neither `axis` nor `decimate`. Error naming the file, column or option.
 CalibrateJobResult run_calibrate_job(const std::string& recording, const std::string& axis, const CalibrateJobInput& input);
-// From a recording in memory (a single gyro).
+// From a recording in memory.
 CalibrateJobResult run_calibrate_job(const Recording& recording, const CalibrateJobInput& input);
 
 }  // namespace gyrosid

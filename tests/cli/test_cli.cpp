@@ -180,7 +180,7 @@ TEST_F(Cli, BadInputsAreClearErrorsAndLeaveNothingBehind) {
   std::ofstream(path("ok.csv")) << "t_s,ref_rate_dps,temp_c,gyro_dps\n0,1,25,1\n1,2,26,2\n2,3,27,3\n";
   r = run("calibrate --recording " + path("ok.csv") + " --model hybrid --solver bayes --out " + path("m.json"));
   EXPECT_EQ(r.status, 2);
-  EXPECT_THAT(r.output, HasSubstr("solver 'bayes' applies to --model rbf only; --model hybrid has its own fit"));
+  EXPECT_THAT(r.output, HasSubstr("solver 'bayes' applies to --model rbf and triad; --model hybrid has its own fit"));
   EXPECT_FALSE(fs::exists(path("m.json")));
 
   r = run("simulate");

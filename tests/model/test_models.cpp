@@ -245,8 +245,8 @@ TEST(ModelKindPlugin, IncompleteOrTakenIsRefused) {
   half.name = "poly2d";
   EXPECT_THAT(testing_support::error_of([&] { register_model_kind(half); }), ::testing::HasSubstr("model kind 'poly2d' registered twice"));
   EXPECT_EQ(model_kinds().names().size(), kinds);
-  // Every kind but explained (written by explain) and the triad (solvers/triad) is fitted by model_fitters().
-  EXPECT_EQ(model_fitters().names().size(), model_kinds().names().size() - 2);
+  // Every kind but explained (written by explain) is fitted by model_fitters().
+  EXPECT_EQ(model_fitters().names().size(), model_kinds().names().size() - 1);
 }
 
 TEST(PhysicsTerms, PolynomialOrdersFromFilesAreChecked) {

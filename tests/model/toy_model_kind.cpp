@@ -81,7 +81,7 @@ struct Poly2dOptions {
   std::string validate() const { return ""; }
 };
 
-class Poly2dFitter : public ModelFitter {
+class Poly2dFitter : public GyroModelFitter {
  public:
   explicit Poly2dFitter(Poly2dOptions o) : o_(o) {}
   std::vector<std::string> default_features() const override { return gyrosid::default_features(); }

@@ -16,7 +16,7 @@
 #include "model/triad_model.h"
 #include "sim/simulate.h"
 #include "solvers/triad/triad_fit.h"
-#include "report/triad_json.h"
+#include "solvers/triad/triad_file.h"
 #include "solvers/hand_turn_session.h"
 #include "trajectory/calibration_trajectories.h"
 

@@ -1,4 +1,4 @@
-#include "report/triad_json.h"
+#include "solvers/triad/triad_file.h"
 
 #include <cmath>
 
