@@ -54,11 +54,18 @@ nlohmann::json request_json(const CalibrationRequest& r, const std::vector<std::
           {"features", features}, {"target", to_string(r.target)}, {"normalization", to_string(r.normalization)}};
 }
 
-// Only the RBF network is trained by a named solver (and the triad by a least-squares back-end); the other
-// kinds have their own fit. A solver named for them would be dropped without a word, so it is refused.
-void refuse_solver(const CalibrationRequest& r) {
-  if (r.solver != CalibrationRequest{}.solver) {
+// The request's solver, target and normalization are the RBF network's (the triad takes a least-squares
+// back-end as its solver, triad_kind.cpp); every other kind has its own fit, models the rate error and scales
+// its own inputs. Given to one of them they would be dropped without a word - and the file's training would
+// still state them - so they are refused by name.
+void refuse_rbf_fields(const CalibrationRequest& r) {
+  const CalibrationRequest defaults;
+  if (r.solver != defaults.solver) {
     fail("solver '", r.solver, "' applies to --model rbf and triad; --model ", r.model, " has its own fit (its options: --options-of ", r.model, ")");
+  }
+  if (r.target != defaults.target) fail("--target ", to_string(r.target), " applies to --model rbf; --model ", r.model, " models the rate error");
+  if (r.normalization != defaults.normalization) {
+    fail("--normalization ", to_string(r.normalization), " applies to --model rbf; --model ", r.model, " scales its own inputs");
   }
 }
 
@@ -80,7 +87,7 @@ class DatasetFitter : public GyroModelFitter {
 };
 
 std::unique_ptr<ModelFitter> classical_fitter(const CalibrationRequest& r) {
-  refuse_solver(r);
+  refuse_rbf_fields(r);
   ClassicalOptions o;
   classical_table(o).apply(r.options);
   if (const std::string p = o.validate(); !p.empty()) fail("classical: ", p);
@@ -90,7 +97,7 @@ std::unique_ptr<ModelFitter> classical_fitter(const CalibrationRequest& r) {
 }
 
 std::unique_ptr<ModelFitter> greybox_fitter(const CalibrationRequest& r) {
-  refuse_solver(r);
+  refuse_rbf_fields(r);
   const GreyboxOptions o = greybox_options(r.options);
   return std::make_unique<DatasetFitter>(greybox_features(o), ModelTarget::error, [o, prior = r.greybox_prior](const Dataset& d, SolveSummary& s) {
     if (prior) return std::unique_ptr<CalibrationModel>(estimate_greybox(d, o, prior.get(), &s).model);
@@ -141,7 +148,7 @@ class HybridFitter : public GyroModelFitter {
 };
 
 std::unique_ptr<ModelFitter> hybrid_fitter(const CalibrationRequest& r) {
-  refuse_solver(r);
+  refuse_rbf_fields(r);
   HybridOptions o;
   o.table().apply(r.options);
   if (const std::string p = o.validate(); !p.empty()) fail("hybrid: ", p);
@@ -207,7 +214,7 @@ void register_model_kind(ModelKindPlugin kind) {
   if (model_kinds().find(kind.name) || model_fitters().find(kind.name)) fail("model kind '", kind.name, "' registered twice");
   extend_model_kinds().add({kind.name, kind.summary, [] { return std::string(); }, std::move(kind.load)});
   extend_model_fitters().add({kind.name, kind.summary, std::move(kind.help), [fit = std::move(kind.fit)](const CalibrationRequest& r) {
-                                refuse_solver(r);
+                                refuse_rbf_fields(r);
                                 return fit(r);
                               }});
   plugin_samples()[kind.name] = std::move(kind.sample);

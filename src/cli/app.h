@@ -15,22 +15,13 @@ int main(int argc, char** argv);
 // with exit status 2.
 using Action = std::function<void()>;
 
-void register_simulate(CLI::App& app, Action& action);
-void register_allan(CLI::App& app, Action& action);
-void register_run(CLI::App& app, Action& action);
-void register_calibrate(CLI::App& app, Action& action);
-void register_compensate(CLI::App& app, Action& action);
-void register_export(CLI::App& app, Action& action);
-void register_surface(CLI::App& app, Action& action);
-void register_cof(CLI::App& app, Action& action);
-void register_explain(CLI::App& app, Action& action);
-void register_design(CLI::App& app, Action& action);
-void register_import(CLI::App& app, Action& action);
-void register_session(CLI::App& app, Action& action);
-void register_lot(CLI::App& app, Action& action);
+// One subcommand's registration: its options and help added to the app, and the action it sets when chosen.
+using Verb = void(CLI::App& app, Action& action);
+// The built-in subcommands, one cmd_<name>.cpp each.
+Verb register_simulate, register_allan, register_run, register_calibrate, register_compensate, register_export, register_surface,
+    register_cof, register_explain, register_design, register_import, register_session, register_lot;
 
-// Adds one subcommand to the app: its options and help, and the action it sets when it is chosen.
-using VerbRegistration = void (*)(CLI::App& app, Action& action);
+using VerbRegistration = Verb*;
 // Every subcommand of `gyrosid`, in the order --help lists them: the thirteen above. A program built on
 // gyrosid_cli adds its own before it calls main (not thread-safe); tests/cli/toy_verb.cpp adds one.
 std::vector<VerbRegistration>& extend_verbs();

@@ -176,11 +176,19 @@ TEST_F(Cli, BadInputsAreClearErrorsAndLeaveNothingBehind) {
   r = run("allan --recording " + path("bad.csv") + " --column temp_c --out " + path("o"));
   EXPECT_EQ(r.status, 2);
 
-  // A solver is the RBF network's; named for another model kind it is refused, not dropped.
+  // A solver, a target and a normalization are the RBF network's; named for another model kind they are refused,
+  // not dropped (a classical fit with --target corrected_rate modelled the error, and its file said corrected_rate).
   std::ofstream(path("ok.csv")) << "t_s,ref_rate_dps,temp_c,gyro_dps\n0,1,25,1\n1,2,26,2\n2,3,27,3\n";
   r = run("calibrate --recording " + path("ok.csv") + " --model hybrid --solver bayes --out " + path("m.json"));
   EXPECT_EQ(r.status, 2);
   EXPECT_THAT(r.output, HasSubstr("solver 'bayes' applies to --model rbf and triad; --model hybrid has its own fit"));
+  EXPECT_FALSE(fs::exists(path("m.json")));
+  r = run("calibrate --recording " + path("ok.csv") + " --model classical --target corrected_rate --out " + path("m.json"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("--target corrected_rate applies to --model rbf; --model classical models the rate error"));
+  r = run("calibrate --recording " + path("ok.csv") + " --model greybox --normalization units --out " + path("m.json"));
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.output, HasSubstr("--normalization units applies to --model rbf; --model greybox scales its own inputs"));
   EXPECT_FALSE(fs::exists(path("m.json")));
 
   r = run("simulate");
