@@ -378,7 +378,7 @@ PYBIND11_MODULE(_gyrosid, m) {
         "Missing-physics finder: (explain.json as a dict, the explained Model).");
   m.def("run_main_job", &run_main_job_py, py::arg("out"), py::arg("flights") = std::vector<std::string>{"short", "medium", "long"},
         py::arg("noisy") = false, py::arg("rbf_config") = "", py::arg("seed") = 1, "The main job in-process; returns summary.json.");
-  m.def("design", &design_py, py::arg("budget_min"), py::arg("model") = "rbf", py::arg("envelope") = std::vector<std::string>{"short", "medium", "long"},
+  m.def("design", &design_py, py::arg("budget_min"), py::arg("model") = "auto", py::arg("envelope") = std::vector<std::string>{"short", "medium", "long"},
         py::arg("sensor") = kDefaultSensor, py::arg("solver") = "nlopt", py::arg("criterion") = "cof", py::arg("seed") = 1,
         py::arg("options") = py::dict(), py::arg("reference") = "", py::arg("prior") = "",
         "A calibration trajectory designed for a time budget by `gyrosid design`'s job: (trajectory YAML text, design.json as a dict).");

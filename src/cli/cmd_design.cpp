@@ -95,7 +95,7 @@ void design_and_write(const DesignCommand& c, PreparedDesign& p) {
   write_file_atomic(dir / "calibration.yaml", design::calibration_yaml(p.setup.family, p.setup.settings.model, context.model_domain(), context.noise()));
   plot_design_coverage(dir / "coverage.png", design::observe_trajectory(context, r.trajectory), context.envelope(),
                        str_cat("design for ", c.envelope, " (", format_significant(r.trajectory.profile.duration_min(), 4), " min, ",
-                               c.model, " model)"));
+                               p.setup.model, " model)"));
   write_file_atomic(dir / "report.md", design_report_markdown(p.report));
   checkpoint.finish();
   std::cout << "wrote " << c.out << "/trajectory.yaml (" << format_significant(r.trajectory.profile.duration_min(), 4) << " min, "
@@ -121,7 +121,9 @@ void register_design(CLI::App& app, Action& action) {
   auto c = std::make_shared<DesignCommand>();
   CLI::App* cmd = app.add_subcommand("design", "Design a calibration trajectory by optimisation, or predict the accuracy of one");
   cmd->add_option("--budget-min", c->budget_min, "Calibration time budget, minutes");
-  cmd->add_option("--model", c->model, "Calibration model the design is for: rbf, greybox, classical or hybrid (gyrosid's best noisy calibration)")->capture_default_str();
+  cmd->add_option("--model", c->model, "Calibration model the design is for: rbf, greybox, classical, hybrid (gyrosid's best noisy calibration), "
+                                       "or auto - the one gyrosid calibrate fits on the recording: greybox under a lot (--prior lot.json), "
+                                       "else the hybrid, its preset for a noisy gyro")->capture_default_str();
   cmd->add_option("--envelope", c->envelope, "Where the gyro will fly: flights (short, medium, long, flight .yaml/.csv), comma-separated, or uniform")
       ->capture_default_str();
   cmd->add_option("--uniform-domain", c->uniform_domain, "The uniform envelope: T_MIN_C,T_MAX_C,RATE_DPS")->capture_default_str();

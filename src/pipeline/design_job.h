@@ -28,7 +28,7 @@ inline constexpr const char* kDefaultEquipment = "builtin:equipment/thesis_lab.y
 // The inputs, named as `gyrosid design`'s options (its --help teaches them).
 struct DesignJobInput {
   double budget_min = 0.0;  // required unless evaluating
-  std::string model = "rbf", envelope = "short,medium,long", uniform_domain = "-20,60,100", criterion;
+  std::string model = "auto", envelope = "short,medium,long", uniform_domain = "-20,60,100", criterion;  // model: DesignSetup::model
   std::string sensor = kDefaultSensor, solver = "nlopt", reference, reference_model;
   std::string prior;  // a prior over sensors (sensor/sensor_prior.h) in place of `sensor`
   std::string equipment = kDefaultEquipment;
@@ -47,6 +47,7 @@ struct DesignSetup {
   design::DesignSettings settings;
   OptionMap solver_options;
   design::Criterion criterion{};
+  std::string model;  // --model, or for auto the model `gyrosid calibrate` fits on the recording (design_model)
   design::ModelFamily family{};
   bool lot = false;        // --prior is a lot (gyrosid lot learn)
   bool lot_prior = false;  // ... whose population the calibration designed for fits with

@@ -397,7 +397,7 @@ TEST_F(Cli, KilledMonteCarloResumesToTheSameResult) {
 TEST_F(Cli, KilledDesignResumesToTheSameResult) {
   for (const std::string solver : {"nlopt --set global_evaluations=400 --set local_evaluations=300", "ipopt --set starts=4 --set max_iterations=15"}) {
     const std::string name = solver.substr(0, solver.find(' '));
-    const std::string args = "--quiet design --budget-min 20 --envelope short --seed 3 --solver " + solver;
+    const std::string args = "--quiet design --budget-min 20 --envelope short --model rbf --seed 3 --solver " + solver;
     const int kills = kill_and_resume(args, dir_ / (name + "_whole"), dir_ / (name + "_killed"), ".design_checkpoint.json", 7);
     EXPECT_GE(kills, 1) << name << ": the run finished before every kill point";
     EXPECT_EQ(read_text(dir_ / (name + "_killed") / "trajectory.yaml"), read_text(dir_ / (name + "_whole") / "trajectory.yaml")) << name;
@@ -971,6 +971,20 @@ TEST_F(Cli, LotLearnsScreensAndCalibratesWithItsPrior) {
   const nlohmann::json ew = read_json(dir_ / "ew" / "evaluation.json")["trajectories"]["builtin:trajectories/dual_scan.yaml"]["flights"];
   const nlohmann::json eo = read_json(dir_ / "eo" / "evaluation.json")["trajectories"]["builtin:trajectories/dual_scan.yaml"]["flights"];
   for (const char* flight : {"short", "medium"}) EXPECT_LT(ew[flight]["cof_m"].get<double>(), 0.9 * eo[flight]["cof_m"].get<double>()) << flight;
+  // Without --model a design is for what `calibrate` fits on the recording: under the lot, its greybox MAP
+  // (calibrate --prior); for a noisy sensor, the hybrid (its preset). The same prediction as asking for it.
+  const std::string by_default = "design --evaluate builtin:trajectories/dual_scan.yaml --envelope short,medium --prior " + path("lot.json");
+  const Result auto_lot = run(by_default + " --out " + path("ea"));
+  ASSERT_EQ(auto_lot.status, 0) << auto_lot.output;
+  EXPECT_THAT(auto_lot.output, HasSubstr("model: greybox, what gyrosid calibrate fits on the recording (calibrate --prior with the lot)"));
+  EXPECT_EQ(read_json(dir_ / "ea" / "evaluation.json")["trajectories"]["builtin:trajectories/dual_scan.yaml"]["flights"], ew);
+  const std::string on_sensor = "design --evaluate builtin:trajectories/dual_scan.yaml --envelope short --out ";
+  const Result auto_sensor = run(on_sensor + path("es"));
+  EXPECT_THAT(auto_sensor.output, HasSubstr("model: hybrid, what gyrosid calibrate fits on the recording (its preset for a noisy gyro)"));
+  ASSERT_EQ(run(on_sensor + path("eh") + " --model hybrid").status, 0);
+  const nlohmann::json es = read_json(dir_ / "es" / "evaluation.json"), eh = read_json(dir_ / "eh" / "evaluation.json");
+  EXPECT_EQ(es["provenance"]["model"], "hybrid");
+  EXPECT_EQ(es["trajectories"], eh["trajectories"]);
   EXPECT_THAT(run(evaluate + " --set model.bias_order=2").output, HasSubstr("--set model.bias_order: the lot " + path("lot.json") + " fixes the grey-box structure"));
   EXPECT_THAT(run("design --evaluate builtin:trajectories/dual_scan.yaml --without-lot-prior --prior builtin:priors/open_loop_fog_type.yaml").output,
               HasSubstr("--without-lot-prior is for a lot"));
