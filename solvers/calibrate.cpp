@@ -54,13 +54,11 @@ nlohmann::json request_json(const CalibrationRequest& r, const std::vector<std::
           {"features", features}, {"target", to_string(r.target)}, {"normalization", to_string(r.normalization)}};
 }
 
-// The request's solver, target and normalization are the RBF network's (the triad takes a least-squares
-// back-end as its solver, triad_kind.cpp); every other kind has its own fit, models the rate error and scales
-// its own inputs. Given to one of them they would be dropped without a word - and the file's training would
-// still state them - so they are refused by name.
-void refuse_rbf_fields(const CalibrationRequest& r) {
+}  // namespace
+
+void refuse_rbf_fields(const CalibrationRequest& r, bool solver_too) {
   const CalibrationRequest defaults;
-  if (r.solver != defaults.solver) {
+  if (solver_too && r.solver != defaults.solver) {
     fail("solver '", r.solver, "' applies to --model rbf and triad; --model ", r.model, " has its own fit (its options: --options-of ", r.model, ")");
   }
   if (r.target != defaults.target) fail("--target ", to_string(r.target), " applies to --model rbf; --model ", r.model, " models the rate error");
@@ -68,6 +66,8 @@ void refuse_rbf_fields(const CalibrationRequest& r) {
     fail("--normalization ", to_string(r.normalization), " applies to --model rbf; --model ", r.model, " scales its own inputs");
   }
 }
+
+namespace {
 
 // A single-gyro model kind fitted to a Dataset of its features.
 class DatasetFitter : public GyroModelFitter {

@@ -92,6 +92,12 @@ void register_model_kind(ModelKindPlugin kind);
 using ModelSample = std::function<std::unique_ptr<CalibrationModel>()>;
 const std::map<std::string, ModelSample>& registered_model_samples();
 
+// The request's solver, target and normalization are the RBF network's; every other kind has its own fit, models
+// the rate error and scales its own inputs. Given to one of them they would be dropped without a word - while
+// the file's training stated them - so its fitter refuses them by name (`solver_too` false: a kind with a
+// solver of its own, the triad's least-squares back-end).
+void refuse_rbf_fields(const CalibrationRequest& request, bool solver_too = true);
+
 // A single gyro's model fitted to a recording; a kind of several gyros (the triad) is refused by name.
 CalibrationResult calibrate(const Recording& recording, const CalibrationRequest& request);
 // Any kind fitted to a recording: a single gyro's as calibrate() fits it, its file's extra the training and summary.

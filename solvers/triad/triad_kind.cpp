@@ -58,9 +58,7 @@ class TriadFitter : public ModelFitter {
 
 std::unique_ptr<ModelFitter> triad_fitter(const CalibrationRequest& r) {
   if (!r.features.empty()) fail("triad: the inputs are each gyro's output, the reference rates and the temperatures; --features applies to single-gyro models");
-  if (r.target != CalibrationRequest{}.target || r.normalization != CalibrationRequest{}.normalization) {
-    fail("triad: --target and --normalization apply to --model rbf");
-  }
+  refuse_rbf_fields(r, false);
   OptionMap given = r.options;
   if (r.solver != CalibrationRequest{}.solver) given["solver"] = r.solver;
   TriadFitOptions o;
