@@ -30,6 +30,10 @@ SensorPrior prior_with_measured_noise(const DesignJobInput& c, std::ostream& log
   return prior;
 }
 
+// Whether the design's grey-box model has a lot's structure: a scale-factor surface, without asymmetry or
+// g-sensitivity (the terms design/regressor.h does not carry).
+bool design_takes_structure(const GreyboxOptions& s) { return s.scale_factor == ScaleFactorForm::surface && !s.asymmetry && !s.g_sensitivity; }
+
 }  // namespace
 
 bool take_lot(const std::string& lot_file, const LotModel& lot, const std::string& model_name, design::ModelFamily family, const OptionMap& options,
@@ -43,7 +47,7 @@ bool take_lot(const std::string& lot_file, const LotModel& lot, const std::strin
   for (const char* key : {"model.bias_order", "model.grid_temperatures", "model.grid_temperatures_c", "model.grid_rates_dps", "model.shupe", "model.thermal_lag"}) {
     if (options.count(key)) fail("--set ", key, ": the lot ", lot_file, " fixes the grey-box structure");
   }
-  if (s.scale_factor != ScaleFactorForm::surface || s.asymmetry || s.g_sensitivity) {
+  if (!design_takes_structure(s)) {
     fail("--prior ", lot_file, ": the lot's grey-box structure has ", s.asymmetry ? "asymmetry" : s.g_sensitivity ? "g-sensitivity" : "a polynomial scale factor",
          ", which the design's grey-box model has not (--model rbf, classical or hybrid design for its members alone)");
   }
@@ -120,7 +124,7 @@ void set_envelope(const DesignJobInput& c, design::EnvelopeOptions& envelope) {
 // is 1.3-3.2x pessimistic.
 std::string design_model(const DesignJobInput& c, const std::optional<LotModel>& lot, std::ostream& log) {
   if (c.model != "auto") return c.model;
-  const bool lot_structure = lot && lot->structure.scale_factor == ScaleFactorForm::surface && !lot->structure.asymmetry && !lot->structure.g_sensitivity;
+  const bool lot_structure = lot && design_takes_structure(lot->structure);
   const std::string model = lot_structure ? "greybox" : "hybrid";
   log << "model: " << model << ", what gyrosid calibrate fits on the recording ("
       << (lot_structure ? "calibrate --prior with the lot" : "its preset for a noisy gyro") << ")\n";
