@@ -21,7 +21,8 @@
 //      Gauss-Markov variances and time constant) re-estimated by maximum likelihood with and without them - coloured noise can mimic a trend, but a wander is not explained
 //      better by one - and the one with the largest positive dBIC there is added; every other candidate within
 //      `ambiguity_bic` of it that it makes redundant - and that makes it redundant - is reported as an
-//      alternative the data cannot tell apart.
+//      alternative the data cannot tell apart, by the step's whitened fit or, for the candidates the
+//      likelihood tried, by that likelihood with the pair in (its noise maximised again).
 #pragma once
 
 #include <cstdint>

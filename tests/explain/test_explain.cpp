@@ -857,6 +857,30 @@ TEST(Explain, AnAgeingTrendBesideAWarmupIsStillNamed) {
   EXPECT_NEAR(parameter(*a, "k_dph_per_h").value, 4.0, 1.0);
 }
 
+// A trend of 3 deg/h per hour that sets in at 15 % of the 240-min record (36 min), and nothing else. An
+// ageing trend from the first sample explains nearly the same (the onset costs ln n, the misfit of the first
+// 36 min about as much): the ageing trend is named with the ramp as its alternative, and the experiment that
+// would separate them. On this simulator's noise the step's whitened test already finds the pair redundant;
+// on the independent generator's (issue 34: a trend from 15 % of the record, named ageing alone on 3 of 3
+// seeds) only the likelihood that chose the ageing trend does, with the pair in
+// (experiments/concealed_effects/onsets.py). At 12 deg/h per hour (seed 33) the onset was resolved and the
+// trend reported as unexplained, localised in time.
+TEST(Explain, ATrendFromEarlyInTheRecordIsAnAlternativeOfAgeing) {
+  Recording rec = long_recording(32, 0.0, 1.0, 0.0, 1.0, 0.0);
+  const auto& t = rec.column("t_s");
+  std::vector<double> gyro = rec.column("gyro_dps");
+  const double onset = t.front() + 0.15 * (t.back() - t.front());
+  for (std::size_t i = 0; i < rec.rows(); ++i) gyro[i] += 3.0 * std::max(0.0, t[i] - onset) / 3600.0 / 3600.0;
+  rec.set_column("gyro_dps", gyro);
+  const ExplainResult r = explain_recording(rec, fast());
+  ASSERT_EQ(r.summary.effects.size(), 1u) << ids(r.summary);
+  const FoundEffect& first = r.summary.effects[0];
+  ASSERT_EQ(first.id, "aging_trend") << ids(r.summary);
+  EXPECT_NE(std::find(first.alternatives.begin(), first.alternatives.end(), "bias_ramp"), first.alternatives.end());
+  ASSERT_FALSE(first.separating.empty());
+  EXPECT_NE(first.separating.front().experiment.find("before the supposed onset"), std::string::npos) << first.separating.front().experiment;
+}
+
 // The test recording (128 min, 8 blocks of 16 min; blocks 2 and 6 held out) with a warm-up of `amplitude_dph`
 // decaying with `tau_s` from the first sample added to the gyro output.
 Recording with_warmup(std::uint64_t seed, double amplitude_dph, double tau_s) {

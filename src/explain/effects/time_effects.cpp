@@ -141,6 +141,17 @@ class ChangePoint : public Effect {
                                             const TermScaling&) const override {
     return {PhysicalParameter::estimate(ramp_ ? "slope_dph_per_h" : "step_dph", beta(0), sigma(0))};
   }
+  std::string separating_experiment(std::string_view other) const override {
+    if (ramp_ && other == "aging_trend") {
+      return "record for longer before the supposed onset, or repeat the run: ageing drifts from the start at one "
+             "rate, a trend that sets in is flat before its time";
+    }
+    if (!ramp_ && other == "warmup_transient") {
+      return "power-cycle the gyro and record again: a warm-up transient restarts at turn-on, a step does not "
+             "return at the same time";
+    }
+    return "";
+  }
   // A step's time by the two-window scan (a ramp's onset has no such scan yet: its grid alone).
   std::vector<double> located_parameters(const ExplainInput& in, const Eigen::VectorXd& residual) const override {
     return ramp_ ? std::vector<double>{} : step_times(in, residual);
