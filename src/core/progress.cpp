@@ -10,8 +10,10 @@ namespace gyrosid {
 
 namespace {
 int quiet_override = -1;  // -1: from the environment
+thread_local int silenced_here = 0;  // ProgressSilenced guards alive on this thread
 
 bool progress_quiet() {
+  if (silenced_here > 0) return true;
   const char* quiet = std::getenv("GYROSID_QUIET");
   return quiet_override >= 0 ? quiet_override == 1 : quiet != nullptr && std::string_view(quiet) != "0";
 }
@@ -19,6 +21,9 @@ bool progress_quiet() {
 }  // namespace
 
 void set_quiet_progress(bool quiet) { quiet_override = quiet ? 1 : 0; }
+
+ProgressSilenced::ProgressSilenced() { ++silenced_here; }
+ProgressSilenced::~ProgressSilenced() { --silenced_here; }
 
 void progress_note(std::string_view text) {
   if (progress_quiet()) return;

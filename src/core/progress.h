@@ -14,6 +14,16 @@ namespace gyrosid {
 
 void set_quiet_progress(bool quiet);
 
+// While one lives, Progress and progress_note are silent on the thread that made it: for jobs run side by side,
+// whose own lines would interleave, and whose caller reports their progress as one.
+class ProgressSilenced {
+ public:
+  ProgressSilenced();
+  ~ProgressSilenced();
+  ProgressSilenced(const ProgressSilenced&) = delete;
+  ProgressSilenced& operator=(const ProgressSilenced&) = delete;
+};
+
 // One plain line on stderr for a stage of a long command, e.g. "explain: selection step 1: 2 candidates" or
 // "explain: refit: 5.2 s", on a terminal or not; silenced like Progress.
 void progress_note(std::string_view text);

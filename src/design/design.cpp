@@ -1,8 +1,11 @@
 #include "design/design.h"
 
+#include <atomic>
 #include <chrono>
 
 #include "core/error.h"
+#include "core/parallel.h"
+#include "core/progress.h"
 
 namespace gyrosid::design {
 
@@ -84,6 +87,23 @@ Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpe
   return c.predict(o);
 }
 
+std::vector<Prediction> evaluate_trajectories(const std::vector<TrajectoryEvaluation>& pairs) {
+  std::vector<Prediction> out(pairs.size());
+  Progress progress(str_cat("design: predicting ", pairs.size(), " trajectory-sensor pairs"), pairs.size());
+  std::atomic<std::size_t> done = 0;
+  parallel_for(static_cast<std::ptrdiff_t>(pairs.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (std::ptrdiff_t k = begin; k < end; ++k) {
+      {
+        const ProgressSilenced quiet;
+        out[static_cast<std::size_t>(k)] = evaluate_trajectory(*pairs[static_cast<std::size_t>(k)].context, *pairs[static_cast<std::size_t>(k)].trajectory);
+      }
+      ++done;
+      if (begin == 0) progress.update(done);  // one thread reports for all
+    }
+  });
+  return out;
+}
+
 double trajectory_objective(const DesignContext& context, const TrajectorySpec& t) {
   const Observations o = observe_trajectory(context, t);
   const std::unique_ptr<DesignContext> wide = widened(context, o);
@@ -154,11 +174,18 @@ DesignResult design_trajectory(const std::vector<WeightedContext>& members, cons
                                      to_string(context.criterion()), ", solver ", request.solver,
                                      request.selection.rounds > 0 ? ", chosen by the exact predictor" : "", ", seed ", request.seed, ")");
   const TrajectorySpec judged = spec(problem.continued(best));  // recorded + new
-  r.predicted = chosen ? *chosen : evaluate_trajectory(context, judged);
-  r.initial_predicted = evaluate_trajectory(context, spec(problem.continued(r.initial)));
+  // The design (unless the exact selection predicted it), the initial trajectory, and the design on every
+  // further member of the prior, side by side.
+  const TrajectorySpec initial = spec(problem.continued(r.initial));
+  std::vector<TrajectoryEvaluation> pairs{{&context, &initial}};
+  if (!chosen) pairs.push_back({&context, &judged});
+  for (std::size_t k = 1; k < members.size(); ++k) pairs.push_back({members[k].context, &judged});
+  const std::vector<Prediction> p = evaluate_trajectories(pairs);
+  r.initial_predicted = p[0];
+  r.predicted = chosen ? *chosen : p[1];
   if (members.size() > 1) {
     r.member_predictions.push_back(r.predicted);
-    for (std::size_t k = 1; k < members.size(); ++k) r.member_predictions.push_back(evaluate_trajectory(*members[k].context, judged));
+    r.member_predictions.insert(r.member_predictions.end(), p.end() - static_cast<std::ptrdiff_t>(members.size() - 1), p.end());
   }
   return r;
 }

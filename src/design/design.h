@@ -80,6 +80,14 @@ DesignResult design_trajectory(const std::vector<WeightedContext>& members, cons
 // On the trajectory's own samples, with the model widened to the trajectory's temperatures when they exceed
 // the context's domain (the model a user would fit to that trajectory).
 Prediction evaluate_trajectory(const DesignContext& context, const TrajectorySpec& trajectory);
+// Many predictions side by side (on up to worker_threads() threads, one Progress for all): each pair's is the
+// same as evaluate_trajectory's alone. A prior's members are independent, and much of one prediction - the
+// hybrid's evidence network along the trajectory - runs on one thread.
+struct TrajectoryEvaluation {
+  const DesignContext* context;
+  const TrajectorySpec* trajectory;
+};
+std::vector<Prediction> evaluate_trajectories(const std::vector<TrajectoryEvaluation>& pairs);
 // evaluate_trajectory's `objective` alone (the optimiser's, without the full prediction; seconds cheaper).
 double trajectory_objective(const DesignContext& context, const TrajectorySpec& trajectory);
 // The design's observations on the trajectory's own samples (for coverage plots and evaluation).

@@ -91,10 +91,16 @@ std::vector<PriorMemberPredictions> prior_predictions(const SensorPrior& prior, 
                                                       const std::vector<std::string>& compare) {
   std::vector<TrajectorySpec> compared;
   for (const auto& path : compare) compared.push_back(load_trajectory_file(path));
+  std::vector<design::TrajectoryEvaluation> pairs;
+  for (const auto& member : contexts.members) {
+    for (const auto& spec : compared) pairs.push_back({member.context, &spec});
+  }
+  const std::vector<design::Prediction> predicted = design::evaluate_trajectories(pairs);
   std::vector<PriorMemberPredictions> out;
+  auto next = predicted.begin();
   for (std::size_t k = 0; k < prior.members.size(); ++k) {
     PriorMemberPredictions m{prior.members[k].name, prior.members[k].origin, prior.members[k].weight, r.member_predictions[k], {}};
-    for (const auto& spec : compared) m.compared.emplace_back(spec.profile.name, design::evaluate_trajectory(*contexts.members[k].context, spec));
+    for (const auto& spec : compared) m.compared.emplace_back(spec.profile.name, *next++);
     out.push_back(std::move(m));
   }
   return out;

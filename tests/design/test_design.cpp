@@ -13,6 +13,7 @@
 
 #include "core/config.h"
 #include "core/error.h"
+#include "core/parallel.h"
 #include "core/random.h"
 #include "core/units.h"
 #include "design/design.h"
@@ -682,6 +683,29 @@ TEST(DesignAssessment, APredictionTakesTheNetworkTheCalibrationWouldFitAlongTheT
                 SmallProblem(ModelFamily::hybrid, Criterion::cof, bad);
               }),
               ::testing::HasSubstr("model.network"));
+}
+
+// Predictions side by side (two threads: a hybrid with its evidence network, and a grey-box model; then the
+// same hybrid context on both threads at once) are bit for bit those made one at a time.
+TEST(Design, PredictionsSideBySideAreThoseMadeOneAtATime) {
+  const SmallProblem hybrid(ModelFamily::hybrid, Criterion::cof), greybox(ModelFamily::greybox, Criterion::cof);
+  const TrajectorySpec t = small_programme();
+  const std::vector<TrajectoryEvaluation> pairs{{&hybrid.context, &t}, {&greybox.context, &t}, {&hybrid.context, &t}, {&hybrid.context, &t}};
+  set_worker_threads(2);
+  const std::vector<Prediction> together = evaluate_trajectories(pairs);
+  set_worker_threads(0);
+  ASSERT_EQ(together.size(), pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const Prediction alone = evaluate_trajectory(*pairs[k].context, *pairs[k].trajectory);
+    EXPECT_EQ(together[k].objective, alone.objective) << k;
+    ASSERT_EQ(together[k].flights.size(), alone.flights.size());
+    for (std::size_t f = 0; f < alone.flights.size(); ++f) {
+      EXPECT_EQ(together[k].flights[f].cof_m, alone.flights[f].cof_m) << k;
+      EXPECT_EQ(together[k].flights[f].cof_posterior_m, alone.flights[f].cof_posterior_m) << k;
+    }
+    EXPECT_EQ(together[k].network.has_value(), alone.network.has_value());
+  }
+  EXPECT_NE(together[0].objective, together[1].objective);  // two models, two answers
 }
 
 // A 20-min hybrid cof_minimax problem, its estimate, and a 30-min programme's prediction as the reference.
