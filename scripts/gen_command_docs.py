@@ -65,9 +65,8 @@ def index_page(commands, text):
             "| --- | --- |\n%s\n\n```text\n%s```\n" % (NOTE % "", rows, text))
 
 
-def readme_with_table(readme_path, commands):
+def readme_with_table(readme_path, text, commands):
     """README.md's text with the table between its markers generated from the subcommands (links into docs/commands)."""
-    text = open(readme_path).read()
     begin, end = text.find(README_BEGIN), text.find(README_END)
     if begin < 0 or end < begin:
         sys.exit("gen_command_docs: %s has no '%s' ... '%s' markers for the table of subcommands"
@@ -85,9 +84,8 @@ def write_atomically(path, text):
     os.replace(tmp, path)
 
 
-def pages(gyrosid):
-    """{file name: text} of every page."""
-    top = help_text(gyrosid)
+def pages(gyrosid, top):
+    """{file name: text} of every page; `top`: `gyrosid --help`."""
     commands = subcommands(top)
     out = {"README.md": index_page(commands, top)}
     for name, description in commands:
@@ -105,15 +103,17 @@ def main():
     ap.add_argument("--readme", default=DEFAULT_README, help="the README whose table of subcommands is generated")
     ap.add_argument("--check", action="store_true", help="compare with --out and --readme instead of writing them")
     args = ap.parse_args()
-    generated = pages(args.gyrosid)
-    readme = readme_with_table(args.readme, subcommands(help_text(args.gyrosid)))
+    top = help_text(args.gyrosid)
+    generated = pages(args.gyrosid, top)
+    readme_now = open(args.readme).read()
+    readme = readme_with_table(args.readme, readme_now, subcommands(top))
     if args.check:
         present = {n for n in os.listdir(args.out) if n.endswith(".md")} if os.path.isdir(args.out) else set()
         stale = sorted(n for n, text in generated.items()
                        if n not in present or open(os.path.join(args.out, n)).read() != text)
         stale += sorted(present - set(generated))
         stale = [os.path.join(args.out, n) for n in stale]
-        if open(args.readme).read() != readme:
+        if readme_now != readme:
             stale.append(args.readme)
         for name in stale:
             print("%s: differs from `gyrosid --help` (regenerate: scripts/gen_command_docs.py --gyrosid <build>/gyrosid)"
