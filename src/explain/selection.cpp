@@ -431,9 +431,11 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
 
 // Alternatives: close in dBIC, and each makes the other redundant. Weaker alternatives: explain at least
 // half as much on their own and nothing once the chosen effect is in - the data prefer the chosen one, but
-// this recording alone does not make them impossible.
+// this recording alone does not make them impossible. `by_likelihood`: the alternatives the likelihood gate
+// found (indices into `open`); its verdict wins over the whitened one.
 void find_alternatives(SelectedEffect& chosen, std::size_t b, const std::vector<Evaluated>& ev, const std::vector<Candidate>& open,
-                       const Step& c, const ModelSpec& next, const WhitenedFit& next_fit, double ambiguity_bic) {
+                       const Step& c, const ModelSpec& next, const WhitenedFit& next_fit, double ambiguity_bic,
+                       const std::vector<std::size_t>& by_likelihood) {
   for (std::size_t i = 0; i < ev.size(); ++i) {
     if (i == b || !(ev[i].score.delta_bic > ambiguity_bic) || ev[i].score.delta_bic < 0.5 * ev[b].score.delta_bic) continue;
     const double other_given_best = evaluate(open[i], next, c.in, c.sc, c.w, next_fit).score.delta_bic;
@@ -446,6 +448,11 @@ void find_alternatives(SelectedEffect& chosen, std::size_t b, const std::vector<
     if (fixed.nonlinear != NonlinearParameter::none) fixed.tau_grid_s = {ev[b].score.tau_s};
     const double best_given_other = evaluate(fixed, swapped, c.in, c.sc, c.w, fit_model(swapped, c.in, c.yw, c.sc, c.w)).score.delta_bic;
     if (other_given_best < ambiguity_bic && best_given_other < ambiguity_bic) chosen.alternatives.push_back(std::string(open[i].id()));
+  }
+  for (std::size_t i : by_likelihood) {
+    const std::string id(open[i].id());
+    std::erase(chosen.weaker_alternatives, id);
+    if (std::find(chosen.alternatives.begin(), chosen.alternatives.end(), id) == chosen.alternatives.end()) chosen.alternatives.push_back(id);
   }
 }
 
@@ -556,12 +563,7 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
     const auto b = static_cast<std::size_t>(best);
     SelectedEffect chosen{open[b], ev[b].score, {}, {}};
     ModelSpec next = with_effect(result.model, open[b], ev[b].score.tau_s);
-    find_alternatives(chosen, b, ev, open, c, next, fit_model(next, in, yw, sc, w), o.ambiguity_bic);
-    for (std::size_t i : gated.alternatives) {  // the likelihood's verdict over the whitened one
-      const std::string id(open[i].id());
-      std::erase(chosen.weaker_alternatives, id);
-      if (std::find(chosen.alternatives.begin(), chosen.alternatives.end(), id) == chosen.alternatives.end()) chosen.alternatives.push_back(id);
-    }
+    find_alternatives(chosen, b, ev, open, c, next, fit_model(next, in, yw, sc, w), o.ambiguity_bic, gated.alternatives);
     result.effects.push_back(chosen);
     result.model = std::move(next);
     open.erase(open.begin() + best);
