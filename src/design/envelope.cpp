@@ -124,39 +124,27 @@ Linearisation linearise(const Envelope& e, const Regressor& regressor) {
   Linearisation out;
   if (e.uniform_samples) out.uniform_columns = regressor.columns(*e.uniform_samples);
   const Eigen::Index p = regressor.size();
-  Progress progress("design: linearising the criterion of fit", e.flights.size() * 3 * static_cast<std::size_t>(p));
+  Progress progress("design: linearising the criterion of fit", e.flights.size());
   std::size_t done = 0;
   for (const auto& f : e.flights) {
     FlightLinearisation lin;
-    lin.sensitivity = Eigen::MatrixXd::Zero(3, p);
     const Excitation& ex = f.evaluator->excitation();
     std::array<std::vector<double>, 3> reference;
     for (int a = 0; a < 3; ++a) {
       reference[static_cast<std::size_t>(a)].resize(ex.size());
       for (std::size_t k = 0; k < ex.size(); ++k) reference[static_cast<std::size_t>(a)][k] = ex.omega_ib_b[k](a);
     }
+    // The position error's gradient by each axis's rate at each step, once for every parameter: a residual of
+    // -column j on axis a moves it by -gradient_a column_j.
+    const std::array<Eigen::Matrix3Xd, 3> gradient = f.evaluator->position_error_gradient(reference, f.horizon_s);
+    lin.sensitivity = Eigen::MatrixXd::Zero(3, p);
     std::vector<Eigen::MatrixXd> surface;
     std::vector<Eigen::VectorXd> surface_error;
     for (int a = 0; a < 3; ++a) {
       const auto ai = static_cast<std::size_t>(a);
       const Eigen::MatrixXd cols = regressor.columns(f.axes[ai]);
-      // Response to a residual of -column j on axis a, scaled to 1e-7 rad/s rms (0.02 deg/h): linear.
-      Eigen::MatrixXd response(3, p);
-      parallel_for(p, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-        std::array<std::vector<double>, 3> rates = reference;
-        for (Eigen::Index j = begin; j < end; ++j) {
-          const double rms = std::sqrt(cols.col(j).squaredNorm() / static_cast<double>(std::max<Eigen::Index>(1, cols.rows())));
-          if (!(rms > 0)) {
-            response.col(j).setZero();
-            continue;
-          }
-          const double eps = 1e-7 / rms;
-          for (Eigen::Index k = 0; k < cols.rows(); ++k) rates[ai][static_cast<std::size_t>(k)] = reference[ai][static_cast<std::size_t>(k)] - eps * cols(k, j);
-          response.col(j) = f.evaluator->position_error(rates, f.horizon_s) / eps;
-        }
-      });
-      lin.sensitivity += response;
-      progress.update(done += static_cast<std::size_t>(p));
+      if (cols.rows() > gradient[ai].cols()) fail("design: flight '", f.name, "' has more model inputs than INS steps to its horizon");
+      lin.sensitivity -= gradient[ai].leftCols(cols.rows()) * cols;
       const Eigen::Index stride = std::max<Eigen::Index>(1, cols.rows() / static_cast<Eigen::Index>(kSurfaceSamplesPerAxis));
       const Eigen::Index m = (cols.rows() + stride - 1) / stride;
       Eigen::MatrixXd sub(m, p);
@@ -176,6 +164,7 @@ Linearisation linearise(const Envelope& e, const Regressor& regressor) {
       at += surface[a].rows();
     }
     out.flights.push_back(std::move(lin));
+    progress.update(++done);
   }
   progress.finish();
   return out;

@@ -9,6 +9,7 @@
 #include "core/units.h"
 #include "model/dataset.h"
 #include "nav/strapdown.h"
+#include "nav/strapdown_adjoint.h"
 #include "sensor/misalignment.h"
 
 namespace gyrosid::nav {
@@ -171,9 +172,43 @@ CofRun CofEvaluator::integrate(const std::array<std::vector<double>, 3>& rates, 
   return r;
 }
 
-Eigen::Vector3d CofEvaluator::position_error(const std::array<std::vector<double>, 3>& rates, double at_s) const {
+std::size_t CofEvaluator::steps_to(double at_s) const {
   const auto steps = static_cast<std::size_t>(std::llround(std::clamp(at_s, flight_.dt_s, duration_s()) / flight_.dt_s));
-  return integrate(rates, false, steps).error_ned;
+  return std::min(steps, excitation_.size());
+}
+
+Eigen::Vector3d CofEvaluator::position_error(const std::array<std::vector<double>, 3>& rates, double at_s) const {
+  return integrate(rates, false, steps_to(at_s)).error_ned;
+}
+
+std::array<Eigen::Matrix3Xd, 3> CofEvaluator::position_error_gradient(const std::array<std::vector<double>, 3>& rates, double at_s) const {
+  const std::size_t n = steps_to(at_s);
+  const double dt = flight_.dt_s;
+  std::vector<StrapdownIns> path;
+  path.reserve(n + 1);
+  path.emplace_back(flight_.initial(), dt);
+  std::vector<Eigen::Vector3d> dtheta(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    dtheta[k] = Eigen::Vector3d(rates[0][k], rates[1][k], rates[2][k]) * dt;
+    path.push_back(path.back());
+    path.back().step(dtheta[k], flight_.dv[k]);
+  }
+  // d error_at(n) / d (lat, lon, h) of the INS, by differences of the same sizes as the adjoint's.
+  const NavState& a = reference_path_[n];
+  const NavState& b = path.back().state();
+  const auto offset = [&](double lat, double lon, double h) { return earth::ned_offset(a.lat, a.lon, a.h, lat, lon, h); };
+  const Eigen::Vector3d e0 = offset(b.lat, b.lon, b.h);
+  Eigen::Matrix3d out;
+  out.col(0) = (offset(b.lat + 1e-9, b.lon, b.h) - e0) / 1e-9;
+  out.col(1) = (offset(b.lat, b.lon + 1e-9, b.h) - e0) / 1e-9;
+  out.col(2) = (offset(b.lat, b.lon, b.h + 1e-3) - e0) / 1e-3;
+  const std::vector<Eigen::Matrix3d> by_increment = final_position_gradient(path, dtheta, flight_.dv, out);
+  std::array<Eigen::Matrix3Xd, 3> gradient;
+  for (int ax = 0; ax < 3; ++ax) {
+    gradient[static_cast<std::size_t>(ax)].resize(3, static_cast<Eigen::Index>(n));
+    for (std::size_t k = 0; k < n; ++k) gradient[static_cast<std::size_t>(ax)].col(static_cast<Eigen::Index>(k)) = by_increment[k].col(ax) * dt;
+  }
+  return gradient;
 }
 
 CofRun CofEvaluator::run(CompensationMode mode, bool noise, std::uint64_t seed, bool record_growth) const {

@@ -93,8 +93,12 @@ class CofEvaluator {
   const std::array<std::vector<double>, 3>& deterministic_outputs() const { return deterministic_; }
   const std::vector<double>& model_temperature_c() const { return probe_temp_; }
   Eigen::Vector3d position_error(const std::array<std::vector<double>, 3>& rates, double at_s) const;
+  // Its gradient by the rates about `rates`: position_error changes by sum_k gradient[a].col(k) d rates[a][k]
+  // (m per rad/s of gyro axis a at step k), by the adjoint of the INS (strapdown_adjoint.h).
+  std::array<Eigen::Matrix3Xd, 3> position_error_gradient(const std::array<std::vector<double>, 3>& rates, double at_s) const;
 
  private:
+  std::size_t steps_to(double at_s) const;
   // INS over the first `steps` steps (all when 0).
   CofRun integrate(const std::array<std::vector<double>, 3>& rates, bool record_growth, std::size_t steps = 0) const;
   std::array<std::vector<double>, 3> compensate(const std::array<std::vector<double>, 3>& measured) const;

@@ -77,4 +77,23 @@ void StrapdownIns::step(const Eigen::Vector3d& dtheta, const Eigen::Vector3d& dv
   t_ += dt_;
 }
 
+void StrapdownIns::perturb(const StateVector& dx) {
+  s_.lat += dx(0), s_.lon += dx(1), s_.h += dx(2);
+  s_.v_n += dx.segment<3>(3);
+  s_.q_n_b = rotation_vector_quaternion(dx.segment<3>(6)) * s_.q_n_b;
+  prev_v_n_ += dx.segment<3>(9);
+  prev_dtheta_ += dx.segment<3>(12);
+}
+
+StrapdownIns::StateVector StrapdownIns::minus(const StrapdownIns& other) const {
+  StateVector d;
+  d << s_.lat - other.s_.lat, s_.lon - other.s_.lon, s_.h - other.s_.h, s_.v_n - other.s_.v_n, Eigen::Vector3d::Zero(),
+      prev_v_n_ - other.prev_v_n_, prev_dtheta_ - other.prev_dtheta_;
+  // q(dx) = q_this q_other^-1; its rotation vector is 2 vec(q) to first order (sign fixed by w >= 0).
+  Eigen::Quaterniond e = s_.q_n_b * other.s_.q_n_b.conjugate();
+  if (e.w() < 0) e.coeffs() = -e.coeffs();
+  d.segment<3>(6) = 2.0 * e.vec();
+  return d;
+}
+
 }  // namespace gyrosid::nav

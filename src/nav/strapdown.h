@@ -28,6 +28,15 @@ class StrapdownIns {
   const NavState& state() const { return s_; }
   double time_s() const { return t_; }
 
+  // Its state as a vector, for linearising the step (strapdown_adjoint.h): latitude, longitude (rad), height
+  // (m), v_n (m/s), a small rotation of the computed navigation frame (rad, NED: q_n_b -> q(dx) q_n_b), and
+  // the memory of the two-sample algorithms the gyros reach: the previous step's v_n and delta-theta.
+  static constexpr int kStateSize = 15;
+  using StateVector = Eigen::Matrix<double, kStateSize, 1>;
+  void perturb(const StateVector& dx);
+  // This state minus `other`'s, in the coordinates of perturb (the attitude to first order).
+  StateVector minus(const StrapdownIns& other) const;
+
  private:
   NavState s_;
   double dt_;
