@@ -71,6 +71,7 @@ NoiseModel full_model_noise(const ExplainInput& in, const Eigen::VectorXd& y, co
   std::vector<Eigen::MatrixXd> blocks{x_base};
   for (const auto& c : candidates) {
     if (c.further_component) continue;  // the same columns as its first component
+    if (c.flexible_form) continue;
     const std::vector<double> grid = grid_of(c);
     std::vector<double> points = grid;
     if (grid.size() > 3) points = {grid[grid.size() / 6], grid[grid.size() / 2], grid[grid.size() * 5 / 6]};

@@ -881,6 +881,29 @@ TEST(Explain, ATrendFromEarlyInTheRecordIsAnAlternativeOfAgeing) {
   EXPECT_NE(first.separating.front().experiment.find("before the supposed onset"), std::string::npos) << first.separating.front().experiment;
 }
 
+// A bump of the bias in temperature (a resonance, no polynomial's shape): 30 deg/h at 15 C, 8 C wide, on the
+// 10-deg/h noise. The polynomial candidate (dT^4, dT^5 beside the base's cubic) follows it only in part; the
+// cubic spline on 8-C knots beside the base's cubic names it and takes the held-out rms back to the noise.
+// (At 6 deg/h the polynomial's fit is within the spline's price of its 7 more columns, and it is named in
+// polynomial form.)
+TEST(Explain, ABumpOfTheBiasInTemperatureIsNamedByTheBiasSpline) {
+  Recording rec = simulate_with("", 36);
+  const auto& temp = rec.column("temp_c");
+  std::vector<double> gyro = rec.column("gyro_dps");
+  for (std::size_t i = 0; i < rec.rows(); ++i) gyro[i] += 30.0 * std::exp(-std::pow((temp[i] - 15.0) / 8.0, 2)) / 3600.0;
+  rec.set_column("gyro_dps", gyro);
+  const ExplainResult r = explain_recording(rec, fast());
+  const FoundEffect* e = effect(r.summary, "temperature_bias");
+  ASSERT_NE(e, nullptr) << ids(r.summary) << unexplained(r.summary);
+  ASSERT_FALSE(e->parameters.empty());
+  EXPECT_EQ(e->parameters.front().name.rfind("b3_", 0), 0u) << "not the spline form: " << e->parameters.front().name;
+  EXPECT_EQ(e->parameters.back().name, "knot_spacing_c");
+  EXPECT_NEAR(e->parameters.back().value, 8.0, 0.5);
+  // Held out, the refitted model is back at the 10-deg/h noise floor.
+  EXPECT_LT(r.summary.fit.heldout_rms_after_dph, 10.5);
+  EXPECT_GT(r.summary.fit.heldout_rms_before_dph, 11.0);
+}
+
 // The test recording (128 min, 8 blocks of 16 min; blocks 2 and 6 held out) with a warm-up of `amplitude_dph`
 // decaying with `tau_s` from the first sample added to the gyro output.
 Recording with_warmup(std::uint64_t seed, double amplitude_dph, double tau_s) {

@@ -92,13 +92,14 @@ inline std::unique_ptr<CalibrationModel> sample_greybox_posterior() {
 inline std::unique_ptr<CalibrationModel> sample_explained() {
   std::vector<Term> terms{bias_term(), temperature_polynomial({1, 2}), asymmetry_term(),
                           scale_factor_polynomial({{0, 0}, {1, 0}, {0, 2}}),
-                          scale_factor_surface({-20, 10, 40, 60}, {-100, -30, 0, 20, 100})};
+                          scale_factor_surface({-20, 10, 40, 60}, {-100, -30, 0, 20, 100}), temperature_spline({-30, 5, 25, 32, 50, 70})};
   TermScaling scaling;
   scaling.t_ref_c = 20.0, scaling.t_scale_c = 40.0, scaling.rate_scale_radps = 1.7;
-  Eigen::VectorXd beta(27);
-  beta << units::dph_to_radps(-12.0), units::dph_to_radps(3.0), units::dph_to_radps(-1.0), 2e-4, 1e-4, -5e-5, 3e-4, Eigen::VectorXd::Zero(20);
+  Eigen::VectorXd beta(29);
+  beta << units::dph_to_radps(-12.0), units::dph_to_radps(3.0), units::dph_to_radps(-1.0), 2e-4, 1e-4, -5e-5, 3e-4, Eigen::VectorXd::Zero(22);
   RandomStream r(7, "explained surface");
   for (Eigen::Index i = 7; i < 27; ++i) beta(i) = 1e-4 * r.normal();
+  for (Eigen::Index i = 27; i < 29; ++i) beta(i) = units::dph_to_radps(2.0) * r.normal();  // the bias spline's truncated cubics
   return std::make_unique<ExplainedModel>(scaling, 0.0, terms, beta);
 }
 

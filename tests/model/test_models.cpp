@@ -2,6 +2,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -18,6 +19,7 @@
 #include "model/hybrid_model.h"
 #include "model/model_kinds.h"
 #include "model/physics_terms.h"
+#include "model/terms/term_kinds.h"
 #include "error_of.h"
 #include "model_samples.h"
 #include "model/rbf_network.h"
@@ -260,6 +262,42 @@ TEST(PhysicsTerms, PolynomialOrdersFromFilesAreChecked) {
                           R"({"kind": "scale_factor", "sf_orders": [[1, "2"]]})"}) {
     EXPECT_THAT(testing_support::error_of([&] { load(bad); }), ::testing::HasSubstr("orders")) << bad;
   }
+}
+
+// The bias spline in temperature: beside a cubic, its truncated cubics span the not-a-knot cubic splines on
+// its knots - a not-a-knot spline through a bump's values at the knots (the surface's own 1-D
+// construction, sensor/spline_surface.h, independent of this basis) is reproduced between them by least
+// squares to round-off; T is held to the grid; bad grids refused.
+TEST(PhysicsTerms, TemperatureSplineBesideACubicSpansTheCubicSplines) {
+  const std::vector<double> knots{-30, -5, 10, 32, 45, 70};
+  const Term spline = Term::from_json(nlohmann::json::parse(R"({"kind": "bias_temperature_spline", "knots_c": [-30, -5, 10, 32, 45, 70]})"));
+  ASSERT_EQ(spline.size(), 2);
+  Signals s;
+  const int n = 401;
+  for (int k = 0; k < n; ++k) s.t_s.push_back(10.0 * k);
+  s.rate = Eigen::VectorXd::Zero(n);
+  s.temp_c = Eigen::VectorXd::LinSpaced(n, -30.0, 70.0);
+  const TermScaling scaling = TermScaling::of(s);
+  const std::vector<Term> terms{bias_term(), temperature_polynomial({1, 2, 3}), spline};
+  const Eigen::MatrixXd x = design_matrix(terms, s, coil_temperature(s, 0.0), scaling);
+  Eigen::MatrixXd values(6, 2);
+  for (int i = 0; i < 6; ++i) values(i, 0) = values(i, 1) = std::exp(-std::pow((knots[static_cast<std::size_t>(i)] - 20.0) / 15.0, 2));
+  const SplineSurface reference(knots, {-1.0, 1.0}, values, OutsideGridPolicy::clamp);
+  Eigen::VectorXd y(n);
+  for (int k = 0; k < n; ++k) y(k) = reference(s.temp_c(k), 0.0).value;
+  const Eigen::VectorXd beta = x.colPivHouseholderQr().solve(y);
+  EXPECT_LT((x * beta - y).cwiseAbs().maxCoeff(), 1e-10);
+  // Held at the grid's ends.
+  Signals beyond = s;
+  beyond.temp_c = Eigen::VectorXd::Constant(n, 95.0);
+  const Eigen::MatrixXd held = term_columns(spline, beyond, coil_temperature(beyond, 0.0), scaling);
+  EXPECT_NEAR(held(0, 0), std::pow((70.0 - 10.0) / 20.0, 3), 1e-12);
+  EXPECT_EQ(Term::from_json(spline.to_json()).to_json(), spline.to_json());
+  for (const char* bad : {R"({"kind": "bias_temperature_spline", "knots_c": [10]})", R"({"kind": "bias_temperature_spline", "knots_c": [10, 5, 20]})"}) {
+    EXPECT_THAT(testing_support::error_of([&] { Term::from_json(nlohmann::json::parse(bad)); }), ::testing::HasSubstr("strictly increasing")) << bad;
+  }
+  EXPECT_THAT(testing_support::error_of([&] { Term::from_json(nlohmann::json::parse(R"({"kind": "bias_temperature_spline", "knots_c": [0, 10, 20, 30]})")); }),
+              ::testing::HasSubstr("at least five knots"));
 }
 
 }  // namespace

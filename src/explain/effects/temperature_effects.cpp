@@ -10,6 +10,7 @@ namespace gyrosid::explain::effects {
 namespace {
 
 constexpr const char* kStaticTemperature = "the temperature does not vary";
+constexpr double kSplineKnotSpacingC = 8.0;  // the bias spline's knot spacing: features of about 10 C
 
 class TemperatureBias : public Effect {
  public:
@@ -19,7 +20,9 @@ class TemperatureBias : public Effect {
            "wavelength, coil birefringence and electronic offsets all move with temperature).";
   }
   std::string_view parameters_help() const override {
-    return "c1_dph_per_c, c2_dph_per_c2, ...: the added powers of (T - t_ref_c); t_ref_c (deg C)";
+    return "c1_dph_per_c, c2_dph_per_c2, ...: the added powers of (T - t_ref_c); t_ref_c (deg C); or, for a shape no low "
+           "polynomial follows, a cubic spline in T: b3_<T>c_dph, the bias (deg/h) ((T - knot) / knot_spacing_c)^3 adds above each "
+           "knot but the two outermost at each end";
   }
   Proposal propose(const CandidateContext& c) const override {
     if (!c.temp_varies) return {{}, kStaticTemperature};
@@ -28,13 +31,39 @@ class TemperatureBias : public Effect {
     for (int k : {1, 2, 3, max_bias + 1, max_bias + 2}) {
       if (k <= 6 && !c.bias_orders.count(k) && std::find(orders.begin(), orders.end(), k) == orders.end()) orders.push_back(k);
     }
-    if (orders.empty()) return {{}, "the simulation's bias polynomial already has every order up to 6"};
-    std::sort(orders.begin(), orders.end());
-    return {{candidate(temperature_polynomial(orders))}, ""};
+    Proposal p;
+    if (!orders.empty()) {
+      std::sort(orders.begin(), orders.end());
+      p.candidates.push_back(candidate(temperature_polynomial(orders)));
+    }
+    // A bias of any smooth shape in T, which no polynomial of low order follows (a bump, a knee): beside the
+    // base's cubic, a cubic spline on knots about kSplineKnotSpacingC apart over the recorded range (at most
+    // 13 knots, 9 columns).
+    const Eigen::VectorXd& t = c.in.signals.temp_c;
+    const double lo = t.minCoeff(), hi = t.maxCoeff();
+    const int intervals = std::min(12, static_cast<int>(std::ceil((hi - lo) / kSplineKnotSpacingC)));
+    if (intervals >= 4) {
+      std::vector<double> knots;
+      for (int i = 0; i <= intervals; ++i) knots.push_back(lo + (hi - lo) * i / intervals);
+      Candidate spline = candidate(temperature_spline(knots));
+      spline.flexible_form = true;
+      p.candidates.push_back(std::move(spline));
+    }
+    if (p.candidates.empty()) p.untestable = "the simulation's bias polynomial already has every order up to 6";
+    return p;
   }
   std::vector<PhysicalParameter> parameters(const Term& t, const Eigen::VectorXd& beta, const Eigen::VectorXd& sigma,
                                             const TermScaling& sc) const override {
     std::vector<PhysicalParameter> out;
+    if (const auto* spline = t.as<TemperatureSpline>()) {
+      // Its coefficients: the bias each knot's truncated cubic adds one knot spacing above it.
+      for (std::size_t i = 2; i + 2 < spline->knots_c().size(); ++i) {
+        const auto k = static_cast<Eigen::Index>(i - 2);
+        out.push_back(PhysicalParameter::estimate(str_cat("b3_", std::lround(spline->knots_c()[i]), "c_dph"), beta(k), sigma(k)));
+      }
+      out.push_back(PhysicalParameter::reference_value("knot_spacing_c", spline->spacing_c()));
+      return out;
+    }
     const auto& orders = t.as<TemperaturePolynomial>()->orders();
     for (std::size_t c = 0; c < orders.size(); ++c) {
       const int k = orders[c];

@@ -1,7 +1,11 @@
-// The scale-factor error as a bicubic spline surface over a (T, omega) grid (thesis figs 3.5/3.6): the
-// not-a-knot interpolation is linear in the grid values, so column (i, j) is omega times the surface
-// through a unit value at node (i, j), held at the grid's edge outside it (sensor/spline_surface.h).
+// Spline terms. The scale-factor error as a bicubic spline surface over a (T, omega) grid (thesis figs
+// 3.5/3.6): the not-a-knot interpolation is linear in the grid values, so column (i, j) is omega times the
+// surface through a unit value at node (i, j), held at the grid's edge outside it (sensor/spline_surface.h).
+// The bias beyond a cubic in the coil temperature: truncated cubics at the knots but the two outermost at each
+// end, so that with the cubic they span the not-a-knot cubic splines on the grid (the third derivative
+// continuous across the first and last inner knots, as the surface's splines).
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 
 #include "core/error.h"
@@ -11,13 +15,20 @@
 
 namespace gyrosid {
 
+namespace {
+
+void check_grid(const std::vector<double>& g, const char* kind) {
+  const bool finite = std::all_of(g.begin(), g.end(), [](double v) { return std::isfinite(v); });
+  if (g.size() < 2 || !finite || !std::is_sorted(g.begin(), g.end()) || std::adjacent_find(g.begin(), g.end()) != g.end()) {
+    fail("physics term ", kind, ": grids need at least two strictly increasing values");
+  }
+}
+
+}  // namespace
+
 ScaleFactorSurface::ScaleFactorSurface(std::vector<double> temps_c, std::vector<double> rates_dps)
     : temps_c_(std::move(temps_c)), rates_dps_(std::move(rates_dps)) {
-  for (const auto* g : {&temps_c_, &rates_dps_}) {
-    if (g->size() < 2 || !std::is_sorted(g->begin(), g->end()) || std::adjacent_find(g->begin(), g->end()) != g->end()) {
-      fail("physics term scale_factor_surface: grids need at least two strictly increasing values");
-    }
-  }
+  for (const auto* g : {&temps_c_, &rates_dps_}) check_grid(*g, "scale_factor_surface");
 }
 
 std::vector<std::string> ScaleFactorSurface::column_names() const {
@@ -82,5 +93,37 @@ std::string ScaleFactorSurface::export_c(TermCode& code) const {
 Term scale_factor_surface(std::vector<double> temps_c, std::vector<double> rates_dps) {
   return Term(std::make_shared<ScaleFactorSurface>(std::move(temps_c), std::move(rates_dps)));
 }
+
+TemperatureSpline::TemperatureSpline(std::vector<double> knots_c) : knots_c_(std::move(knots_c)) {
+  check_grid(knots_c_, "bias_temperature_spline");
+  if (knots_c_.size() < 5) fail("physics term bias_temperature_spline: needs at least five knots");
+}
+
+double TemperatureSpline::spacing_c() const { return (knots_c_.back() - knots_c_.front()) / static_cast<double>(knots_c_.size() - 1); }
+
+std::vector<std::string> TemperatureSpline::column_names() const {
+  std::vector<std::string> out;
+  for (std::size_t i = 2; i + 2 < knots_c_.size(); ++i) out.push_back(str_cat("((T - ", knots_c_[i], " C)+ / ", spacing_c(), " C)^3"));
+  return out;
+}
+
+void TemperatureSpline::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const {
+  const Eigen::ArrayXd t = in.coil.temp_c.array().max(knots_c_.front()).min(knots_c_.back());
+  for (std::size_t i = 2; i + 2 < knots_c_.size(); ++i) {
+    out.col(static_cast<Eigen::Index>(i - 2)) = ((t - knots_c_[i]).max(0.0) / spacing_c()).cube().matrix();
+  }
+}
+
+std::string TemperatureSpline::export_c(TermCode& code) const {
+  code.body << std::hexfloat << "  { const double tc = fmin(fmax(" << code.input("temperature") << ", " << knots_c_.front() << "), "
+            << knots_c_.back() << ");\n";
+  for (std::size_t i = 2; i + 2 < knots_c_.size(); ++i) {
+    code.body << "    e += " << code.coefficient(static_cast<int>(i - 2)) << " * pow(fmax(tc - " << knots_c_[i] << ", 0.0) / " << spacing_c() << ", 3);\n";
+  }
+  code.body << std::defaultfloat << "  }\n";
+  return "";
+}
+
+Term temperature_spline(std::vector<double> knots_c) { return Term(std::make_shared<TemperatureSpline>(std::move(knots_c))); }
 
 }  // namespace gyrosid

@@ -6,6 +6,11 @@
 //   bias_temperature      dT^k                       for each order k >= 1
 //   scale_factor          omega dT^i u^j             for each (i, j)                      (thesis eq 3.48)
 //   scale_factor_surface  omega B_ij(T, omega)       the bicubic-spline basis of a (T, omega) grid (fig 3.6)
+//   bias_temperature_spline  ((T - k_i)+ / h)^3      for the knots k_2 .. k_{n-3} of a grid k_0 .. k_{n-1} of coil
+//                                                    temperatures (spacing h, T held to the grid): beside a
+//                                                    cubic bias, the not-a-knot cubic splines on the grid - a
+//                                                    bias of any smooth shape in T (a bump, a knee) with
+//                                                    coefficients the base cannot take
 //   asymmetry             |omega|                    (dSF differs by 2 beta between the senses)
 //   shupe                 dT_coil/dt, deg C/s        (eq 3.3)
 //   hysteresis            (T - P_r(T)) / 2r: the play operator of half-width r = width/2 (Preisach's elementary
@@ -88,6 +93,23 @@ class ScaleFactorSurface : public TermBasis {
 
  private:
   std::vector<double> temps_c_, rates_dps_;
+};
+
+class TemperatureSpline : public TermBasis {
+ public:
+  explicit TemperatureSpline(std::vector<double> knots_c);
+  std::string_view kind() const override { return "bias_temperature_spline"; }
+  int size() const override { return static_cast<int>(knots_c_.size()) - 4; }
+  std::vector<std::string> column_names() const override;
+  void columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const override;
+  void parameters_json(nlohmann::json& j) const override { j["knots_c"] = knots_c_; }
+  double spacing_c() const;  // the mean knot spacing h
+  bool uses_temperature() const override { return true; }
+  std::string export_c(TermCode& code) const override;
+  const std::vector<double>& knots_c() const { return knots_c_; }
+
+ private:
+  std::vector<double> knots_c_;
 };
 
 class AsymmetryTerm : public TermBasis {
@@ -194,6 +216,7 @@ Term bias_term();
 Term temperature_polynomial(std::vector<int> orders);
 Term scale_factor_polynomial(ScaleFactorPolynomial::Orders orders);
 Term scale_factor_surface(std::vector<double> temps_c, std::vector<double> rates_dps);
+Term temperature_spline(std::vector<double> knots_c);
 Term asymmetry_term();
 Term shupe_term();
 Term hysteresis_term(double width_c = 0.0, double second_width_c = 0.0);

@@ -57,6 +57,8 @@ const TermKindRegistry& term_kinds() {
                 const auto& g = j.at("grid");
                 return std::make_unique<ScaleFactorSurface>(list<double>(g, "temperatures_c"), list<double>(g, "rates_dps"));
               }})
+        .add({"bias_temperature_spline", "((T - k_i)+ / h)^3 at knots_c but the two outermost at each end (spacing h): beside a cubic bias, the not-a-knot cubic splines in the coil temperature", none,
+              [](const nlohmann::json& j) -> P { return std::make_unique<TemperatureSpline>(list<double>(j, "knots_c")); }})
         .add({"shupe", "dT_coil/dt, deg C/s", none, [](const nlohmann::json&) -> P { return std::make_unique<ShupeTerm>(); }})
         .add({"hysteresis", "+-1/2 on the heating/cooling branch, moving between them over width_c after a reversal (and a second "
                             "column over second_width_c, if given)", none,
