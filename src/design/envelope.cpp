@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "core/parallel.h"
 #include "core/progress.h"
 #include "core/units.h"
 #include "core/config.h"

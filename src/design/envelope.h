@@ -7,9 +7,10 @@
 // at most one hour - the long flight's "error after 1 h") is
 //   dp = m + S (theta - theta_bar),   S = d dp / d theta,  m = dp(e - A theta_bar)
 // with theta_bar the expected estimate (its value on noise-free data)
-// S (3 x p) comes from the strapdown INS itself, one run per parameter and axis with a small rate
-// perturbation along the parameter's column (linear in the perturbation: the runs stay metres from the
-// reference path); m is one exact run with the expected model's residual.
+// S (3 x p) comes from the strapdown INS itself: S = -sum_a G_a A_a, with G_a (3 x N) the gradient of the
+// position error by axis a's rate at every step about the reference path, from one backward (adjoint) pass
+// of the INS per flight (nav/strapdown_adjoint.h) for all parameters at once; m is one exact run with the
+// expected model's residual.
 #pragma once
 
 #include <Eigen/Core>
