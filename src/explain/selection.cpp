@@ -437,8 +437,11 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
 void find_alternatives(SelectedEffect& chosen, std::size_t b, const std::vector<Evaluated>& ev, const std::vector<Candidate>& open,
                        const Step& c, const ModelSpec& next, const WhitenedFit& next_fit, double ambiguity_bic,
                        const std::vector<std::size_t>& by_likelihood) {
+  // Another candidate of the chosen effect (the polynomial or the spline form of a temperature bias) is no
+  // alternative to it.
+  const auto same_effect = [&](std::size_t i) { return open[i].id() == open[b].id(); };
   for (std::size_t i = 0; i < ev.size(); ++i) {
-    if (i == b || !(ev[i].score.delta_bic > ambiguity_bic) || ev[i].score.delta_bic < 0.5 * ev[b].score.delta_bic) continue;
+    if (i == b || same_effect(i) || !(ev[i].score.delta_bic > ambiguity_bic) || ev[i].score.delta_bic < 0.5 * ev[b].score.delta_bic) continue;
     const double other_given_best = evaluate(open[i], next, c.in, c.sc, c.w, next_fit).score.delta_bic;
     if (ev[i].score.delta_bic < ev[b].score.delta_bic - ambiguity_bic) {
       if (other_given_best < ambiguity_bic) chosen.weaker_alternatives.push_back(std::string(open[i].id()));
@@ -451,6 +454,7 @@ void find_alternatives(SelectedEffect& chosen, std::size_t b, const std::vector<
     if (other_given_best < ambiguity_bic && best_given_other < ambiguity_bic) chosen.alternatives.push_back(std::string(open[i].id()));
   }
   for (std::size_t i : by_likelihood) {
+    if (same_effect(i)) continue;
     const std::string id(open[i].id());
     std::erase(chosen.weaker_alternatives, id);
     if (std::find(chosen.alternatives.begin(), chosen.alternatives.end(), id) == chosen.alternatives.end()) chosen.alternatives.push_back(id);
@@ -568,6 +572,11 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
     result.effects.push_back(chosen);
     result.model = std::move(next);
     open.erase(open.begin() + best);
+    // Its other forms (a temperature bias's polynomial or spline: the same effect, another term kind) leave
+    // too; candidates of the same kind (two auxiliary channels) stay.
+    std::erase_if(open, [&](const Candidate& o) {
+      return o.effect == chosen.candidate.effect && o.term && chosen.candidate.term && o.term->kind() != chosen.candidate.term->kind();
+    });
     clock.lap("refinement and alternatives");
   }
   return result;

@@ -15,8 +15,9 @@ constexpr int kN = StrapdownIns::kStateSize;
 // Central-difference steps per state coordinate, powers of two so that a coordinate plus its step is exact:
 // 0.7 m of position (2^-23 rad), 0.5 m of height, 8 mm/s, 1 urad of attitude, 7.5 nrad of increment. The
 // Jacobians of a step are I plus couplings of order dt; a rounding error of ulp/h in them, repeated over
-// 10^4-10^5 steps, is what the steps must keep small (relative 1e-9 here), while the central differences
-// leave a truncation of order h^2.
+// 10^4-10^5 steps, is what the steps must keep small, while the central differences leave a truncation of
+// order h^2. (One-sided differences with steps of 1 nrad and 0.1 mm/s were off by 1e-4 relative; these agree
+// with central differences of the whole INS to 2e-8 - 3e-6, tests/nav/test_cof.cpp.)
 State state_steps() {
   State h;
   h << 0x1p-23, 0x1p-23, 0x1p-1, 0x1p-7, 0x1p-7, 0x1p-7, 0x1p-20, 0x1p-20, 0x1p-20, 0x1p-7, 0x1p-7, 0x1p-7, 0x1p-27, 0x1p-27, 0x1p-27;
