@@ -8,7 +8,6 @@
 #include "core/random.h"
 #include "core/units.h"
 #include "model/dataset.h"
-#include "nav/strapdown.h"
 #include "nav/strapdown_adjoint.h"
 #include "sensor/misalignment.h"
 
@@ -142,10 +141,12 @@ std::array<std::vector<double>, 3> CofEvaluator::compensate(const std::array<std
   return out;
 }
 
-CofRun CofEvaluator::integrate(const std::array<std::vector<double>, 3>& rates, bool record_growth, std::size_t steps) const {
+CofRun CofEvaluator::integrate(const std::array<std::vector<double>, 3>& rates, bool record_growth, std::size_t steps,
+                               std::vector<StrapdownIns>* path) const {
   const std::size_t n = steps > 0 ? std::min(steps, excitation_.size()) : excitation_.size();
   const double dt = flight_.dt_s;
   StrapdownIns ins(flight_.initial(), dt);
+  if (path) path->assign(1, ins), path->reserve(n + 1);
   CofRun r;
   const std::size_t stride = std::max<std::size_t>(1, n / 2000);
   const std::size_t hour = static_cast<std::size_t>(std::llround(3600.0 / dt));
@@ -160,6 +161,7 @@ CofRun CofEvaluator::integrate(const std::array<std::vector<double>, 3>& rates, 
     r.residual_mean += e;
     r.residual_rms += e.cwiseAbs2();
     ins.step(w * dt, flight_.dv[k]);
+    if (path) path->push_back(ins);
     if (record_growth && ((k + 1) % stride == 0 || k + 1 == n)) {
       r.growth.push_back({excitation_.t_s[k], error_at(k + 1).norm()});
     }
@@ -184,16 +186,12 @@ Eigen::Vector3d CofEvaluator::position_error(const std::array<std::vector<double
 std::array<Eigen::Matrix3Xd, 3> CofEvaluator::position_error_gradient(const std::array<std::vector<double>, 3>& rates, double at_s) const {
   const std::size_t n = steps_to(at_s);
   const double dt = flight_.dt_s;
-  std::vector<StrapdownIns> path;
-  path.reserve(n + 1);
-  path.emplace_back(flight_.initial(), dt);
+  std::vector<StrapdownIns> path;  // the INS before each step and after the last, as integrate runs it
+  integrate(rates, false, n, &path);
   std::vector<Eigen::Vector3d> dtheta(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    dtheta[k] = Eigen::Vector3d(rates[0][k], rates[1][k], rates[2][k]) * dt;
-    path.push_back(path.back());
-    path.back().step(dtheta[k], flight_.dv[k]);
-  }
-  // d error_at(n) / d (lat, lon, h) of the INS, by differences of the same sizes as the adjoint's.
+  for (std::size_t k = 0; k < n; ++k) dtheta[k] = Eigen::Vector3d(rates[0][k], rates[1][k], rates[2][k]) * dt;
+  // d error_at(n) / d (lat, lon, h) of the INS by one-sided differences (6 mm, 1 mm): ned_offset is linear in
+  // the end point's coordinates but for its radii and cosine at the mid-latitude.
   const NavState& a = reference_path_[n];
   const NavState& b = path.back().state();
   const auto offset = [&](double lat, double lon, double h) { return earth::ned_offset(a.lat, a.lon, a.h, lat, lon, h); };

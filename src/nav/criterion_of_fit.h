@@ -23,6 +23,7 @@
 #include "core/enum_names.h"
 #include "model/calibration_model.h"
 #include "model/triad_model.h"
+#include "nav/strapdown.h"
 #include "sensor/gyro_sensor.h"
 #include "trajectory/flight.h"
 
@@ -99,8 +100,9 @@ class CofEvaluator {
 
  private:
   std::size_t steps_to(double at_s) const;
-  // INS over the first `steps` steps (all when 0).
-  CofRun integrate(const std::array<std::vector<double>, 3>& rates, bool record_growth, std::size_t steps = 0) const;
+  // INS over the first `steps` steps (all when 0); with `path`, the INS before each step and after the last.
+  CofRun integrate(const std::array<std::vector<double>, 3>& rates, bool record_growth, std::size_t steps = 0,
+                   std::vector<StrapdownIns>* path = nullptr) const;
   std::array<std::vector<double>, 3> compensate(const std::array<std::vector<double>, 3>& measured) const;
 
   const FlightTrajectory& flight_;

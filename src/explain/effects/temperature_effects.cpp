@@ -49,7 +49,10 @@ class TemperatureBias : public Effect {
       spline.flexible_form = true;
       p.candidates.push_back(std::move(spline));
     }
-    if (p.candidates.empty()) p.untestable = "the simulation's bias polynomial already has every order up to 6";
+    if (p.candidates.empty()) {
+      p.untestable = "the simulation's bias polynomial already has every order up to 6, and the temperature spans less than four "
+                     "knot spacings of a spline";
+    }
     return p;
   }
   std::vector<PhysicalParameter> parameters(const Term& t, const Eigen::VectorXd& beta, const Eigen::VectorXd& sigma,
