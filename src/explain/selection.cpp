@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <optional>
 
@@ -334,6 +335,64 @@ struct Gated {
   std::vector<std::size_t> alternatives;  // indices into the step's candidates
 };
 
+// Each significant candidate on its own at the null's likelihood noise (`s0`), side by side: its dBIC, and
+// where it has a nonlinear parameter, that parameter refined under the step's whitening (`step_tau`) and
+// under the null's noise - the one the null's noise scores higher is kept (a change time the near-white scan
+// placed well can be lost in the coloured scan's coarser optimum, a hysteresis width the other way round).
+struct HeldScores {
+  std::vector<double> delta_bic;  // -inf where not scored
+  std::vector<double> step_tau;   // NaN where the candidate has no nonlinear parameter
+};
+
+HeldScores score_at_null_noise(std::vector<Evaluated>& ev, const std::vector<Candidate>& open, const std::vector<std::size_t>& order,
+                               const Step& c, const Step& s0) {
+  HeldScores h{std::vector<double>(ev.size(), -std::numeric_limits<double>::infinity()),
+               std::vector<double>(ev.size(), std::numeric_limits<double>::quiet_NaN())};
+  parallel_for(static_cast<std::ptrdiff_t>(order.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    for (std::ptrdiff_t k = begin; k < end; ++k) {
+      const std::size_t i = order[static_cast<std::size_t>(k)];
+      if (open[i].nonlinear == NonlinearParameter::coil_lag) {
+        const LagScore lag = replaced_lag_score(open[i], s0);
+        ev[i].score.tau_s = lag.tau_s;
+        h.delta_bic[i] = lag.delta_bic;
+        continue;
+      }
+      Candidate at = open[i];
+      if (at.nonlinear != NonlinearParameter::none) {
+        h.step_tau[i] = refine_parameter(open[i], ev[i].score.tau_s, c);
+        at.tau_grid_s = {h.step_tau[i], refine_parameter(open[i], evaluate(open[i], s0.model, s0.in, s0.sc, s0.w, s0.fit).score.tau_s, s0)};
+      }
+      const Evaluated e = evaluate(at, s0.model, s0.in, s0.sc, s0.w, s0.fit);
+      ev[i].score.tau_s = e.score.tau_s;
+      h.delta_bic[i] = e.score.delta_bic;
+    }
+  });
+  for (std::size_t i : order) ev[i].score.held_delta_bic = h.delta_bic[i];
+  return h;
+}
+
+// The tried candidates (indices into the step's) that the likelihood cannot tell apart from the winner `b`
+// (its optimum `l_best`, the others' `l1`, in `chosen`'s order): within `ambiguity_bic` of its ML dBIC, and
+// neither adding `ambiguity_bic` to the other with the pair maximised from each one's optimum.
+std::vector<std::size_t> likelihood_rivals(const std::vector<Evaluated>& ev, const std::vector<Candidate>& open, const Step& c,
+                                           const NoiseLikelihood& likelihood, const std::vector<std::size_t>& chosen,
+                                           const std::vector<NoiseLikelihood::Optimum>& l1, std::size_t best_k, double ambiguity_bic,
+                                           const std::function<double(std::size_t)>& penalty) {
+  std::vector<std::size_t> rivals;
+  const std::size_t b = chosen[best_k];
+  const ModelSpec with_best = with_effect(c.model, open[b], ev[b].score.tau_s);
+  for (std::size_t k = 0; k < chosen.size(); ++k) {
+    const std::size_t i = chosen[k];
+    if (i == b || !(ev[i].score.ml_delta_bic > 0) || ev[i].score.ml_delta_bic < ev[b].score.ml_delta_bic - ambiguity_bic) continue;
+    const Eigen::MatrixXd x = model_columns(with_effect(with_best, open[i], ev[i].score.tau_s), c.in.signals, c.sc);
+    const double both = std::max(likelihood.maximise(x, c.y, l1[best_k]).log_likelihood, likelihood.maximise(x, c.y, l1[k]).log_likelihood);
+    const double other_given_best = 2.0 * (both - l1[best_k].log_likelihood) - penalty(i);
+    const double best_given_other = 2.0 * (both - l1[k].log_likelihood) - penalty(b);
+    if (other_given_best < ambiguity_bic && best_given_other < ambiguity_bic) rivals.push_back(i);
+  }
+  return rivals;
+}
+
 Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate>& open, const Step& c, const std::vector<Eigen::Index>& rows,
                          const NoiseModel& noise, const std::optional<NoiseLikelihood::Optimum>& current, int tries, double ambiguity_bic) {
   std::vector<std::size_t> order;
@@ -347,40 +406,14 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
   const NoiseLikelihood::Optimum l0 =
       current ? *current : NoiseLikelihood(rows, c.in.signals.t_s, noise).maximise(model_columns(c.model, c.in.signals, c.sc), c.y);
   const double n = static_cast<double>(c.yw.size());
-  // Every significant candidate at the null's likelihood noise.
   const Whitener w0(likelihood.model(l0), rows, c.in.signals.t_s);
   const Eigen::VectorXd yw0 = w0.apply(c.y);
   const WhitenedFit fit0 = fit_model(c.model, c.in, yw0, c.sc, w0);
   const Step s0{c.in, c.y, c.sc, w0, yw0, c.model, fit0};
-  std::vector<double> held(ev.size(), -std::numeric_limits<double>::infinity());
-  std::vector<double> step_tau(ev.size(), std::numeric_limits<double>::quiet_NaN());  // refined under the step's whitening
-  // Each candidate on its own (the candidates side by side).
-  parallel_for(static_cast<std::ptrdiff_t>(order.size()), [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-    for (std::ptrdiff_t k = begin; k < end; ++k) {
-      const std::size_t i = order[static_cast<std::size_t>(k)];
-      if (open[i].nonlinear == NonlinearParameter::coil_lag) {
-        const LagScore lag = replaced_lag_score(open[i], s0);
-        ev[i].score.tau_s = lag.tau_s;
-        held[i] = lag.delta_bic;
-        continue;
-      }
-      Candidate at = open[i];
-      if (at.nonlinear != NonlinearParameter::none) {
-        // Its parameter refined under the step's whitening and under the null's noise; the one the null's
-        // noise scores higher is kept (a change time the near-white scan placed well can be lost in the
-        // coloured scan's coarser optimum, a hysteresis width the other way round).
-        step_tau[i] = refine_parameter(open[i], ev[i].score.tau_s, c);
-        at.tau_grid_s = {step_tau[i], refine_parameter(open[i], evaluate(open[i], c.model, c.in, c.sc, w0, fit0).score.tau_s, s0)};
-      }
-      const Evaluated e = evaluate(at, c.model, c.in, c.sc, w0, fit0);
-      ev[i].score.tau_s = e.score.tau_s;
-      held[i] = e.score.delta_bic;
-    }
-  });
-  for (std::size_t i : order) ev[i].score.held_delta_bic = held[i];
+  const HeldScores held = score_at_null_noise(ev, open, order, c, s0);
   // The tries: the best by the held score, then the best by the step's whitened score not among them.
   std::vector<std::size_t> by_whitened = order;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return held[a] > held[b]; });
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return held.delta_bic[a] > held.delta_bic[b]; });
   std::stable_sort(by_whitened.begin(), by_whitened.end(), [&](std::size_t a, std::size_t b) { return ev[a].score.delta_bic > ev[b].score.delta_bic; });
   const auto first = [&](std::vector<std::size_t>& v) { return v.begin() + static_cast<std::ptrdiff_t>(std::min(v.size(), static_cast<std::size_t>(tries))); };
   std::vector<std::size_t> chosen(order.begin(), first(order));
@@ -392,7 +425,7 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
   for (auto it = by_whitened.begin(); it != first(by_whitened); ++it) {
     if (std::find(chosen.begin(), chosen.end(), *it) != chosen.end()) continue;
     chosen.push_back(*it);
-    if (!std::isnan(step_tau[*it])) ev[*it].score.tau_s = step_tau[*it];
+    if (!std::isnan(held.step_tau[*it])) ev[*it].score.tau_s = held.step_tau[*it];
   }
   // The tries are independent maximisations: run side by side (each result as it would be alone).
   std::vector<NoiseLikelihood::Optimum> l1(chosen.size());
@@ -414,19 +447,7 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
       best_k = k;
     }
   }
-  if (best.index < 0) return best;
-  // Rivals the likelihood cannot tell apart from the winner: the pair maximised from each one's optimum.
-  const auto b = static_cast<std::size_t>(best.index);
-  const ModelSpec with_best = with_effect(c.model, open[b], ev[b].score.tau_s);
-  for (std::size_t k = 0; k < chosen.size(); ++k) {
-    const std::size_t i = chosen[k];
-    if (i == b || !(ev[i].score.ml_delta_bic > 0) || ev[i].score.ml_delta_bic < ev[b].score.ml_delta_bic - ambiguity_bic) continue;
-    const Eigen::MatrixXd x = model_columns(with_effect(with_best, open[i], ev[i].score.tau_s), c.in.signals, c.sc);
-    const double both = std::max(likelihood.maximise(x, c.y, l1[best_k]).log_likelihood, likelihood.maximise(x, c.y, l1[k]).log_likelihood);
-    const double other_given_best = 2.0 * (both - l1[best_k].log_likelihood) - penalty(i);
-    const double best_given_other = 2.0 * (both - l1[k].log_likelihood) - penalty(b);
-    if (other_given_best < ambiguity_bic && best_given_other < ambiguity_bic) best.alternatives.push_back(i);
-  }
+  if (best.index >= 0) best.alternatives = likelihood_rivals(ev, open, c, likelihood, chosen, l1, best_k, ambiguity_bic, penalty);
   return best;
 }
 
