@@ -67,7 +67,8 @@ void register_session(CLI::App& app, Action& action) {
   cmd->add_option("--budget-min", o.budget_min, "Total time, minutes")->capture_default_str();
   cmd->add_option("--pilot-min", o.pilot_min, "The pilot: the first segment, designed for the prior, minutes")->capture_default_str();
   cmd->add_option("--update-at-min", o.updates_at_min, "Further updates and redesigns, minutes from the start (repeatable)");
-  cmd->add_option("--model", o.model, "Calibration model the designs are for: rbf, greybox, classical or hybrid")->capture_default_str();
+  cmd->add_option("--model", o.model, "Calibration model the designs are for: rbf, greybox, classical, hybrid, or auto - as gyrosid design's: "
+                                    "greybox under a lot (with its structure), else the hybrid")->capture_default_str();
   cmd->add_option("--calibration", o.calibration, "Calibration config of the interim and final fits (default: the design's, written as calibration.yaml)");
   cmd->add_option("--envelope", o.envelope, "Flights the gyro will fly (short, medium, long, flight files), comma-separated")->capture_default_str();
   cmd->add_option("--equipment", o.equipment, "Equipment file: the chamber's and table's limits")->capture_default_str();

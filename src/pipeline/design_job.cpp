@@ -121,22 +121,6 @@ void set_envelope(const DesignJobInput& c, design::EnvelopeOptions& envelope) {
   envelope.uniform_domain.rate_max_radps = units::dps_to_radps(std::stod(d[2]));
 }
 
-// --model auto: the model `gyrosid calibrate` fits on the recording the design will give - the greybox under a
-// lot whose structure the design's grey-box model has (calibrate --prior), else its preset for a noisy gyro, the
-// hybrid (solvers/preset_choice.h; a design needs noise, so the noise-free preset never applies). Measured
-// (experiments/trajectory_design/defaults_check.py, 8 seeds, every programme calibrated with that preset): the
-// hybrid's design beats the RBF network's on 3 of 6 sensor-flights and ties one, and its predicted criterion of
-// fit is within 1.15x of the achieved, where the RBF's - a prediction for a calibration the user does not run -
-// is 1.3-3.2x pessimistic.
-std::string design_model(const DesignJobInput& c, const std::optional<LotModel>& lot, std::ostream& log) {
-  if (c.model != "auto") return c.model;
-  const bool lot_structure = lot && design_takes_structure(lot->structure);
-  const std::string model = lot_structure ? "greybox" : "hybrid";
-  log << "model: " << model << ", what gyrosid calibrate fits on the recording ("
-      << (lot_structure ? "calibrate --prior with the lot" : "its preset for a noisy gyro") << ")\n";
-  return model;
-}
-
 DesignSetup design_setup(const DesignJobInput& c, std::ostream& log) {
   DesignSetup s;
   const OptionMap options = parse_options(c.set);
@@ -148,7 +132,7 @@ DesignSetup design_setup(const DesignJobInput& c, std::ostream& log) {
   if (s.criterion == design::Criterion::cof_minimax) s.settings.minimax_defaults(options);  // it always has a reference (below)
   const std::optional<LotModel> lot = c.prior.empty() ? std::nullopt : load_lot_if_learned(c.prior);
   s.lot = lot.has_value();
-  s.model = design_model(c, lot, log);
+  s.model = design_model(c.model, lot, log);
   s.family = parse_enum<design::ModelFamily>(s.model, "--model");
   if (c.without_lot_prior && !s.lot) fail("--without-lot-prior is for a lot (gyrosid lot learn) as --prior");
   s.lot_prior = s.lot && take_lot(c.prior, *lot, s.model, s.family, options, !c.without_lot_prior, s.settings.model, log);
@@ -199,6 +183,22 @@ std::string predict_reference(const DesignJobInput& c, const DesignSetup& s, con
 }
 
 }  // namespace
+
+// --model auto: the model `gyrosid calibrate` fits on the recording the design will give - the greybox under a
+// lot whose structure the design's grey-box model has (calibrate --prior), else its preset for a noisy gyro, the
+// hybrid (solvers/preset_choice.h; a design needs noise, so the noise-free preset never applies). Measured
+// (experiments/trajectory_design/defaults_check.py, 8 seeds, every programme calibrated with that preset): the
+// hybrid's design beats the RBF network's on 3 of 6 sensor-flights and ties one, and its predicted criterion of
+// fit is within 1.15x of the achieved, where the RBF's - a prediction for a calibration the user does not run -
+// is 1.3-3.2x pessimistic.
+std::string design_model(const std::string& model_option, const std::optional<LotModel>& lot, std::ostream& log) {
+  if (model_option != "auto") return model_option;
+  const bool lot_structure = lot && design_takes_structure(lot->structure);
+  const std::string model = lot_structure ? "greybox" : "hybrid";
+  log << "model: " << model << ", what gyrosid calibrate fits on the recording ("
+      << (lot_structure ? "calibrate --prior with the lot" : "its preset for a noisy gyro") << ")\n";
+  return model;
+}
 
 PreparedDesign prepare_design(const DesignJobInput& c, std::ostream& log) {
   PreparedDesign p;

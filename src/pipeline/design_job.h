@@ -54,6 +54,10 @@ struct DesignSetup {
   std::optional<design::ReferenceStatistic> fixed_statistic;  // --reference-statistic, none for auto
 };
 
+// `--model auto` (design and session): the model `gyrosid calibrate` fits on the recording a design gives - the
+// greybox under a lot whose structure a grey-box design takes, else the hybrid (said in `log`); any other name as it is.
+std::string design_model(const std::string& model_option, const std::optional<LotModel>& lot, std::ostream& log);
+
 // A lot (`gyrosid lot learn`) as the prior of a design or session with the grey-box model: the design's model
 // takes the lot's structure and, with `calibration_prior`, the calibration it designs for fits with the lot's
 // population as its prior (`calibrate --prior`), so the predicted accuracy counts what the earlier units

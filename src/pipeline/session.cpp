@@ -91,6 +91,7 @@ struct SessionSetup {
   std::optional<SensorSpec> truth;
   design::DesignSettings settings;
   OptionMap solver_options;
+  std::string model;  // --model, auto resolved (design_model)
   design::ModelFamily family = design::ModelFamily::rbf;
   std::shared_ptr<const design::Envelope> envelope;
   design::Domain domain;
@@ -107,11 +108,13 @@ void prepare(const SessionOptions& o, SessionSetup& s) {
   s.settings.space.take(load_equipment(o.equipment));
   s.solver_options = s.settings.apply(o.settings);
   design::make_design_solver("nlopt", s.solver_options, o.seed);  // bad options fail before any work
-  s.family = parse_enum<design::ModelFamily>(o.model, "--model");
   const std::optional<LotModel> lot = load_lot_if_learned(o.prior);
+  std::ostringstream model_note;
+  s.model = design_model(o.model, lot, model_note);
+  s.family = parse_enum<design::ModelFamily>(s.model, "--model");
   if (lot) {
     std::ostringstream note;
-    s.lot_prior = take_lot(o.prior, *lot, o.model, s.family, o.settings, true, s.settings.model, note);
+    s.lot_prior = take_lot(o.prior, *lot, s.model, s.family, o.settings, true, s.settings.model, note);
     s.lot_note = note.str();
     if (s.lot_prior && !o.calibration.empty()) {
       fail("--calibration: with the lot ", o.prior, " as --prior and --model greybox the calibration is the lot's (its grey-box structure under its population, calibrate --prior)");
@@ -192,7 +195,7 @@ class SessionRun {
     }
     json_ = {{"format", "gyrosid-session/1"},
              {"prior", {{"file", o_.prior}, {"name", s_.prior.name}, {"members", members_json(weights_)}}},
-             {"truth", o_.truth}, {"budget_min", o_.budget_min}, {"seed", o_.seed}, {"model", o_.model},
+             {"truth", o_.truth}, {"budget_min", o_.budget_min}, {"seed", o_.seed}, {"model", s_.model},
              {"calibration", s_.calibration_source}, {"fingerprint", fingerprint_}, {"segments", nlohmann::json::array()}};
     if (!s_.lot_note.empty()) json_["prior"]["lot"] = s_.lot_note.substr(0, s_.lot_note.size() - 1);  // what take_lot decided
     if (s_.lot_prior) json_["prior"]["calibration_prior"] = o_.prior;  // every calibration is calibrate --prior with the lot

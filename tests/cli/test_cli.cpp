@@ -771,6 +771,12 @@ TEST_F(Cli, SessionAdaptsToTheUnitAndWaitsForTheLab) {
   EXPECT_THAT(run("session" + with_pilot("12") + path("x")).output, HasSubstr("--pilot-min 12 must lie in (0, --budget-min 12)"));
   EXPECT_THAT(run("session" + quick + path("x") + " --set session.drop_share=0.7").output, HasSubstr("session.drop_share"));
   EXPECT_THAT(run("session" + quick + path("x") + " --truth builtin:sensors/fog_triad.yaml").output, HasSubstr("is a triad"));
+  // --model auto designs for what gyrosid calibrate fits on a noisy recording, as design's auto does: the hybrid.
+  std::string with_auto = quick;
+  with_auto.replace(with_auto.find("--model classical"), 17, "--model auto");
+  ASSERT_EQ(run("session" + with_auto + path("auto")).status, 0);
+  EXPECT_EQ(read_json(dir_ / "auto" / "session.json")["model"], "hybrid");
+  EXPECT_THAT(read_text(dir_ / "auto" / "calibration.yaml"), HasSubstr("\nmodel: hybrid\n"));
 }
 
 // --equipment: the design keeps the chamber's cooling limit and the table's rate and acceleration, writes them
