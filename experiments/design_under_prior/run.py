@@ -71,6 +71,10 @@ def main():
     ap.add_argument("--gyrosid", default=os.path.join(ROOT, "build", "gyrosid"))
     ap.add_argument("--seeds", default="1-3")
     ap.add_argument("--work", default="/tmp/gyrosid-design-under-prior")
+    ap.add_argument("--model", default="rbf", help="the designs' model (gyrosid design --model); their calibration.yaml calibrates every recording")
+    ap.add_argument("--trajectories", default="all", help="semicolon-separated names of the table's columns to run (default all)")
+    ap.add_argument("--tag", default="summary", help="results/<tag>.json and .md")
+    ap.add_argument("--design-seed", type=int, default=1, help="the designs' seed (the optimiser's start and path)")
     a = ap.parse_args()
     os.makedirs(a.work, exist_ok=True)
     g = a.gyrosid
@@ -81,7 +85,7 @@ def main():
         d = os.path.join(a.work, "design_" + name)
         if not os.path.exists(os.path.join(d, "design.json")):
             start = time.time()
-            run([g, "--quiet", "design", "--budget-min", "60", "--seed", "1", "--out", d] + source)
+            run([g, "--quiet", "design", "--budget-min", "60", "--model", a.model, "--seed", str(a.design_seed), "--out", d] + source)
             json.dump({"s": time.time() - start}, open(os.path.join(d, "time.json"), "w"))
         designs[name] = os.path.join(d, "trajectory.yaml")
         design_time[name] = json.load(open(os.path.join(d, "time.json")))["s"]
@@ -98,10 +102,12 @@ def main():
         tag = os.path.splitext(os.path.basename(spath))[0]
         ev = os.path.join(a.work, "evaluate_designs_" + tag)
         run([g, "--quiet", "design", "--evaluate", designs["sensor"], designs["prior"], designs["prior_worst_half"], "builtin:trajectories/dual_scan.yaml",
-             "--sensor", spath, "--out", ev], os.path.join(ev, "evaluation.json"))
+             "--model", a.model, "--sensor", spath, "--out", ev], os.path.join(ev, "evaluation.json"))
         predicted = json.load(open(os.path.join(ev, "evaluation.json")))["trajectories"]
         row = {}
         for tname, (tpath, cal) in trajectories.items():
+            if a.trajectories != "all" and tname not in a.trajectories.split(";"):
+                continue
             out = os.path.join(a.work, "sweep_%s_%s_%s.json" % (tag, "".join(c for c in tname if c.isalnum()), a.seeds))
             run(["/usr/bin/python3", SWEEP, g, tag + "_" + tname.replace(" ", "_").replace(",", "").replace("(", "").replace(")", ""), tpath,
                  "--seeds", a.seeds, "--long", "--sensor", spath, "--calibration", cal, "--work", os.path.join(a.work, "sweeps"), "--out", out])
@@ -112,9 +118,9 @@ def main():
                 row[tname]["predicted_m"] = {f: predicted[tpath]["flights"][f]["cof_m"] for f in FLIGHTS}
         summary["sensors"][sname] = row
     os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
-    json.dump(summary, open(os.path.join(HERE, "results", "summary.json"), "w"), indent=1)
-    lines = table(summary) + [""] + aggregate(summary)
-    open(os.path.join(HERE, "results", "summary.md"), "w").write("\n".join(lines) + "\n")
+    json.dump(summary, open(os.path.join(HERE, "results", a.tag + ".json"), "w"), indent=1)
+    lines = table(summary) + [""] + aggregate(summary) if a.trajectories == "all" else achieved_table(summary)
+    open(os.path.join(HERE, "results", a.tag + ".md"), "w").write("\n".join(lines) + "\n")
     print("\n".join(lines))
     print("design time: %s" % design_time)
 
@@ -133,6 +139,16 @@ def table(summary):
             lines.append("| %s | %s | %s | %.3g | %.3g | %s | %.2f |" % (
                 sname, f, " | ".join("%.3g" % v[d] for d in DESIGNS), v["dual scan"], v["8-h soak, classical"],
                 " | ".join("%.2fx" % (v["dual scan"] / v[d]) for d in DESIGNS), pr["predicted_m"][f] / pr["achieved_m"][f]))
+    return lines
+
+
+def achieved_table(summary):
+    """The mean criterion of fit of each trajectory run (a run with --trajectories)."""
+    names = list(next(iter(summary["sensors"].values())))
+    lines = ["| test sensor | flight | " + " | ".join(names) + " |", "|---" * (2 + len(names)) + "|"]
+    for sname, row in summary["sensors"].items():
+        for f in FLIGHTS:
+            lines.append("| %s | %s | %s |" % (sname, f, " | ".join("%.3g" % row[t]["achieved_m"][f] for t in names)))
     return lines
 
 
