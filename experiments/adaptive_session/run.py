@@ -1,16 +1,16 @@
 #!/usr/bin/env python3
 """Does an adaptive session (pilot, posterior, redesign) transfer to sensors it was not given (issue 32, item 2)?
 
-    /usr/bin/python3 experiments/adaptive_session/run.py [--gyrosid build/gyrosid] [--seeds 1-3]
+    /usr/bin/python3 experiments/adaptive_session/run.py [--gyrosid build/gyrosid] [--seeds 1-3] [--model hybrid]
 
 For each test sensor and seed: `gyrosid session --prior builtin:priors/open_loop_fog_type.yaml --truth S
---budget-min 60 --seed s` (15-min pilot designed for the 8-member prior, the tempered posterior, a 45-min redesign
-that continues the pilot, the final calibration with the design's calibration.yaml), then `gyrosid cof` of the
+--budget-min 60 --model M --seed s` (15-min pilot designed for the 8-member prior, the tempered posterior, a 45-min redesign
+that continues the pilot, the final calibration with the design's calibration.yaml, model M), then `gyrosid cof` of the
 final model on the three flights. The test sensors are design_under_prior's: other_fog.yaml (written
 independently of the prior) and four held-out units drawn by that script's numpy implementation of the prior's
 laws (seeds 101-104). The baselines - the 62-min dual scan and the 60-min design for the prior (same calibration),
 and the 8-h soak (classical model) - are the same seeds of design_under_prior's sweeps (run that first; its cache
-is --baseline-work). Writes results/summary.json and results/summary.md.
+is --baseline-work, run with the same --model). Writes results/summary_<model>.json and .md.
 """
 import argparse
 import importlib.util
@@ -39,11 +39,11 @@ def seeds_of(text):
     return list(range(int(a), int(b or a) + 1))
 
 
-def session(g, sensor, seed, d):
+def session(g, sensor, seed, d, model):
     if not os.path.exists(os.path.join(d, "session.json")) or json.load(open(os.path.join(d, "session.json"))).get("status") != "complete":
         start = time.time()
         subprocess.run([g, "--quiet", "session", "--prior", "builtin:priors/open_loop_fog_type.yaml", "--truth", sensor, "--budget-min", "60",
-                        "--seed", str(seed), "--out", d] + (["--resume"] if os.path.exists(d) else []), check=True, stdout=subprocess.DEVNULL)
+                        "--model", model, "--seed", str(seed), "--out", d] + (["--resume"] if os.path.exists(d) else []), check=True, stdout=subprocess.DEVNULL)
         json.dump({"s": time.time() - start}, open(os.path.join(d, "time.json"), "w"))
     row = {}
     for f, extra in FLIGHTS.items():
@@ -65,28 +65,30 @@ def main():
     ap.add_argument("--seeds", default="1-3")
     ap.add_argument("--work", default="/tmp/gyrosid-adaptive-session")
     ap.add_argument("--baseline-work", default="/tmp/gyrosid-design-under-prior")
+    ap.add_argument("--baseline-seeds", default="1-8", help="the seeds design_under_prior's sweeps ran (their files' suffix)")
+    ap.add_argument("--model", default="hybrid", help="the session's model (gyrosid session --model; auto is the hybrid here); results go to results/summary_<model>.*")
     a = ap.parse_args()
     dup = load_design_under_prior()
     os.makedirs(a.work, exist_ok=True)
     sensors = {"other_fog (independent)": os.path.join(ROOT, "experiments", "trajectory_design", "other_fog.yaml")}
     for base, seed in (("open_loop_fog.yaml", 101), ("open_loop_fog.yaml", 102), ("open_loop_fog_drift.yaml", 103), ("open_loop_fog_drift.yaml", 104)):
         sensors["type unit %d (%s)" % (seed, base.split(".")[0])] = dup.held_out_member(base, seed, os.path.join(a.work, "unit_%d.yaml" % seed))
-    summary = {"seeds": a.seeds, "sensors": {}}
+    summary = {"seeds": a.seeds, "model": a.model, "sensors": {}}
     for sname, spath in sensors.items():
         tag = os.path.splitext(os.path.basename(spath))[0]
         rows = {}
         for seed in seeds_of(a.seeds):
-            r = session(a.gyrosid, spath, seed, os.path.join(a.work, "%s_s%d" % (tag, seed)))
+            r = session(a.gyrosid, spath, seed, os.path.join(a.work, "%s_%s_s%d" % (a.model, tag, seed)), a.model)
             for bname, key in BASELINES.items():
-                sweep = json.load(open(os.path.join(a.baseline_work, "sweep_%s_%s_1-8.json" % (tag, key))))
+                sweep = json.load(open(os.path.join(a.baseline_work, "sweep_%s_%s_%s.json" % (tag, key, a.baseline_seeds))))
                 r[bname] = {f: sweep[str(seed)][f]["cof_m"] for f in FLIGHTS}
             rows[seed] = r
             print(sname, seed, json.dumps({k: v for k, v in r.items() if k != "predicted"}))
         summary["sensors"][sname] = rows
     os.makedirs(os.path.join(HERE, "results"), exist_ok=True)
-    json.dump(summary, open(os.path.join(HERE, "results", "summary.json"), "w"), indent=1)
+    json.dump(summary, open(os.path.join(HERE, "results", "summary_%s.json" % a.model), "w"), indent=1)
     lines = table(summary) + [""] + aggregate(summary)
-    open(os.path.join(HERE, "results", "summary.md"), "w").write("\n".join(lines) + "\n")
+    open(os.path.join(HERE, "results", "summary_%s.md" % a.model), "w").write("\n".join(lines) + "\n")
     print("\n".join(lines))
 
 

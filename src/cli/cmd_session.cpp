@@ -60,7 +60,8 @@ void register_session(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("session", "An adaptive calibration session: a pilot, the prior updated by the recording, a redesign of the rest");
   cmd->add_option("--prior", o.prior,
                   "The prior over sensors (gyrosid-prior/1, docs/prior_format.md), or one sensor config; a lot (gyrosid lot learn) with "
-                  "--model greybox also gives its structure, and its population as every calibration's prior (calibrate --prior)")
+                  "--model greybox (auto's choice for a lot with a grey-box structure) also gives its structure, and its population as "
+                  "every calibration's prior (calibrate --prior)")
       ->required();
   cmd->add_option("--truth", o.truth, "Simulation: the true sensor config, which the session sees only through its recordings. "
                                       "Without it the session stops after each designed segment for the lab's recording");

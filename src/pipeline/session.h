@@ -38,7 +38,7 @@ struct SessionOptions {
   double budget_min = 60.0;
   double pilot_min = 15.0;
   std::vector<double> updates_at_min; // further updates, minutes from the start (after the pilot, before the end)
-  std::string model = "rbf";          // the design's model family (design/regressor.h)
+  std::string model = "auto";         // the designs' model family (design/regressor.h), or auto: design_model (pipeline/design_job.h)
   std::string calibration;            // calibration config of the interim and final fits (empty: the design's)
   std::string envelope = "short,medium,long";
   std::string equipment = "builtin:equipment/thesis_lab.yaml";
