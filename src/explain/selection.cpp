@@ -371,8 +371,8 @@ HeldScores score_at_null_noise(std::vector<Evaluated>& ev, const std::vector<Can
   return h;
 }
 
-// The tried candidates (indices into the step's) that the likelihood cannot tell apart from the winner `b`
-// (its optimum `l_best`, the others' `l1`, in `chosen`'s order): within `ambiguity_bic` of its ML dBIC, and
+// The tried candidates (indices into the step's) that the likelihood cannot tell apart from the winner
+// chosen[best_k] (`l1`: each try's optimum, in `chosen`'s order): within `ambiguity_bic` of its ML dBIC, and
 // neither adding `ambiguity_bic` to the other with the pair maximised from each one's optimum.
 std::vector<std::size_t> likelihood_rivals(const std::vector<Evaluated>& ev, const std::vector<Candidate>& open, const Step& c,
                                            const NoiseLikelihood& likelihood, const std::vector<std::size_t>& chosen,

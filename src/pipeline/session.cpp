@@ -109,7 +109,7 @@ void prepare(const SessionOptions& o, SessionSetup& s) {
   s.solver_options = s.settings.apply(o.settings);
   design::make_design_solver("nlopt", s.solver_options, o.seed);  // bad options fail before any work
   const std::optional<LotModel> lot = load_lot_if_learned(o.prior);
-  std::ostringstream model_note;
+  std::ostringstream model_note;  // design's log line; session.json records the model itself
   s.model = design_model(o.model, lot, model_note);
   s.family = parse_enum<design::ModelFamily>(s.model, "--model");
   if (lot) {
