@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <numeric>
 #include <optional>
 
@@ -371,13 +370,17 @@ HeldScores score_at_null_noise(std::vector<Evaluated>& ev, const std::vector<Can
   return h;
 }
 
+// The BIC's price of a candidate: its columns and its nonlinear parameters, ln n each.
+double bic_penalty(const Evaluated& e, const Candidate& c, double log_n) { return (e.score.columns + c.bic_parameters()) * log_n; }
+
 // The tried candidates (indices into the step's) that the likelihood cannot tell apart from the winner
 // chosen[best_k] (`l1`: each try's optimum, in `chosen`'s order): within `ambiguity_bic` of its ML dBIC, and
 // neither adding `ambiguity_bic` to the other with the pair maximised from each one's optimum.
 std::vector<std::size_t> likelihood_rivals(const std::vector<Evaluated>& ev, const std::vector<Candidate>& open, const Step& c,
                                            const NoiseLikelihood& likelihood, const std::vector<std::size_t>& chosen,
                                            const std::vector<NoiseLikelihood::Optimum>& l1, std::size_t best_k, double ambiguity_bic,
-                                           const std::function<double(std::size_t)>& penalty) {
+                                           double log_n) {
+  const auto penalty = [&](std::size_t i) { return bic_penalty(ev[i], open[i], log_n); };
   std::vector<std::size_t> rivals;
   const std::size_t b = chosen[best_k];
   const ModelSpec with_best = with_effect(c.model, open[b], ev[b].score.tau_s);
@@ -436,7 +439,7 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
       l1[static_cast<std::size_t>(k)] = likelihood.maximise(x, c.y, static_cast<std::size_t>(k) < held_count ? l0 : unabsorbed);
     }
   });
-  const auto penalty = [&](std::size_t i) { return (ev[i].score.columns + open[i].bic_parameters()) * std::log(n); };
+  const auto penalty = [&](std::size_t i) { return bic_penalty(ev[i], open[i], std::log(n)); };
   Gated best;
   std::size_t best_k = 0;
   for (std::size_t k = 0; k < chosen.size(); ++k) {
@@ -447,7 +450,7 @@ Gated gate_by_likelihood(std::vector<Evaluated>& ev, const std::vector<Candidate
       best_k = k;
     }
   }
-  if (best.index >= 0) best.alternatives = likelihood_rivals(ev, open, c, likelihood, chosen, l1, best_k, ambiguity_bic, penalty);
+  if (best.index >= 0) best.alternatives = likelihood_rivals(ev, open, c, likelihood, chosen, l1, best_k, ambiguity_bic, std::log(n));
   return best;
 }
 
