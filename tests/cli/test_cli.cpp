@@ -763,18 +763,17 @@ TEST_F(Cli, SessionAdaptsToTheUnitAndWaitsForTheLab) {
   EXPECT_EQ(read_json(dir_ / "lab" / "session.json")["status"], "complete");
   EXPECT_EQ(read_text(dir_ / "lab" / "recording.csv"), read_text(dir_ / "sim" / "recording.csv"));
   // A resume with other inputs is refused; bad options are named.
-  const auto with_pilot = [&](const std::string& minutes) {
+  const auto replaced = [&](const std::string& from, const std::string& to) {  // `quick` with one option changed
     std::string q = quick;
-    return q.replace(q.find("--pilot-min 4"), 13, "--pilot-min " + minutes);
+    return q.replace(q.find(from), from.size(), to);
   };
+  const auto with_pilot = [&](const std::string& minutes) { return replaced("--pilot-min 4", "--pilot-min " + minutes); };
   EXPECT_THAT(run("session" + with_pilot("5") + path("lab") + " --resume").output, HasSubstr("another fingerprint"));
   EXPECT_THAT(run("session" + with_pilot("12") + path("x")).output, HasSubstr("--pilot-min 12 must lie in (0, --budget-min 12)"));
   EXPECT_THAT(run("session" + quick + path("x") + " --set session.drop_share=0.7").output, HasSubstr("session.drop_share"));
   EXPECT_THAT(run("session" + quick + path("x") + " --truth builtin:sensors/fog_triad.yaml").output, HasSubstr("is a triad"));
   // --model auto designs for what gyrosid calibrate fits on a noisy recording, as design's auto does: the hybrid.
-  std::string with_auto = quick;
-  with_auto.replace(with_auto.find("--model classical"), 17, "--model auto");
-  ASSERT_EQ(run("session" + with_auto + path("auto")).status, 0);
+  ASSERT_EQ(run("session" + replaced("--model classical", "--model auto") + path("auto")).status, 0);
   EXPECT_EQ(read_json(dir_ / "auto" / "session.json")["model"], "hybrid");
   EXPECT_THAT(read_text(dir_ / "auto" / "calibration.yaml"), HasSubstr("\nmodel: hybrid\n"));
 }
