@@ -137,44 +137,6 @@ std::optional<ProfiledFit> profiled_start(const Judgement& judgement, const Acce
   return p;
 }
 
-// Each accepted effect's richer forms (effect.h) tried in its term's place in `model` (the accepted model,
-// its nonlinear parameters at their profiled optimum where the judging made one), on the whitened training
-// samples: the best is kept when its dBIC over the accepted form - its added columns and one added parameter
-// counted - exceeds min_bic. Returns whether a term changed.
-bool take_richer_forms(ModelSpec& model, const Accepted& accepted, std::size_t base_terms, const ExplainInput& in, const Eigen::VectorXd& y,
-                       const TermScaling& sc, const Whitener& w, double min_bic) {
-  const Eigen::VectorXd yw = w.apply(y);
-  const double n = static_cast<double>(yw.size());
-  const auto whitened = [&](std::vector<Term> terms) { return whiten_columns(w, model_columns({std::move(terms), model.lag_tau_s}, in.signals, sc)); };
-  bool changed = false;
-  std::size_t term = base_terms;
-  for (const Judged& j : accepted.effects) {
-    if (!j.term) continue;
-    const std::size_t at = term++;
-    const std::vector<Term> forms = j.effect.candidate.effect->richer_forms(model.terms[at], in);
-    if (forms.empty()) continue;
-    // The other terms' whitened columns once; each form's own beside them.
-    std::vector<Term> others = model.terms;
-    others.erase(others.begin() + static_cast<std::ptrdiff_t>(at));
-    const Eigen::MatrixXd x_others = whitened(others);
-    const auto rss = [&](const Term& t) {
-      const Eigen::MatrixXd xt = whitened({t});
-      Eigen::MatrixXd x(x_others.rows(), x_others.cols() + xt.cols());
-      x << x_others, xt;
-      return whitened_rss(x, yw);
-    };
-    const double rss0 = rss(model.terms[at]);
-    double best_bic = min_bic;
-    std::optional<Term> best;
-    for (const Term& form : forms) {
-      const double bic = n * std::log(rss0 / rss(form)) - (form.size() - model.terms[at].size() + 1) * std::log(n);
-      if (bic > best_bic) best_bic = bic, best = form;
-    }
-    if (best) model.terms[at] = *best, changed = true;
-  }
-  return changed;
-}
-
 // The refitted model: SI coefficients, the prior's column becoming its gain.
 std::unique_ptr<ExplainedModel> refitted_model(const RefitResult& fit, const TermScaling& scaling, std::unique_ptr<CalibrationModel> prior) {
   std::vector<Term> terms;
@@ -421,9 +383,7 @@ ExplainResult explain_recording(const Recording& rec, const ExplainOptions& o, C
   const Accepted accepted = accept(judgement.effects, base, sel, o.min_stability, o.selection.ambiguity_bic);
   clock.lap("judging (stability, held-out, profiles)");
   const std::optional<ProfiledFit> profile = profiled_start(judgement, accepted);
-  ModelSpec refit_start = profile ? profile->model : accepted.model;
-  const bool richer = take_richer_forms(refit_start, accepted, base.terms.size(), in, y, scaling, w, o.selection.ambiguity_bic);
-  const RefitResult final_fit = refit(in, y, refit_start, accepted.lag_selected, scaling, w, profile && profile->converged && !richer);
+  const RefitResult final_fit = refit(in, y, profile ? profile->model : accepted.model, accepted.lag_selected, scaling, w, profile && profile->converged);
   clock.lap("refit");
   summary.absorbed_alternatives = absorbed_alternatives(candidates, accepted, in, y, scaling, w, o.selection.ambiguity_bic);
   clock.lap("absorbed alternatives");

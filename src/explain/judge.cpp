@@ -176,7 +176,7 @@ Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const 
         if (!yw) yw = w.apply(y);
         const FurtherFit f = fit_with_further(in, *yw, sel.model, this_term, r.term, *r.further, scaling, w);
         const double n = static_cast<double>(fit_full.n);
-        const int k = j.term->size() + selected.candidate.nonlinear_parameters() - (r.further->term->size() + 1);
+        const int k = j.term->size() + selected.nonlinear_parameters() - (r.further->term->size() + 1);
         const FurtherComponent c{r.id, f.tau, f.first_tau, n * std::log(f.rss / fit_full.rss) - k * std::log(n)};
         if (!j.further || c.delta_bic < j.further->delta_bic) j.further = c;
       }
@@ -193,13 +193,13 @@ Judgement judge_effects(const ExplainInput& in, const Eigen::VectorXd& y, const 
       j.heldout_holds = heldout_blocks_hold(in, outside, c, support_options.held_share);
       if (!j.heldout_holds) j.support = support_check(in, y, sel.noise, x_full, x_minus, c, sigma, support_options);
     }
-    j.stability = stability(blocks, x_minus, lag ? 0 : selected.candidate.nonlinear_parameters());
+    j.stability = stability(blocks, x_minus, lag ? 0 : selected.nonlinear_parameters());
     const ProfiledFit without = profiled_fit(in, y, minus, lag_selected && !lag, scaling, w);
     j.profiled_without = without;
     if (without.nonlinear > 0) {
       if (!profiled_full) profiled_full = profiled_fit(in, y, sel.model, lag_selected, scaling, w);
       const double n = static_cast<double>(fit_full.n);
-      const int k = (j.term ? j.term->size() : 0) + selected.candidate.nonlinear_parameters();
+      const int k = (j.term ? j.term->size() : 0) + selected.nonlinear_parameters();
       j.profiled_delta_bic = n * std::log(without.rss / std::min(profiled_full->rss, without.rss)) - k * std::log(n);
     }
     out.effects.push_back(j);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <tuple>
 
@@ -229,6 +230,32 @@ TEST(PhysicsTerms, ATwoWidthHysteresisIsTwoPlaysAndSurvivesItsJson) {
   const Eigen::MatrixXd back = design_matrix({Term::from_json(two.to_json())}, s, coil, sc);
   EXPECT_LT((back - x).cwiseAbs().maxCoeff(), 1e-15);
   EXPECT_EQ(two.with_parameter(3.0).to_json().at("second_width_c").get<double>(), 6.0);
+}
+
+// A step that recovers is the step and exp(-(t - t_s) / tau) from t_s on; the model file keeps its recovery,
+// a new t_s (the refit's parameter) keeps the recovery's time constant, and a trend cannot have one.
+TEST(PhysicsTerms, ARecoveringStepIsTheStepAndItsExponentialAndSurvivesItsJson) {
+  Signals s;
+  s.t_s = {0.0, 100.0, 199.0, 200.0, 300.0, 500.0};
+  const auto n = static_cast<Eigen::Index>(s.t_s.size());
+  s.rate = Eigen::VectorXd::Zero(n);
+  s.temp_c = Eigen::VectorXd::Zero(n);
+  const CoilTemperature coil = coil_temperature(s, 0.0);
+  const TermScaling sc = TermScaling::of(s);
+  const Term step = change_term(200.0, false, 100.0);
+  const Eigen::MatrixXd x = design_matrix({step}, s, coil, sc);
+  ASSERT_EQ(x.cols(), 2);
+  EXPECT_EQ(step->column_names(), (std::vector<std::string>{"bias_step", "bias_step_recovery"}));
+  const std::vector<double> jump{0, 0, 0, 1, 1, 1}, recovery{0, 0, 0, 1, std::exp(-1.0), std::exp(-3.0)};
+  for (Eigen::Index k = 0; k < n; ++k) {
+    EXPECT_EQ(x(k, 0), jump[static_cast<std::size_t>(k)]) << k;
+    EXPECT_NEAR(x(k, 1), recovery[static_cast<std::size_t>(k)], 1e-15) << k;
+  }
+  const Eigen::MatrixXd back = design_matrix({Term::from_json(step.to_json())}, s, coil, sc);
+  EXPECT_LT((back - x).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_EQ(step.with_parameter(300.0).to_json().at("recovery_tau_s").get<double>(), 100.0);
+  EXPECT_EQ(change_term(200.0, false).size(), 1);
+  EXPECT_THROW(change_term(200.0, true, 100.0), Error);
 }
 
 TEST(PhysicsTerms, SurfaceBasisReproducesTheBicubicSpline) {
@@ -716,6 +743,36 @@ TEST(Explain, AStepInsideAHeldOutBlockIsReportedAsLyingInThatBlock) {
     ASSERT_NE(step, nullptr) << "seed " << seed << ": " << unexplained(r.summary);
     EXPECT_NEAR(step->t_start_s, 2700.0, 1.0) << "seed " << seed;
     EXPECT_NEAR(step->t_end_s, 4050.0, 1.0) << "seed " << seed;
+  }
+}
+
+// A step that partly recovers (issue 34: a hop whose disturbance then relaxes): 20 deg/h at 45 % of the
+// record, of which 70 % recovers with a time constant of 1,800 s, under the sensor's 10 deg/h white noise.
+// Judged as a pure step it mispredicts every held-out block after it (the third generator's recovering
+// steps: dBIC 714-716 in training, held-out z 1.8-1.9, demoted); the step with its recovery, tried before
+// the judging, is reported at its time with its height, what lasts and the recovery's time constant.
+TEST(Explain, AStepThatPartlyRecoversIsReportedWithItsRecovery) {
+  for (std::uint64_t seed : {51, 52}) {
+    Recording rec = simulate_with("", seed);
+    const auto& t = rec.column("t_s");
+    const double t_step = t.front() + 0.45 * (t.back() - t.front());
+    std::vector<double> gyro = rec.column("gyro_dps");
+    for (std::size_t i = 0; i < rec.rows(); ++i) {
+      if (t[i] >= t_step) gyro[i] += 20.0 * (0.3 + 0.7 * std::exp(-(t[i] - t_step) / 1800.0)) / 3600.0;
+    }
+    rec.set_column("gyro_dps", gyro);
+    const ExplainResult r = explain_recording(rec, fast());
+    const Unexplained* step = nullptr;
+    for (const auto& u : r.summary.unexplained) step = u.kind == UnexplainedKind::change_point ? &u : step;
+    ASSERT_NE(step, nullptr) << "seed " << seed << ": " << ids(r.summary) << unexplained(r.summary);
+    EXPECT_NEAR(step->t_start_s, t_step, 60.0) << "seed " << seed;
+    std::map<std::string, double> p;
+    for (const auto& q : step->parameters) p[q.name] = q.value;
+    ASSERT_EQ(p.count("recovery_tau_s"), 1u) << "seed " << seed << ": the step was reported without its recovery" << unexplained(r.summary) << " noise " << r.summary.noise.terms.size();
+    EXPECT_NEAR(p["step_dph"], 20.0, 4.0) << "seed " << seed;
+    EXPECT_NEAR(p["lasting_dph"], 6.0, 3.0) << "seed " << seed;
+    EXPECT_GT(p["recovery_tau_s"], 1800.0 / 2) << "seed " << seed;
+    EXPECT_LT(p["recovery_tau_s"], 1800.0 * 2) << "seed " << seed;
   }
 }
 

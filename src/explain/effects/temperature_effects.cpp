@@ -175,9 +175,9 @@ class ThermalHysteresis : public Effect {
   // (minor loops) show a loop's inner shape, which one play of one width cannot follow - on the independent
   // generator's minor-loop programme one play left 7-9 % of a two-width loop's held-out excess and its offset
   // 18 % off. The second width on a finer grid over the same range, at least 1.5x from the first.
-  std::vector<Term> richer_forms(const Term& accepted, const ExplainInput& in) const override {
-    const auto* h = accepted.as<HysteresisTerm>();
-    const auto width = accepted.parameter();
+  std::vector<Term> richer_forms(const Term& selected, const ExplainInput& in) const override {
+    const auto* h = selected.as<HysteresisTerm>();
+    const auto width = selected.parameter();
     if (!h || !width || h->second_width_c() > 0) return {};
     std::vector<Term> out;
     const std::vector<double> grid = width_grid(in.signals);

@@ -82,11 +82,28 @@ void WarmupTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) 
 
 std::shared_ptr<const TermBasis> WarmupTerm::with_parameter(double tau_s) const { return std::make_shared<WarmupTerm>(tau_s); }
 
+ChangeTerm::ChangeTerm(double t_s, bool ramp, double recovery_tau_s) : t_s_(t_s), ramp_(ramp), recovery_tau_s_(recovery_tau_s) {
+  if (!std::isfinite(t_s_)) fail(str_cat("physics term ", kind(), ": t_s must be finite"));
+  if (!(recovery_tau_s_ >= 0)) fail(str_cat("physics term ", kind(), ": recovery_tau_s must be >= 0"));
+  if (ramp_ && recovery_tau_s_ > 0) fail("physics term bias_ramp: recovery_tau_s belongs to a step (bias_step), not a trend");
+}
+
+std::vector<std::string> ChangeTerm::column_names() const {
+  if (recovery_tau_s_ > 0) return {"bias_step", "bias_step_recovery"};
+  return {std::string(kind())};
+}
+
 void ChangeTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const {
   for (Eigen::Index i = 0; i < out.rows(); ++i) {
     const double dt = in.signals.t_s[static_cast<std::size_t>(i)] - t_s_;
     out(i, 0) = dt < 0 ? 0.0 : ramp_ ? dt / 3600.0 : 1.0;
+    if (recovery_tau_s_ > 0) out(i, 1) = dt < 0 ? 0.0 : std::exp(-dt / recovery_tau_s_);
   }
+}
+
+void ChangeTerm::parameters_json(nlohmann::json& j) const {
+  j["t_s"] = t_s_;
+  if (recovery_tau_s_ > 0) j["recovery_tau_s"] = recovery_tau_s_;
 }
 
 void AgingTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const {
@@ -96,7 +113,7 @@ void AgingTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) c
 
 Term shupe_term() { return Term(std::make_shared<ShupeTerm>()); }
 Term hysteresis_term(double width_c, double second_width_c) { return Term(std::make_shared<HysteresisTerm>(width_c, second_width_c)); }
-Term change_term(double t_s, bool ramp) { return Term(std::make_shared<ChangeTerm>(t_s, ramp)); }
+Term change_term(double t_s, bool ramp, double recovery_tau_s) { return Term(std::make_shared<ChangeTerm>(t_s, ramp, recovery_tau_s)); }
 Term warmup_term(double tau_s) { return Term(std::make_shared<WarmupTerm>(tau_s)); }
 Term aging_term() { return Term(std::make_shared<AgingTerm>()); }
 

@@ -21,7 +21,9 @@
 //   aging                 (t - t0) / 3600 s
 //   channel               named recorded channels as they are (specific force, magnetic field, other axes)
 //   channel_squared       their squares
-//   bias_step             1 from time t_s on, else 0             (a change point: outside the physics library)
+//   bias_step             1 from time t_s on, else 0             (a change point: outside the physics library);
+//                         with recovery_tau_s, a second column exp(-(t - t_s) / tau) from t_s on (a step that
+//                         partly recovers: a hop whose disturbance then relaxes)
 //   bias_ramp             (t - t_s) / 3600 s from t_s on, else 0 (a trend starting at t_s: likewise)
 #pragma once
 
@@ -171,20 +173,30 @@ class WarmupTerm : public HistoryTerm {
   double tau_s_;
 };
 
-// A change of the bias at time t_s: a step (ramp = false) or the start of a trend (ramp = true).
+// A change of the bias at time t_s: a step (ramp = false) or the start of a trend (ramp = true). A step with
+// recovery_tau_s > 0 has a second column, exp(-(t - t_s) / recovery_tau_s) from t_s on: the step's height is
+// the sum of the two coefficients, what lasts the first. The nonlinear parameter is t_s (the recovery's time
+// constant is chosen on a grid where the step is extended: explain's richer forms).
 class ChangeTerm : public HistoryTerm {
  public:
-  ChangeTerm(double t_s, bool ramp) : t_s_(t_s), ramp_(ramp) {}
+  ChangeTerm(double t_s, bool ramp, double recovery_tau_s = 0.0);
   std::string_view kind() const override { return ramp_ ? "bias_ramp" : "bias_step"; }
+  int size() const override { return recovery_tau_s_ > 0 ? 2 : 1; }
+  std::vector<std::string> column_names() const override;
   void columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const override;
-  void parameters_json(nlohmann::json& j) const override { j["t_s"] = t_s_; }
+  void parameters_json(nlohmann::json& j) const override;
   TermMemory memory() const override { return TermMemory::time; }
   std::optional<TermParameter> parameter() const override { return TermParameter{"t_s", t_s_, false}; }
-  std::shared_ptr<const TermBasis> with_parameter(double t_s) const override { return std::make_shared<ChangeTerm>(t_s, ramp_); }
+  std::shared_ptr<const TermBasis> with_parameter(double t_s) const override {
+    return std::make_shared<ChangeTerm>(t_s, ramp_, recovery_tau_s_);
+  }
+  bool ramp() const { return ramp_; }
+  double recovery_tau_s() const { return recovery_tau_s_; }
 
  private:
   double t_s_;
   bool ramp_;
+  double recovery_tau_s_;
 };
 
 class AgingTerm : public HistoryTerm {
@@ -220,7 +232,7 @@ Term temperature_spline(std::vector<double> knots_c);
 Term asymmetry_term();
 Term shupe_term();
 Term hysteresis_term(double width_c = 0.0, double second_width_c = 0.0);
-Term change_term(double t_s, bool ramp);
+Term change_term(double t_s, bool ramp, double recovery_tau_s = 0.0);
 Term warmup_term(double tau_s);
 Term aging_term();
 Term channel_term(std::vector<std::string> channels, bool squared = false);

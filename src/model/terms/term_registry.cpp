@@ -68,8 +68,11 @@ const TermKindRegistry& term_kinds() {
         .add({"warmup", "exp(-(t - t0) / tau)", none,
               [](const nlohmann::json& j) -> P { return std::make_unique<WarmupTerm>(j.value("tau_s", 0.0)); }})
         .add({"aging", "(t - t0) / 1 h", none, [](const nlohmann::json&) -> P { return std::make_unique<AgingTerm>(); }})
-        .add({"bias_step", "1 from t_s on: a change point of the bias", none,
-              [](const nlohmann::json& j) -> P { return std::make_unique<ChangeTerm>(j.at("t_s").get<double>(), false); }})
+        .add({"bias_step", "1 from t_s on: a change point of the bias (and exp(-(t - t_s) / recovery_tau_s) from t_s on, if given: "
+                           "a step that partly recovers)", none,
+              [](const nlohmann::json& j) -> P {
+                return std::make_unique<ChangeTerm>(j.at("t_s").get<double>(), false, j.value("recovery_tau_s", 0.0));
+              }})
         .add({"bias_ramp", "(t - t_s) / 1 h from t_s on: a trend starting at t_s", none,
               [](const nlohmann::json& j) -> P { return std::make_unique<ChangeTerm>(j.at("t_s").get<double>(), true); }})
         .add({"asymmetry", "|omega|", none, [](const nlohmann::json&) -> P { return std::make_unique<AsymmetryTerm>(); }})
