@@ -135,7 +135,8 @@ class Effect {
   virtual std::vector<double> located_parameters(const ExplainInput&, const Eigen::VectorXd& residual) const;
   // Richer forms of its term once it is selected (a hysteresis loop of two widths for one, a step with its
   // recovery): each tried in the term's place at the step that selects it, kept when the BIC prefers it with
-  // its added columns and one added parameter counted (selection.cpp, take_richer_form). None by default.
+  // its added columns counted, and one added parameter when it was chosen among several (selection.cpp,
+  // take_richer_form). None by default.
   virtual std::vector<Term> richer_forms(const Term& accepted, const ExplainInput& in) const;
   // Where the simulation's flexible scale factor may absorb it, it is tested against a core with a smooth
   // scale factor omega dT^i u^j, i <= 3, j <= this order, in place of that flexibility (explain.cpp,

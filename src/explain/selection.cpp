@@ -487,7 +487,7 @@ void find_alternatives(SelectedEffect& chosen, std::size_t b, const std::vector<
 
 // The chosen effect's richer forms (effect.h) tried in its term's place in `next` (the model with it, its
 // term last), at the step's whitening: the best is kept when its dBIC over the chosen form - its added
-// columns and one added parameter counted - exceeds min_bic. At the step it is chosen, so that neither a
+// columns counted, and one added parameter when it was chosen among several - exceeds min_bic. At the step it is chosen, so that neither a
 // later step nor the held-out proof sees the poorer form: a step that recovers, taken as a pure step, left
 // its recovery to an ageing trend in the next step, and judged so it mispredicted every later held-out
 // block (the third generator's recovering steps: dBIC 714-716 in training, held-out z 1.8-1.9, demoted).
@@ -497,15 +497,16 @@ void take_richer_form(SelectedEffect& chosen, ModelSpec& next, const Step& c, do
   const std::vector<Term> forms = chosen.candidate.effect->richer_forms(term, c.in);
   if (forms.empty()) return;
   const double n = static_cast<double>(c.yw.size()), rss0 = fit_model(next, c.in, c.yw, c.sc, c.w).rss;
+  const int searched = forms.size() > 1 ? 1 : 0;
   double best_bic = min_bic;
   std::optional<Term> best;
   for (const Term& form : forms) {
     ModelSpec m = next;
     m.terms.back() = form;
-    const double bic = n * std::log(rss0 / fit_model(m, c.in, c.yw, c.sc, c.w).rss) - (form.size() - term.size() + 1) * std::log(n);
+    const double bic = n * std::log(rss0 / fit_model(m, c.in, c.yw, c.sc, c.w).rss) - (form.size() - term.size() + searched) * std::log(n);
     if (bic > best_bic) best_bic = bic, best = form;
   }
-  if (best) term = *best, ++chosen.form_parameters;
+  if (best) term = *best, chosen.form_parameters += searched;
 }
 
 // Each candidate's grid joined by the values a scan of the base model's training residual points at (Effect::located_parameters), inside the grid's span. The bootstrap

@@ -86,7 +86,8 @@ struct SelectedEffect {
   CandidateScore score;
   std::vector<std::string> alternatives;         // the data cannot tell these apart from it
   std::vector<std::string> weaker_alternatives;  // explain much of the same, but clearly less well
-  // Nonlinear parameters its term gained when a richer form took its place (take_richer_form).
+  // Parameters its term gained, besides columns, when a richer form chosen on a grid took its place
+  // (take_richer_form).
   int form_parameters = 0;
   int nonlinear_parameters() const { return candidate.nonlinear_parameters() + form_parameters; }
 };

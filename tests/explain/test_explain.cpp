@@ -233,8 +233,9 @@ TEST(PhysicsTerms, ATwoWidthHysteresisIsTwoPlaysAndSurvivesItsJson) {
 }
 
 // A step that recovers is the step and exp(-(t - t_s) / tau) from t_s on; the model file keeps its recovery,
-// a new t_s (the refit's parameter) keeps the recovery's time constant, and a trend cannot have one.
-TEST(PhysicsTerms, ARecoveringStepIsTheStepAndItsExponentialAndSurvivesItsJson) {
+// a new t_s (the refit's parameter) keeps the recovery's time constant, and a trend cannot have one; a curved
+// trend is the trend and its square.
+TEST(PhysicsTerms, ARecoveringStepAndACurvedTrendAreTheirColumnsAndSurviveTheirJson) {
   Signals s;
   s.t_s = {0.0, 100.0, 199.0, 200.0, 300.0, 500.0};
   const auto n = static_cast<Eigen::Index>(s.t_s.size());
@@ -242,7 +243,7 @@ TEST(PhysicsTerms, ARecoveringStepIsTheStepAndItsExponentialAndSurvivesItsJson) 
   s.temp_c = Eigen::VectorXd::Zero(n);
   const CoilTemperature coil = coil_temperature(s, 0.0);
   const TermScaling sc = TermScaling::of(s);
-  const Term step = change_term(200.0, false, 100.0);
+  const Term step = recovering_step_term(200.0, 100.0);
   const Eigen::MatrixXd x = design_matrix({step}, s, coil, sc);
   ASSERT_EQ(x.cols(), 2);
   EXPECT_EQ(step->column_names(), (std::vector<std::string>{"bias_step", "bias_step_recovery"}));
@@ -255,7 +256,38 @@ TEST(PhysicsTerms, ARecoveringStepIsTheStepAndItsExponentialAndSurvivesItsJson) 
   EXPECT_LT((back - x).cwiseAbs().maxCoeff(), 1e-15);
   EXPECT_EQ(step.with_parameter(300.0).to_json().at("recovery_tau_s").get<double>(), 100.0);
   EXPECT_EQ(change_term(200.0, false).size(), 1);
-  EXPECT_THROW(change_term(200.0, true, 100.0), Error);
+  EXPECT_THROW(ChangeTerm(200.0, true, 100.0), Error);
+  // A curved trend: (t - t_s) / 1 h and its square from t_s on.
+  const Term curved = curved_ramp_term(200.0);
+  const Eigen::MatrixXd c = design_matrix({Term::from_json(curved.to_json())}, s, coil, sc);
+  ASSERT_EQ(c.cols(), 2);
+  EXPECT_NEAR(c(5, 0), 300.0 / 3600.0, 1e-15);
+  EXPECT_NEAR(c(5, 1), (300.0 / 3600.0) * (300.0 / 3600.0), 1e-15);
+  EXPECT_EQ(c(2, 1), 0.0);
+  EXPECT_THROW(ChangeTerm(200.0, false, 0.0, true), Error);
+}
+
+// Ageing that slows is (tau / 1 h) ln(1 + (t - t0) / tau): its slope at t0 is 1 per hour, it tends to the
+// linear ageing (t - t0) / 1 h as tau grows, and the model file keeps tau.
+TEST(PhysicsTerms, SlowingAgeingIsLogarithmicAndTendsToTheLinearOne) {
+  Signals s;
+  s.t_s = {100.0, 1000.0, 3700.0, 7300.0};
+  const auto n = static_cast<Eigen::Index>(s.t_s.size());
+  s.rate = Eigen::VectorXd::Zero(n);
+  s.temp_c = Eigen::VectorXd::Zero(n);
+  const CoilTemperature coil = coil_temperature(s, 0.0);
+  const TermScaling sc = TermScaling::of(s);
+  const Term slowing = aging_term(3600.0);
+  EXPECT_EQ(slowing->kind(), "aging_log");
+  const Eigen::MatrixXd x = design_matrix({slowing}, s, coil, sc);
+  EXPECT_EQ(x(0, 0), 0.0);
+  EXPECT_NEAR(x(2, 0), std::log(2.0), 1e-15);  // an hour after t0, with tau an hour
+  EXPECT_NEAR(x(3, 0), std::log(3.0), 1e-15);
+  const Eigen::MatrixXd linear = design_matrix({aging_term()}, s, coil, sc), far = design_matrix({aging_term(3.6e9)}, s, coil, sc);
+  EXPECT_NEAR(linear(3, 0), 2.0, 1e-15);
+  EXPECT_LT((far - linear).cwiseAbs().maxCoeff(), 1e-5);
+  EXPECT_LT((design_matrix({Term::from_json(slowing.to_json())}, s, coil, sc) - x).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_EQ(aging_term()->kind(), "aging");
 }
 
 TEST(PhysicsTerms, SurfaceBasisReproducesTheBicubicSpline) {
@@ -912,6 +944,24 @@ TEST(Explain, AnAgeingTrendBesideAWarmupIsStillNamed) {
   const FoundEffect* a = effect(r.summary, "aging_trend");
   ASSERT_NE(a, nullptr) << ids(r.summary);
   EXPECT_NEAR(parameter(*a, "k_dph_per_h").value, 4.0, 1.0);
+}
+
+// Ageing that slows, 10 deg/h ln(1 + t / 2,400 s) (a slope of 15 deg/h per hour at the start) over the
+// 240-min record: a straight line leaves it curved, and a warm-up's exponential took it on the third
+// generator's logarithmic ageing (seed 31410). It is named ageing, at its initial slope and time scale.
+TEST(Explain, AgeingThatSlowsIsAgeingNotAWarmup) {
+  Recording rec = long_recording(26, 0.0, 1.0, 0.0, 1.0, 0.0);
+  const auto& t = rec.column("t_s");
+  std::vector<double> gyro = rec.column("gyro_dps");
+  for (std::size_t i = 0; i < rec.rows(); ++i) gyro[i] += 10.0 * std::log1p((t[i] - t.front()) / 2400.0) / 3600.0;
+  rec.set_column("gyro_dps", gyro);
+  const ExplainResult r = explain_recording(rec, fast());
+  ASSERT_EQ(r.summary.effects.size(), 1u) << ids(r.summary);
+  const FoundEffect& a = r.summary.effects[0];
+  ASSERT_EQ(a.id, "aging_trend") << ids(r.summary);
+  EXPECT_NEAR(parameter(a, "k_dph_per_h").value, 15.0, 5.0);
+  EXPECT_GT(parameter(a, "tau_s").value, 2400.0 / 2);
+  EXPECT_LT(parameter(a, "tau_s").value, 2400.0 * 2);
 }
 
 // A trend of 3 deg/h per hour that sets in at 15 % of the 240-min record (36 min), and nothing else. An

@@ -82,14 +82,17 @@ void WarmupTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) 
 
 std::shared_ptr<const TermBasis> WarmupTerm::with_parameter(double tau_s) const { return std::make_shared<WarmupTerm>(tau_s); }
 
-ChangeTerm::ChangeTerm(double t_s, bool ramp, double recovery_tau_s) : t_s_(t_s), ramp_(ramp), recovery_tau_s_(recovery_tau_s) {
+ChangeTerm::ChangeTerm(double t_s, bool ramp, double recovery_tau_s, bool curved)
+    : t_s_(t_s), ramp_(ramp), recovery_tau_s_(recovery_tau_s), curved_(curved) {
   if (!std::isfinite(t_s_)) fail(str_cat("physics term ", kind(), ": t_s must be finite"));
   if (!(recovery_tau_s_ >= 0)) fail(str_cat("physics term ", kind(), ": recovery_tau_s must be >= 0"));
   if (ramp_ && recovery_tau_s_ > 0) fail("physics term bias_ramp: recovery_tau_s belongs to a step (bias_step), not a trend");
+  if (!ramp_ && curved_) fail("physics term bias_step: curved belongs to a trend (bias_ramp), not a step");
 }
 
 std::vector<std::string> ChangeTerm::column_names() const {
   if (recovery_tau_s_ > 0) return {"bias_step", "bias_step_recovery"};
+  if (curved_) return {"bias_ramp", "bias_ramp_squared"};
   return {std::string(kind())};
 }
 
@@ -98,23 +101,43 @@ void ChangeTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) 
     const double dt = in.signals.t_s[static_cast<std::size_t>(i)] - t_s_;
     out(i, 0) = dt < 0 ? 0.0 : ramp_ ? dt / 3600.0 : 1.0;
     if (recovery_tau_s_ > 0) out(i, 1) = dt < 0 ? 0.0 : std::exp(-dt / recovery_tau_s_);
+    if (curved_) out(i, 1) = out(i, 0) * out(i, 0);
   }
 }
 
 void ChangeTerm::parameters_json(nlohmann::json& j) const {
   j["t_s"] = t_s_;
   if (recovery_tau_s_ > 0) j["recovery_tau_s"] = recovery_tau_s_;
+  if (curved_) j["curved"] = true;
+}
+
+AgingTerm::AgingTerm(double tau_s) : tau_s_(tau_s) {
+  if (!(tau_s_ >= 0)) fail("physics term aging_log: tau_s must be positive (0: linear ageing, the term aging)");
 }
 
 void AgingTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const {
   const double t0 = first_time(in);
-  for (Eigen::Index i = 0; i < out.rows(); ++i) out(i, 0) = (in.signals.t_s[static_cast<std::size_t>(i)] - t0) / 3600.0;
+  for (Eigen::Index i = 0; i < out.rows(); ++i) {
+    const double dt = in.signals.t_s[static_cast<std::size_t>(i)] - t0;
+    out(i, 0) = tau_s_ > 0 ? tau_s_ / 3600.0 * std::log1p(dt / tau_s_) : dt / 3600.0;
+  }
+}
+
+void AgingTerm::parameters_json(nlohmann::json& j) const {
+  if (tau_s_ > 0) j["tau_s"] = tau_s_;
+}
+
+std::optional<TermParameter> AgingTerm::parameter() const {
+  if (tau_s_ == 0.0) return std::nullopt;
+  return TermParameter{"tau_s", tau_s_, true};
 }
 
 Term shupe_term() { return Term(std::make_shared<ShupeTerm>()); }
 Term hysteresis_term(double width_c, double second_width_c) { return Term(std::make_shared<HysteresisTerm>(width_c, second_width_c)); }
-Term change_term(double t_s, bool ramp, double recovery_tau_s) { return Term(std::make_shared<ChangeTerm>(t_s, ramp, recovery_tau_s)); }
+Term change_term(double t_s, bool ramp) { return Term(std::make_shared<ChangeTerm>(t_s, ramp)); }
+Term recovering_step_term(double t_s, double recovery_tau_s) { return Term(std::make_shared<ChangeTerm>(t_s, false, recovery_tau_s)); }
+Term curved_ramp_term(double t_s) { return Term(std::make_shared<ChangeTerm>(t_s, true, 0.0, true)); }
 Term warmup_term(double tau_s) { return Term(std::make_shared<WarmupTerm>(tau_s)); }
-Term aging_term() { return Term(std::make_shared<AgingTerm>()); }
+Term aging_term(double tau_s) { return Term(std::make_shared<AgingTerm>(tau_s)); }
 
 }  // namespace gyrosid

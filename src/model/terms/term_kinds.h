@@ -19,11 +19,13 @@
 //                         with second_width_c, a second column, the play of that width (a two-width loop)
 //   warmup                exp(-(t - t0) / tau)       t0 the first sample
 //   aging                 (t - t0) / 3600 s
+//   aging_log             (tau / 3600 s) ln(1 + (t - t0) / tau): ageing that slows (slope 1/h at t0)
 //   channel               named recorded channels as they are (specific force, magnetic field, other axes)
 //   channel_squared       their squares
 //   bias_step             1 from time t_s on, else 0             (a change point: outside the physics library);
 //                         with recovery_tau_s, a second column exp(-(t - t_s) / tau) from t_s on (a step that
 //                         partly recovers: a hop whose disturbance then relaxes)
+//                         with curved, a second column ((t - t_s) / 3600 s)^2 (a trend that accelerates)
 //   bias_ramp             (t - t_s) / 3600 s from t_s on, else 0 (a trend starting at t_s: likewise)
 #pragma once
 
@@ -175,35 +177,47 @@ class WarmupTerm : public HistoryTerm {
 
 // A change of the bias at time t_s: a step (ramp = false) or the start of a trend (ramp = true). A step with
 // recovery_tau_s > 0 has a second column, exp(-(t - t_s) / recovery_tau_s) from t_s on: the step's height is
-// the sum of the two coefficients, what lasts the first. The nonlinear parameter is t_s (the recovery's time
-// constant is chosen on a grid where the step is extended: explain's richer forms).
+// the sum of the two coefficients, what lasts the first. A curved trend has a second column ((t - t_s) / 1 h)^2
+// (a drift that accelerates or slows). The nonlinear parameter is t_s (the recovery's time constant is chosen
+// on a grid where the step is extended: explain's richer forms).
 class ChangeTerm : public HistoryTerm {
  public:
-  ChangeTerm(double t_s, bool ramp, double recovery_tau_s = 0.0);
+  ChangeTerm(double t_s, bool ramp, double recovery_tau_s = 0.0, bool curved = false);
   std::string_view kind() const override { return ramp_ ? "bias_ramp" : "bias_step"; }
-  int size() const override { return recovery_tau_s_ > 0 ? 2 : 1; }
+  int size() const override { return recovery_tau_s_ > 0 || curved_ ? 2 : 1; }
   std::vector<std::string> column_names() const override;
   void columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const override;
   void parameters_json(nlohmann::json& j) const override;
   TermMemory memory() const override { return TermMemory::time; }
   std::optional<TermParameter> parameter() const override { return TermParameter{"t_s", t_s_, false}; }
   std::shared_ptr<const TermBasis> with_parameter(double t_s) const override {
-    return std::make_shared<ChangeTerm>(t_s, ramp_, recovery_tau_s_);
+    return std::make_shared<ChangeTerm>(t_s, ramp_, recovery_tau_s_, curved_);
   }
-  bool ramp() const { return ramp_; }
   double recovery_tau_s() const { return recovery_tau_s_; }
+  bool curved() const { return curved_; }
 
  private:
   double t_s_;
   bool ramp_;
   double recovery_tau_s_;
+  bool curved_;
 };
 
+// Ageing of the bias from the first sample t0: linear, (t - t0) / 1 h (tau_s = 0, kind aging), or slowing
+// logarithmically, (tau / 1 h) ln(1 + (t - t0) / tau) (tau_s > 0, kind aging_log; its slope at t0 is the
+// coefficient per hour, and it tends to the linear one as tau grows).
 class AgingTerm : public HistoryTerm {
  public:
-  std::string_view kind() const override { return "aging"; }
+  explicit AgingTerm(double tau_s = 0.0);
+  std::string_view kind() const override { return tau_s_ > 0 ? "aging_log" : "aging"; }
   void columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const override;
+  void parameters_json(nlohmann::json& j) const override;
   TermMemory memory() const override { return TermMemory::time; }
+  std::optional<TermParameter> parameter() const override;
+  std::shared_ptr<const TermBasis> with_parameter(double tau_s) const override { return std::make_shared<AgingTerm>(tau_s); }
+
+ private:
+  double tau_s_;
 };
 
 class ChannelTerm : public TermBasis {
@@ -232,9 +246,11 @@ Term temperature_spline(std::vector<double> knots_c);
 Term asymmetry_term();
 Term shupe_term();
 Term hysteresis_term(double width_c = 0.0, double second_width_c = 0.0);
-Term change_term(double t_s, bool ramp, double recovery_tau_s = 0.0);
+Term change_term(double t_s, bool ramp);
+Term recovering_step_term(double t_s, double recovery_tau_s);
+Term curved_ramp_term(double t_s);
 Term warmup_term(double tau_s);
-Term aging_term();
+Term aging_term(double tau_s = 0.0);
 Term channel_term(std::vector<std::string> channels, bool squared = false);
 
 }  // namespace gyrosid

@@ -68,13 +68,21 @@ const TermKindRegistry& term_kinds() {
         .add({"warmup", "exp(-(t - t0) / tau)", none,
               [](const nlohmann::json& j) -> P { return std::make_unique<WarmupTerm>(j.value("tau_s", 0.0)); }})
         .add({"aging", "(t - t0) / 1 h", none, [](const nlohmann::json&) -> P { return std::make_unique<AgingTerm>(); }})
+        .add({"aging_log", "(tau_s / 1 h) ln(1 + (t - t0) / tau_s): ageing that slows, slope 1/h at t0", none,
+              [](const nlohmann::json& j) -> P {
+                const double tau = j.at("tau_s").get<double>();
+                if (!(tau > 0)) fail("physics term aging_log: tau_s must be positive");
+                return std::make_unique<AgingTerm>(tau);
+              }})
         .add({"bias_step", "1 from t_s on: a change point of the bias (and exp(-(t - t_s) / recovery_tau_s) from t_s on, if given: "
                            "a step that partly recovers)", none,
               [](const nlohmann::json& j) -> P {
                 return std::make_unique<ChangeTerm>(j.at("t_s").get<double>(), false, j.value("recovery_tau_s", 0.0));
               }})
-        .add({"bias_ramp", "(t - t_s) / 1 h from t_s on: a trend starting at t_s", none,
-              [](const nlohmann::json& j) -> P { return std::make_unique<ChangeTerm>(j.at("t_s").get<double>(), true); }})
+        .add({"bias_ramp", "(t - t_s) / 1 h from t_s on: a trend starting at t_s (and its square, if curved: true)", none,
+              [](const nlohmann::json& j) -> P {
+                return std::make_unique<ChangeTerm>(j.at("t_s").get<double>(), true, 0.0, j.value("curved", false));
+              }})
         .add({"asymmetry", "|omega|", none, [](const nlohmann::json&) -> P { return std::make_unique<AsymmetryTerm>(); }})
         .add({"channel", "recorded channels as they are", none,
               [](const nlohmann::json& j) -> P { return std::make_unique<ChannelTerm>(list<std::string>(j, "channels"), false); }})
