@@ -487,10 +487,11 @@ void find_alternatives(SelectedEffect& chosen, std::size_t b, const std::vector<
 
 // The chosen effect's richer forms (effect.h) tried in its term's place in `next` (the model with it, its
 // term last), at the step's whitening: the best is kept when its dBIC over the chosen form - its added
-// columns counted, and one added parameter when it was chosen among several - exceeds min_bic. At the step it is chosen, so that neither a
-// later step nor the held-out proof sees the poorer form: a step that recovers, taken as a pure step, left
-// its recovery to an ageing trend in the next step, and judged so it mispredicted every later held-out
-// block (the third generator's recovering steps: dBIC 714-716 in training, held-out z 1.8-1.9, demoted).
+// columns counted, and one added parameter when it was chosen among several - exceeds min_bic. At the step
+// it is chosen, so that neither a later step nor the held-out proof sees the poorer form: a step that
+// recovers, taken as a pure step, left its recovery to an ageing trend in the next step, and judged so it
+// mispredicted every later held-out block (the third generator's recovering steps: dBIC 714-716 in
+// training, held-out z 1.8-1.9, demoted).
 void take_richer_form(SelectedEffect& chosen, ModelSpec& next, const Step& c, double min_bic) {
   if (!chosen.candidate.term) return;
   Term& term = next.terms.back();

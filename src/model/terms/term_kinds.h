@@ -25,8 +25,8 @@
 //   bias_step             1 from time t_s on, else 0             (a change point: outside the physics library);
 //                         with recovery_tau_s, a second column exp(-(t - t_s) / tau) from t_s on (a step that
 //                         partly recovers: a hop whose disturbance then relaxes)
-//                         with curved, a second column ((t - t_s) / 3600 s)^2 (a trend that accelerates)
-//   bias_ramp             (t - t_s) / 3600 s from t_s on, else 0 (a trend starting at t_s: likewise)
+//   bias_ramp             (t - t_s) / 3600 s from t_s on, else 0 (a trend starting at t_s: likewise); with
+//                         curved, a second column, its square (a trend that accelerates or slows)
 #pragma once
 
 #include <array>
@@ -179,7 +179,7 @@ class WarmupTerm : public HistoryTerm {
 // recovery_tau_s > 0 has a second column, exp(-(t - t_s) / recovery_tau_s) from t_s on: the step's height is
 // the sum of the two coefficients, what lasts the first. A curved trend has a second column ((t - t_s) / 1 h)^2
 // (a drift that accelerates or slows). The nonlinear parameter is t_s (the recovery's time constant is chosen
-// on a grid where the step is extended: explain's richer forms).
+// on a grid where the step is extended, the curve's onset likewise: explain's richer forms).
 class ChangeTerm : public HistoryTerm {
  public:
   ChangeTerm(double t_s, bool ramp, double recovery_tau_s = 0.0, bool curved = false);
