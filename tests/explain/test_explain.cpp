@@ -13,6 +13,7 @@
 
 #include "core/config.h"
 #include "core/random.h"
+#include "core/thermal_lag.h"
 #include "core/units.h"
 #include "explain/explain.h"
 #include "explain/linear_fit.h"
@@ -290,6 +291,26 @@ TEST(PhysicsTerms, SlowingAgeingIsLogarithmicAndTendsToTheLinearOne) {
   EXPECT_EQ(aging_term()->kind(), "aging");
 }
 
+// Shupe's gradient form is the rate of the coil temperature through a first-order lag of tau: on a ramp of
+// r C/s from t = 0 it is r (1 - exp(-t / tau)) - the gradient (T - L) / tau building up to the rate - and the
+// rate form is its limit for tau -> 0; the model file keeps tau.
+TEST(PhysicsTerms, ShupesGradientFormIsTheRateThroughTheGradientsLag) {
+  Signals s;
+  for (int k = 0; k <= 20; ++k) s.t_s.push_back(100.0 * k);
+  const auto n = static_cast<Eigen::Index>(s.t_s.size());
+  s.rate = Eigen::VectorXd::Zero(n);
+  s.temp_c.resize(n);
+  for (Eigen::Index k = 0; k < n; ++k) s.temp_c(k) = 0.01 * s.t_s[static_cast<std::size_t>(k)];  // 0.6 C/min
+  const CoilTemperature coil = coil_temperature(s, 0.0);
+  const TermScaling sc = TermScaling::of(s);
+  const Term gradient = shupe_term(400.0);
+  const Eigen::MatrixXd x = design_matrix({gradient}, s, coil, sc);
+  for (Eigen::Index k = 0; k < n; ++k) EXPECT_NEAR(x(k, 0), 0.01 * (1.0 - std::exp(-s.t_s[static_cast<std::size_t>(k)] / 400.0)), 1e-12) << k;
+  const Eigen::MatrixXd fast = design_matrix({shupe_term(1e-3)}, s, coil, sc), rate = design_matrix({shupe_term()}, s, coil, sc);
+  EXPECT_LT((fast - rate).bottomRows(n - 1).cwiseAbs().maxCoeff(), 1e-6);  // 1e-4 of the rate
+  EXPECT_LT((design_matrix({Term::from_json(gradient.to_json())}, s, coil, sc) - x).cwiseAbs().maxCoeff(), 1e-15);
+}
+
 TEST(PhysicsTerms, SurfaceBasisReproducesTheBicubicSpline) {
   const std::vector<double> temps{-20, 0, 20, 25, 40, 60}, rates{-100, -40, -10, 10, 40, 100};
   RandomStream rng(5, "surface");
@@ -407,6 +428,26 @@ TEST(Explain, ABlackBoxRbfSimulationNamesWhatItsSensorLeftOut) {
   const ExplainResult control = explain_recording(simulate_with("", 33), o);
   EXPECT_EQ(control.summary.verdict, Verdict::no_missing_physics) << ids(control.summary) << unexplained(control.summary);
   std::filesystem::remove(model);
+}
+
+// A Shupe bias that follows the coil's gradient rather than its rate: 0.5 deg/h per C of T - L, L the probe
+// temperature through a 400-s first-order lag (the core behind the outer layers) - 3.33 (deg/h)/(C/min) of
+// dL/dt. On the third generator's gradient Shupe the rate form was named with a thermal lag of 350-390 s
+// beside it, lending the rate its delay; the gradient form is Shupe's richer form and names it alone.
+TEST(Explain, AShupeBiasThatFollowsTheCoilsGradientIsShupeAlone) {
+  Recording rec = simulate_with("", 13);
+  const auto& t = rec.column("t_s");
+  const auto& temp = rec.column("temp_c");
+  const ThermalLagResponse lag = thermal_lag_response({0.0, {400.0}}, PiecewiseLinear{t, temp}, t);
+  std::vector<double> gyro = rec.column("gyro_dps");
+  for (std::size_t i = 0; i < rec.rows(); ++i) gyro[i] += 0.5 * (temp[i] - lag.stage[0][i]) / 3600.0;
+  rec.set_column("gyro_dps", gyro);
+  const ExplainResult r = explain_recording(rec, fast());
+  ASSERT_EQ(r.summary.effects.size(), 1u) << ids(r.summary);
+  const FoundEffect* e = effect(r.summary, "shupe");
+  ASSERT_NE(e, nullptr) << ids(r.summary);
+  EXPECT_NEAR(parameter(*e, "k_dph_per_cpm").value, 0.5 * 400.0 / 60.0, 0.5);
+  EXPECT_NEAR(parameter(*e, "gradient_tau_s").value, 400.0, 150.0);
 }
 
 TEST(Explain, PlantedThermalLagIsFoundWithItsTimeConstant) {

@@ -86,15 +86,31 @@ class Shupe : public Effect {
     return "A bias proportional to the rate of change of the coil temperature (Shupe effect): a thermal gradient "
            "across the coil gives the counter-propagating waves different, time-varying optical paths.";
   }
-  std::string_view parameters_help() const override { return "k_dph_per_cpm: bias per coil-temperature rate, (deg/h) per (deg C/min)"; }
+  std::string_view parameters_help() const override {
+    return "k_dph_per_cpm: bias per coil-temperature rate, (deg/h) per (deg C/min); gradient_tau_s: where the coil's gradient "
+           "relaxes visibly, its diffusion time constant (s)";
+  }
   Proposal propose(const CandidateContext& c) const override {
     if (!c.temp_varies) return {{}, kStaticTemperature};
     if (c.base_has<ShupeTerm>()) return {};
     return {{candidate(shupe_term())}, ""};
   }
-  std::vector<PhysicalParameter> parameters(const Term&, const Eigen::VectorXd& beta, const Eigen::VectorXd& sigma,
+  std::vector<PhysicalParameter> parameters(const Term& t, const Eigen::VectorXd& beta, const Eigen::VectorXd& sigma,
                                             const TermScaling&) const override {
-    return {PhysicalParameter::estimate("k_dph_per_cpm", beta(0) / 60.0, sigma(0) / 60.0)};
+    const double tau = t.as<ShupeTerm>()->gradient_tau_s();
+    if (tau == 0.0) return {PhysicalParameter::estimate("k_dph_per_cpm", beta(0) / 60.0, sigma(0) / 60.0)};
+    return {PhysicalParameter::estimate("k_dph_per_cpm", beta(0) / 60.0, sigma(0) / 60.0), PhysicalParameter::reference_value("gradient_tau_s", tau)};
+  }
+  // The gradient's diffusion time constant (term_kinds.h, ShupeTerm): the rate form is its limit for slow
+  // changes, and a coil whose core lags its outer layers by 400 s (the third generator's gradient Shupe)
+  // was named Shupe with a thermal lag of 350-390 s beside it, the lag lending the rate its delay. On a grid
+  // from half a minute (ten samples at least) to two hours.
+  std::vector<Term> richer_forms(const Term& selected, const ExplainInput& in) const override {
+    const auto* s = selected.as<ShupeTerm>();
+    if (!s || s->gradient_tau_s() > 0) return {};
+    std::vector<Term> out;
+    for (double tau : log_grid(std::max(30.0, 10.0 * in.dt_s), 7200.0, 12)) out.push_back(shupe_term(tau));
+    return out;
   }
   std::string separating_experiment(std::string_view other) const override {
     if (other == "thermal_hysteresis") {

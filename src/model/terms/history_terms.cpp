@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/thermal_lag.h"
 #include "model/terms/term_kinds.h"
 
 namespace gyrosid {
@@ -18,7 +19,24 @@ std::string HistoryTerm::export_c(TermCode&) const {
   return str_cat("the term '", kind(), "' needs time or the temperature history; not exportable as a stateless function");
 }
 
-void ShupeTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const { out.col(0) = in.coil.rate_c_per_s; }
+ShupeTerm::ShupeTerm(double gradient_tau_s) : gradient_tau_s_(gradient_tau_s) {
+  if (!(gradient_tau_s_ >= 0)) fail("physics term shupe: gradient_tau_s must be >= 0");
+}
+
+void ShupeTerm::columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const {
+  if (gradient_tau_s_ == 0.0) {
+    out.col(0) = in.coil.rate_c_per_s;
+    return;
+  }
+  const Eigen::VectorXd& coil = in.coil.temp_c;
+  const ThermalLagResponse r = thermal_lag_response({0.0, {gradient_tau_s_}}, PiecewiseLinear{in.signals.t_s, {coil.data(), coil.data() + coil.size()}},
+                                                    in.signals.t_s);
+  out.col(0) = Eigen::Map<const Eigen::VectorXd>(r.output_rate.data(), out.rows());
+}
+
+void ShupeTerm::parameters_json(nlohmann::json& j) const {
+  if (gradient_tau_s_ > 0) j["gradient_tau_s"] = gradient_tau_s_;
+}
 
 HysteresisTerm::HysteresisTerm(double width_c, double second_width_c) : width_c_(width_c), second_width_c_(second_width_c) {
   if (!(width_c_ >= 0)) fail("physics term hysteresis: width_c must be >= 0");
@@ -132,7 +150,7 @@ std::optional<TermParameter> AgingTerm::parameter() const {
   return TermParameter{"tau_s", tau_s_, true};
 }
 
-Term shupe_term() { return Term(std::make_shared<ShupeTerm>()); }
+Term shupe_term(double gradient_tau_s) { return Term(std::make_shared<ShupeTerm>(gradient_tau_s)); }
 Term hysteresis_term(double width_c, double second_width_c) { return Term(std::make_shared<HysteresisTerm>(width_c, second_width_c)); }
 Term change_term(double t_s, bool ramp) { return Term(std::make_shared<ChangeTerm>(t_s, ramp)); }
 Term recovering_step_term(double t_s, double recovery_tau_s) { return Term(std::make_shared<ChangeTerm>(t_s, false, recovery_tau_s)); }

@@ -12,7 +12,8 @@
 //                                                    bias of any smooth shape in T (a bump, a knee) with
 //                                                    coefficients the base cannot take
 //   asymmetry             |omega|                    (dSF differs by 2 beta between the senses)
-//   shupe                 dT_coil/dt, deg C/s        (eq 3.3)
+//   shupe                 dT_coil/dt, deg C/s        (eq 3.3); with gradient_tau_s, d/dt of T_coil through a
+//                         first-order lag of that time constant (the gradient's diffusion)
 //   hysteresis            (T - P_r(T)) / 2r: the play operator of half-width r = width/2 (Preisach's elementary
 //                         hysteron): +1/2 once heating has moved T by `width`, -1/2 once cooling has, linear
 //                         in between, held through plateaus (width 0: the legacy switch at a rate threshold);
@@ -133,12 +134,22 @@ class HistoryTerm : public TermBasis {
   std::string export_c(TermCode& code) const override;
 };
 
+// The Shupe bias follows the coil's radial thermal gradient (thesis eq 3.3). Its rate form (gradient_tau_s
+// = 0) is dT_coil/dt; with gradient_tau_s > 0 the gradient relaxes by diffusion with that time constant:
+// (T_coil - L) / tau = dL/dt, L the coil temperature through a first-order lag of tau - the rate of
+// temperature for changes slower than tau, less for faster ones. Both in deg C/s.
 class ShupeTerm : public HistoryTerm {
  public:
+  explicit ShupeTerm(double gradient_tau_s = 0.0);
   std::string_view kind() const override { return "shupe"; }
   void columns(const TermInputs& in, Eigen::Ref<Eigen::MatrixXd> out) const override;
+  void parameters_json(nlohmann::json& j) const override;
   TermMemory memory() const override { return TermMemory::temperature_history; }
   bool uses_temperature() const override { return true; }
+  double gradient_tau_s() const { return gradient_tau_s_; }
+
+ private:
+  double gradient_tau_s_;
 };
 
 // One play of width_c, or two (a Prandtl-Ishlinskii loop of two widths, one column each) when second_width_c
@@ -244,7 +255,7 @@ Term scale_factor_polynomial(ScaleFactorPolynomial::Orders orders);
 Term scale_factor_surface(std::vector<double> temps_c, std::vector<double> rates_dps);
 Term temperature_spline(std::vector<double> knots_c);
 Term asymmetry_term();
-Term shupe_term();
+Term shupe_term(double gradient_tau_s = 0.0);
 Term hysteresis_term(double width_c = 0.0, double second_width_c = 0.0);
 Term change_term(double t_s, bool ramp);
 Term recovering_step_term(double t_s, double recovery_tau_s);

@@ -59,7 +59,8 @@ const TermKindRegistry& term_kinds() {
               }})
         .add({"bias_temperature_spline", "((T - k_i)+ / h)^3 at knots_c but the two outermost at each end (spacing h): beside a cubic bias, the not-a-knot cubic splines in the coil temperature", none,
               [](const nlohmann::json& j) -> P { return std::make_unique<TemperatureSpline>(list<double>(j, "knots_c")); }})
-        .add({"shupe", "dT_coil/dt, deg C/s", none, [](const nlohmann::json&) -> P { return std::make_unique<ShupeTerm>(); }})
+        .add({"shupe", "dT_coil/dt, deg C/s (with gradient_tau_s, the rate of T_coil through a first-order lag of that time constant)", none,
+              [](const nlohmann::json& j) -> P { return std::make_unique<ShupeTerm>(j.value("gradient_tau_s", 0.0)); }})
         .add({"hysteresis", "+-1/2 on the heating/cooling branch, moving between them over width_c after a reversal (and a second "
                             "column over second_width_c, if given)", none,
               [](const nlohmann::json& j) -> P {
