@@ -39,10 +39,10 @@ struct Candidate {
   // A further component of an effect with several time constants (a warm-up's second exponential): not
   // selected on its own, but the rival of an effect selected after the first component (judge.h).
   bool further_component = false;
-  // A flexible form (the bias spline in T), left out of the model whose residual sets the selection's
-  // whitening (selection.cpp, full_model_noise): there it takes part of every other effect of its input and
-  // moves the noise model they are judged by (third generator, seed 31106: a 0.5-sigma hysteresis then won
-  // a wrong Shupe partner and both were demoted held out).
+  // A flexible form (the bias spline in T, ageing that slows), left out of the model whose residual sets the
+  // selection's whitening (selection.cpp, full_model_noise): there it takes part of every other effect of its
+  // input, or of the noise, and moves the noise model they are judged by (third generator, seed 31106: a
+  // 0.5-sigma hysteresis then won a wrong Shupe partner and both were demoted held out).
   bool flexible_form = false;
   std::string_view id() const;
   int nonlinear_parameters() const { return nonlinear == NonlinearParameter::none ? 0 : 1; }
