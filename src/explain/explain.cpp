@@ -12,7 +12,6 @@
 #include "core/units.h"
 #include "explain/heldout_support.h"
 #include "explain/judge.h"
-#include "explain/linear_fit.h"
 #include "explain/noise_likelihood.h"
 #include "explain/refit.h"
 #include "explain/simulation.h"

@@ -492,19 +492,22 @@ void find_alternatives(SelectedEffect& chosen, std::size_t b, const std::vector<
 // recovers, taken as a pure step, left its recovery to an ageing trend in the next step, and judged so it
 // mispredicted every later held-out block (the third generator's recovering steps: dBIC 714-716 in
 // training, held-out z 1.8-1.9, demoted).
-void take_richer_form(SelectedEffect& chosen, ModelSpec& next, const Step& c, double min_bic) {
+// `rss_next`: next's whitened fit. The other terms' whitened columns are computed once, each form's beside them.
+void take_richer_form(SelectedEffect& chosen, ModelSpec& next, double rss_next, const Step& c, double min_bic) {
   if (!chosen.candidate.term) return;
   Term& term = next.terms.back();
   const std::vector<Term> forms = chosen.candidate.effect->richer_forms(term, c.in);
   if (forms.empty()) return;
-  const double n = static_cast<double>(c.yw.size()), rss0 = fit_model(next, c.in, c.yw, c.sc, c.w).rss;
+  const CoilTemperature coil = coil_temperature(c.in.signals, next.lag_tau_s);
+  const Eigen::MatrixXd x_others = whiten_columns(c.w, design_matrix(std::vector<Term>(next.terms.begin(), next.terms.end() - 1), c.in.signals, coil, c.sc));
+  const double n = static_cast<double>(c.yw.size());
   const int searched = forms.size() > 1 ? 1 : 0;
   double best_bic = min_bic;
   std::optional<Term> best;
   for (const Term& form : forms) {
-    ModelSpec m = next;
-    m.terms.back() = form;
-    const double bic = n * std::log(rss0 / fit_model(m, c.in, c.yw, c.sc, c.w).rss) - (form.size() - term.size() + searched) * std::log(n);
+    Eigen::MatrixXd x(x_others.rows(), x_others.cols() + form.size());
+    x << x_others, whiten_columns(c.w, design_matrix({form}, c.in.signals, coil, c.sc));
+    const double bic = n * std::log(rss_next / fit_whitened(x, c.yw).rss) - (form.size() - term.size() + searched) * std::log(n);
     if (bic > best_bic) best_bic = bic, best = form;
   }
   if (best) term = *best, chosen.form_parameters += searched;
@@ -617,8 +620,9 @@ SelectionResult select_effects(const ExplainInput& in, const Eigen::VectorXd& y,
     const auto b = static_cast<std::size_t>(best);
     SelectedEffect chosen{open[b], ev[b].score, {}, {}};
     ModelSpec next = with_effect(result.model, open[b], ev[b].score.tau_s);
-    find_alternatives(chosen, b, ev, open, c, next, fit_model(next, in, yw, sc, w), o.ambiguity_bic, gated.alternatives);
-    take_richer_form(chosen, next, c, o.ambiguity_bic);
+    const WhitenedFit fit_next = fit_model(next, in, yw, sc, w);
+    find_alternatives(chosen, b, ev, open, c, next, fit_next, o.ambiguity_bic, gated.alternatives);
+    take_richer_form(chosen, next, fit_next.rss, c, o.ambiguity_bic);
     result.effects.push_back(chosen);
     result.model = std::move(next);
     open.erase(open.begin() + best);

@@ -205,7 +205,6 @@ class ChangeTerm : public HistoryTerm {
     return std::make_shared<ChangeTerm>(t_s, ramp_, recovery_tau_s_, curved_);
   }
   double recovery_tau_s() const { return recovery_tau_s_; }
-  bool curved() const { return curved_; }
 
  private:
   double t_s_;
