@@ -191,18 +191,34 @@ TEST(LinearFit, ChunkedResidualSumOfSquaresAgreesWithTheFullQr) {
   EXPECT_LT(whitened_rss(x, x.col(2) - x.col(5)), 1e-18 * x.col(2).squaredNorm());
 }
 
+// Terms' columns along a record at rest (rate 0): times t_s (s), probe temperatures temp_c (C), no coil lag.
+struct TermsAtRest {
+  Signals s;
+  CoilTemperature coil;
+  TermScaling sc;
+  TermsAtRest(std::vector<double> t_s, const Eigen::VectorXd& temp_c) {
+    s.t_s = std::move(t_s);
+    s.rate = Eigen::VectorXd::Zero(temp_c.size());
+    s.temp_c = temp_c;
+    coil = coil_temperature(s, 0.0);
+    sc = TermScaling::of(s);
+  }
+  // Probe temperatures every 600 s.
+  static TermsAtRest every_ten_minutes(const std::vector<double>& temp_c) {
+    std::vector<double> t(temp_c.size());
+    for (std::size_t k = 0; k < t.size(); ++k) t[k] = 600.0 * static_cast<double>(k);
+    return {t, Eigen::Map<const Eigen::VectorXd>(temp_c.data(), static_cast<Eigen::Index>(temp_c.size()))};
+  }
+  Eigen::MatrixXd columns(const Term& t) const { return design_matrix({t}, s, coil, sc); }
+};
+
 // The hysteresis term is the play operator of half-width width/2 from its neutral state, scaled to +-1/2:
 // along 0 -> 10 -> 0 C with width 2 C it is x/2 for the first degree, +1/2 while heating, 0 one degree
 // after the turn, -1/2 from two degrees after it.
 TEST(PhysicsTerms, HysteresisIsThePlayOperatorFromItsNeutralState) {
-  Signals s;
   const std::vector<double> temp{0.0, 0.5, 1.0, 4.0, 10.0, 9.0, 8.0, 5.0, 0.0};
   const auto n = static_cast<Eigen::Index>(temp.size());
-  s.t_s.resize(temp.size());
-  for (std::size_t k = 0; k < temp.size(); ++k) s.t_s[k] = 600.0 * static_cast<double>(k);
-  s.rate = Eigen::VectorXd::Zero(n);
-  s.temp_c = Eigen::Map<const Eigen::VectorXd>(temp.data(), n);
-  const Eigen::MatrixXd x = design_matrix({hysteresis_term(2.0)}, s, coil_temperature(s, 0.0), TermScaling::of(s));
+  const Eigen::MatrixXd x = TermsAtRest::every_ten_minutes(temp).columns(hysteresis_term(2.0));
   const std::vector<double> expected{0.0, 0.25, 0.5, 0.5, 0.5, 0.0, -0.5, -0.5, -0.5};
   for (Eigen::Index k = 0; k < n; ++k) EXPECT_NEAR(x(k, 0), expected[static_cast<std::size_t>(k)], 1e-12) << k;
 }
@@ -210,26 +226,19 @@ TEST(PhysicsTerms, HysteresisIsThePlayOperatorFromItsNeutralState) {
 // A loop of two widths is the two plays side by side; the model file keeps both widths, and a new width_c
 // (the refit's parameter) leaves the second where it is.
 TEST(PhysicsTerms, ATwoWidthHysteresisIsTwoPlaysAndSurvivesItsJson) {
-  Signals s;
   const std::vector<double> temp{0.0, 0.5, 1.0, 4.0, 10.0, 9.0, 8.0, 5.0, 0.0, 3.0};
   const auto n = static_cast<Eigen::Index>(temp.size());
-  s.t_s.resize(temp.size());
-  for (std::size_t k = 0; k < temp.size(); ++k) s.t_s[k] = 600.0 * static_cast<double>(k);
-  s.rate = Eigen::VectorXd::Zero(n);
-  s.temp_c = Eigen::Map<const Eigen::VectorXd>(temp.data(), n);
-  const CoilTemperature coil = coil_temperature(s, 0.0);
-  const TermScaling sc = TermScaling::of(s);
+  const TermsAtRest at = TermsAtRest::every_ten_minutes(temp);
   const Term two = hysteresis_term(2.0, 6.0);
-  const Eigen::MatrixXd x = design_matrix({two}, s, coil, sc);
+  const Eigen::MatrixXd x = at.columns(two);
   ASSERT_EQ(x.cols(), 2);
   EXPECT_EQ(two->column_names(), (std::vector<std::string>{"hysteresis", "hysteresis_2"}));
-  EXPECT_LT((x.col(0) - design_matrix({hysteresis_term(2.0)}, s, coil, sc).col(0)).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((x.col(0) - at.columns(hysteresis_term(2.0)).col(0)).cwiseAbs().maxCoeff(), 1e-15);
   // Width 6 C (half-width 3): (T - 0)/6 until T passes 3 C, then +1/2; after the turn at 10 C the play holds
   // at 7 C, so (T - 7)/6, until T falls below 4 C; back up from 0 C it holds at 3 C.
   const std::vector<double> wide{0.0, 0.5 / 6, 1.0 / 6, 0.5, 0.5, 2.0 / 6, 1.0 / 6, -2.0 / 6, -0.5, 0.0};
   for (Eigen::Index k = 0; k < n; ++k) EXPECT_NEAR(x(k, 1), wide[static_cast<std::size_t>(k)], 1e-12) << k;
-  const Eigen::MatrixXd back = design_matrix({Term::from_json(two.to_json())}, s, coil, sc);
-  EXPECT_LT((back - x).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((at.columns(Term::from_json(two.to_json())) - x).cwiseAbs().maxCoeff(), 1e-15);
   EXPECT_EQ(two.with_parameter(3.0).to_json().at("second_width_c").get<double>(), 6.0);
 }
 
@@ -237,15 +246,10 @@ TEST(PhysicsTerms, ATwoWidthHysteresisIsTwoPlaysAndSurvivesItsJson) {
 // a new t_s (the refit's parameter) keeps the recovery's time constant, and a trend cannot have one; a curved
 // trend is the trend and its square.
 TEST(PhysicsTerms, ARecoveringStepAndACurvedTrendAreTheirColumnsAndSurviveTheirJson) {
-  Signals s;
-  s.t_s = {0.0, 100.0, 199.0, 200.0, 300.0, 500.0};
-  const auto n = static_cast<Eigen::Index>(s.t_s.size());
-  s.rate = Eigen::VectorXd::Zero(n);
-  s.temp_c = Eigen::VectorXd::Zero(n);
-  const CoilTemperature coil = coil_temperature(s, 0.0);
-  const TermScaling sc = TermScaling::of(s);
+  const Eigen::Index n = 6;
+  const TermsAtRest at({0.0, 100.0, 199.0, 200.0, 300.0, 500.0}, Eigen::VectorXd::Zero(n));
   const Term step = recovering_step_term(200.0, 100.0);
-  const Eigen::MatrixXd x = design_matrix({step}, s, coil, sc);
+  const Eigen::MatrixXd x = at.columns(step);
   ASSERT_EQ(x.cols(), 2);
   EXPECT_EQ(step->column_names(), (std::vector<std::string>{"bias_step", "bias_step_recovery"}));
   const std::vector<double> jump{0, 0, 0, 1, 1, 1}, recovery{0, 0, 0, 1, std::exp(-1.0), std::exp(-3.0)};
@@ -253,14 +257,13 @@ TEST(PhysicsTerms, ARecoveringStepAndACurvedTrendAreTheirColumnsAndSurviveTheirJ
     EXPECT_EQ(x(k, 0), jump[static_cast<std::size_t>(k)]) << k;
     EXPECT_NEAR(x(k, 1), recovery[static_cast<std::size_t>(k)], 1e-15) << k;
   }
-  const Eigen::MatrixXd back = design_matrix({Term::from_json(step.to_json())}, s, coil, sc);
-  EXPECT_LT((back - x).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((at.columns(Term::from_json(step.to_json())) - x).cwiseAbs().maxCoeff(), 1e-15);
   EXPECT_EQ(step.with_parameter(300.0).to_json().at("recovery_tau_s").get<double>(), 100.0);
   EXPECT_EQ(change_term(200.0, false).size(), 1);
   EXPECT_THROW(ChangeTerm(200.0, true, 100.0), Error);
   // A curved trend: (t - t_s) / 1 h and its square from t_s on.
   const Term curved = curved_ramp_term(200.0);
-  const Eigen::MatrixXd c = design_matrix({Term::from_json(curved.to_json())}, s, coil, sc);
+  const Eigen::MatrixXd c = at.columns(Term::from_json(curved.to_json()));
   ASSERT_EQ(c.cols(), 2);
   EXPECT_NEAR(c(5, 0), 300.0 / 3600.0, 1e-15);
   EXPECT_NEAR(c(5, 1), (300.0 / 3600.0) * (300.0 / 3600.0), 1e-15);
@@ -271,23 +274,17 @@ TEST(PhysicsTerms, ARecoveringStepAndACurvedTrendAreTheirColumnsAndSurviveTheirJ
 // Ageing that slows is (tau / 1 h) ln(1 + (t - t0) / tau): its slope at t0 is 1 per hour, it tends to the
 // linear ageing (t - t0) / 1 h as tau grows, and the model file keeps tau.
 TEST(PhysicsTerms, SlowingAgeingIsLogarithmicAndTendsToTheLinearOne) {
-  Signals s;
-  s.t_s = {100.0, 1000.0, 3700.0, 7300.0};
-  const auto n = static_cast<Eigen::Index>(s.t_s.size());
-  s.rate = Eigen::VectorXd::Zero(n);
-  s.temp_c = Eigen::VectorXd::Zero(n);
-  const CoilTemperature coil = coil_temperature(s, 0.0);
-  const TermScaling sc = TermScaling::of(s);
+  const TermsAtRest at({100.0, 1000.0, 3700.0, 7300.0}, Eigen::VectorXd::Zero(4));
   const Term slowing = aging_term(3600.0);
   EXPECT_EQ(slowing->kind(), "aging_log");
-  const Eigen::MatrixXd x = design_matrix({slowing}, s, coil, sc);
+  const Eigen::MatrixXd x = at.columns(slowing);
   EXPECT_EQ(x(0, 0), 0.0);
   EXPECT_NEAR(x(2, 0), std::log(2.0), 1e-15);  // an hour after t0, with tau an hour
   EXPECT_NEAR(x(3, 0), std::log(3.0), 1e-15);
-  const Eigen::MatrixXd linear = design_matrix({aging_term()}, s, coil, sc), far = design_matrix({aging_term(3.6e9)}, s, coil, sc);
+  const Eigen::MatrixXd linear = at.columns(aging_term()), far = at.columns(aging_term(3.6e9));
   EXPECT_NEAR(linear(3, 0), 2.0, 1e-15);
   EXPECT_LT((far - linear).cwiseAbs().maxCoeff(), 1e-5);
-  EXPECT_LT((design_matrix({Term::from_json(slowing.to_json())}, s, coil, sc) - x).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((at.columns(Term::from_json(slowing.to_json())) - x).cwiseAbs().maxCoeff(), 1e-15);
   EXPECT_EQ(aging_term()->kind(), "aging");
 }
 
@@ -295,20 +292,16 @@ TEST(PhysicsTerms, SlowingAgeingIsLogarithmicAndTendsToTheLinearOne) {
 // r C/s from t = 0 it is r (1 - exp(-t / tau)) - the gradient (T - L) / tau building up to the rate - and the
 // rate form is its limit for tau -> 0; the model file keeps tau.
 TEST(PhysicsTerms, ShupesGradientFormIsTheRateThroughTheGradientsLag) {
-  Signals s;
-  for (int k = 0; k <= 20; ++k) s.t_s.push_back(100.0 * k);
-  const auto n = static_cast<Eigen::Index>(s.t_s.size());
-  s.rate = Eigen::VectorXd::Zero(n);
-  s.temp_c.resize(n);
-  for (Eigen::Index k = 0; k < n; ++k) s.temp_c(k) = 0.01 * s.t_s[static_cast<std::size_t>(k)];  // 0.6 C/min
-  const CoilTemperature coil = coil_temperature(s, 0.0);
-  const TermScaling sc = TermScaling::of(s);
+  const Eigen::Index n = 21;
+  std::vector<double> t(n);
+  for (std::size_t k = 0; k < t.size(); ++k) t[k] = 100.0 * static_cast<double>(k);
+  const TermsAtRest at(t, 0.01 * Eigen::Map<const Eigen::VectorXd>(t.data(), n));  // 0.6 C/min
   const Term gradient = shupe_term(400.0);
-  const Eigen::MatrixXd x = design_matrix({gradient}, s, coil, sc);
-  for (Eigen::Index k = 0; k < n; ++k) EXPECT_NEAR(x(k, 0), 0.01 * (1.0 - std::exp(-s.t_s[static_cast<std::size_t>(k)] / 400.0)), 1e-12) << k;
-  const Eigen::MatrixXd fast = design_matrix({shupe_term(1e-3)}, s, coil, sc), rate = design_matrix({shupe_term()}, s, coil, sc);
+  const Eigen::MatrixXd x = at.columns(gradient);
+  for (Eigen::Index k = 0; k < n; ++k) EXPECT_NEAR(x(k, 0), 0.01 * (1.0 - std::exp(-t[static_cast<std::size_t>(k)] / 400.0)), 1e-12) << k;
+  const Eigen::MatrixXd fast = at.columns(shupe_term(1e-3)), rate = at.columns(shupe_term());
   EXPECT_LT((fast - rate).bottomRows(n - 1).cwiseAbs().maxCoeff(), 1e-6);  // 1e-4 of the rate
-  EXPECT_LT((design_matrix({Term::from_json(gradient.to_json())}, s, coil, sc) - x).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((at.columns(Term::from_json(gradient.to_json())) - x).cwiseAbs().maxCoeff(), 1e-15);
 }
 
 TEST(PhysicsTerms, SurfaceBasisReproducesTheBicubicSpline) {
